@@ -1,0 +1,275 @@
+#include "shading/cylinder_shading.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+namespace wf {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kHalfPi = std::numbers::pi / 2;
+
+// Below this sin(angle(T, V)) the cylinder counts as seen end-on. The end-on value is the mean
+// of the limits; the largest jump to it is bounded by how fast the true value varies (see docs).
+constexpr double kEndOnSin = 1e-9;
+
+bool finite3(const glm::dvec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+// Per light, everything the cylinder integral depends on.
+struct LightTerms {
+  double a, b, q;
+};
+
+// End-on cylinder: normals on the whole circle perpendicular to T (= V), uniform in angle.
+// Diffuse mean: rho / pi. Specular: R.V = -l.V on the lit half (N.V = 0), so [rv > 0] (-q)^n / 2.
+glm::dvec3 endOnRadiance(const glm::dvec3& T, const PhongMaterial& m, const LightRig& rig,
+                         const glm::dvec3& V) {
+  glm::dvec3 out = m.diffuse * rig.ambient;
+  for (const DirectionalLight& l : rig.lights) {
+    const double lt = glm::dot(l.direction, T);
+    const double rho = std::sqrt(std::max(0.0, 1.0 - lt * lt));
+    if (!(rho > 0.0)) continue;
+    const double q = glm::dot(l.direction, V);
+    out += l.intensity * (m.diffuse * (rho / kPi) + m.specular * (0.5 * phongLobe(-q, m.exponent)));
+  }
+  return out;
+}
+
+// ---- adaptive Gauss-Kronrod (7, 15) ------------------------------------------------------
+constexpr std::array<double, 8> kXgk = {0.991455371120812639206854697526329,
+                                        0.949107912342758524526189684047851,
+                                        0.864864423359769072789712788640926,
+                                        0.741531185599394439863864773280788,
+                                        0.586087235467691130294144845693013,
+                                        0.405845151377397166906606412076961,
+                                        0.207784955007898467600689403773245,
+                                        0.000000000000000000000000000000000};
+constexpr std::array<double, 8> kWgk = {0.022935322010529224963732008058970,
+                                        0.063092092629978553290700663189204,
+                                        0.104790010322250183839876322541518,
+                                        0.140653259715525918745189590510238,
+                                        0.169004726639267902826583426598550,
+                                        0.190350578064785409913256402421014,
+                                        0.204432940075298892414161999234649,
+                                        0.209482141084727828012999174891714};
+constexpr std::array<double, 4> kWg = {0.129484966168869693270611432679082,
+                                       0.279705391489276667901467771423780,
+                                       0.381830050505118944950369775488975,
+                                       0.417959183673469387755102040816327};
+
+template <class F>
+void gk15(const F& f, double lo, double hi, double& result, double& err) {
+  const double c = 0.5 * (lo + hi), h = 0.5 * (hi - lo);
+  const double fc = f(c);
+  double rk = fc * kWgk[7], rg = fc * kWg[3];
+  for (int j = 0; j < 7; ++j) {
+    const double dx = h * kXgk[j];
+    const double s = f(c - dx) + f(c + dx);
+    rk += kWgk[j] * s;
+    if (j % 2 == 1) rg += kWg[j / 2] * s;
+  }
+  result = rk * h;
+  err = std::abs((rk - rg) * h);
+}
+
+template <class F>
+double adaptive(const F& f, double lo, double hi, double relTol, double absTol, int depth) {
+  double r, e;
+  gk15(f, lo, hi, r, e);
+  if (e <= std::max(absTol, relTol * std::abs(r)) || depth >= 48 || hi - lo < 1e-15) return r;
+  const double mid = 0.5 * (lo + hi);
+  return adaptive(f, lo, mid, relTol, 0.5 * absTol, depth + 1) +
+         adaptive(f, mid, hi, relTol, 0.5 * absTol, depth + 1);
+}
+
+// Intersect [lo, hi] with the union of the given intervals; append non-empty pieces.
+void clipAppend(std::vector<std::array<double, 2>>& out, double lo, double hi, double a, double b) {
+  const double l = std::max(lo, a), h = std::min(hi, b);
+  if (h > l) out.push_back({l, h});
+}
+
+}  // namespace
+
+CylinderFrame cylinderFrame(const glm::dvec3& T, const glm::dvec3& V) {
+  CylinderFrame f;
+  if (!finite3(T) || !finite3(V)) return f;
+  const double lt = glm::length(T), lv = glm::length(V);
+  if (!(lt > 1e-300) || !(lv > 1e-300) || !std::isfinite(lt) || !std::isfinite(lv)) return f;
+  const glm::dvec3 t = T / lt, vv = V / lv;
+  const glm::dvec3 perp = vv - glm::dot(vv, t) * t;
+  const double v = glm::length(perp);
+  if (!(v > kEndOnSin)) return f;
+  f.e1 = perp / v;
+  f.e2 = glm::cross(t, f.e1);
+  f.v = std::min(v, 1.0);
+  f.endOn = false;
+  return f;
+}
+
+double cylinderDiffuseClosedForm(double a, double b) {
+  if (a == 0.0 && b == 0.0) return 0.0;
+  const double beta = std::abs(std::atan2(b, a));
+  return 0.25 * (std::abs(b) + (kPi - beta) * a);
+}
+
+double cylinderSpecularQuadrature(double a, double b, double q, double v, double n,
+                                  double relTol) {
+  const double rho = std::hypot(a, b);
+  if (!(rho > 0.0)) return 0.0;  // light along the axis: no normal is lit
+  const double beta = std::atan2(b, a);
+  const double P = rho * v;
+  // R.V = P (cos(beta) + cos(2 theta - beta)) - q, N.l = rho cos(theta - beta), s = sin(theta).
+  const double peakRV = P * (1.0 + std::cos(beta)) - q;
+  if (!(peakRV > 0.0)) return 0.0;
+
+  // Lit part of the visible half circle: one interval (|beta| <= pi).
+  const double litLo = std::max(-kHalfPi, beta - kHalfPi), litHi = std::min(kHalfPi, beta + kHalfPi);
+  // Where R.V > 0: cos(2 theta - beta) > c0, an interval of half width w0 about beta/2, period pi.
+  std::vector<std::array<double, 2>> pieces;
+  const double c0 = (P > 0.0) ? q / P - std::cos(beta) : (q < 0.0 ? -2.0 : 2.0);
+  if (c0 < -1.0) {
+    clipAppend(pieces, litLo, litHi, -kHalfPi, kHalfPi);
+  } else if (c0 < 1.0) {
+    const double w0 = 0.5 * std::acos(c0);
+    for (int k = -1; k <= 1; ++k)
+      clipAppend(pieces, litLo, litHi, 0.5 * beta - w0 + k * kPi, 0.5 * beta + w0 + k * kPi);
+  }
+  if (pieces.empty()) return 0.0;
+
+  const double cb = std::cos(beta);
+  auto f = [&](double theta) {
+    const double rv = P * (cb + std::cos(2.0 * theta - beta)) - q;
+    return phongLobe(rv, n) * std::cos(theta);
+  };
+  // Break points at the peak and at multiples of the lobe width sigma either side: the lobe is
+  // ~ exp(-2 n P d^2 / rv*) in d = theta - beta/2, so sigma = sqrt(rv* / (4 n P)).
+  std::vector<double> breaks;
+  const double peak = 0.5 * beta;
+  breaks.push_back(peak);
+  if (n > 0.0 && P > 0.0) {
+    const double sigma = std::sqrt(peakRV / (4.0 * n * P));
+    for (double k : {1.0, 3.0, 8.0, 24.0, 64.0}) {
+      breaks.push_back(peak - k * sigma);
+      breaks.push_back(peak + k * sigma);
+    }
+  }
+  std::sort(breaks.begin(), breaks.end());
+  const double peakValue = phongLobe(peakRV, n);
+  const double absTol = 1e-16 * std::max(peakValue, 1e-300);
+  double total = 0.0;
+  for (const auto& pc : pieces) {
+    double lo = pc[0];
+    for (double br : breaks) {
+      if (br <= lo || br >= pc[1]) continue;
+      total += adaptive(f, lo, br, relTol, absTol, 0);
+      lo = br;
+    }
+    total += adaptive(f, lo, pc[1], relTol, absTol, 0);
+  }
+  return 0.5 * total;
+}
+
+glm::dvec3 cylinderRadianceExact(const glm::dvec3& T, const glm::dvec3& V, const PhongMaterial& m,
+                                 const LightRig& rig, double relTol) {
+  const CylinderFrame fr = cylinderFrame(T, V);
+  if (fr.endOn) {
+    // Undefined T or V: shade as a cylinder seen end-on along the eye axis, a defined colour.
+    const bool ok = finite3(T) && finite3(V) && glm::length(T) > 1e-300 && glm::length(V) > 1e-300;
+    const glm::dvec3 vv = ok ? glm::normalize(V) : glm::dvec3(0, 0, 1);
+    return endOnRadiance(vv, m, rig, vv);
+  }
+  const glm::dvec3 vv = glm::normalize(V);
+  glm::dvec3 out = m.diffuse * rig.ambient;
+  for (const DirectionalLight& l : rig.lights) {
+    const double a = glm::dot(fr.e1, l.direction), b = glm::dot(fr.e2, l.direction);
+    const double q = glm::dot(l.direction, vv);
+    const double d = cylinderDiffuseClosedForm(a, b);
+    const double s = cylinderSpecularQuadrature(a, b, q, fr.v, m.exponent, relTol);
+    out += l.intensity * (m.diffuse * d + m.specular * s);
+  }
+  return out;
+}
+
+CylinderSampler::CylinderSampler(int samples) : samples_(std::max(1, samples)) {
+  const int m = samples_;
+  s_.resize(m);
+  c_.resize(m);
+  prefixS_.assign(m + 1, 0.0);
+  prefixC_.assign(m + 1, 0.0);
+  for (int k = 0; k < m; ++k) {
+    s_[k] = -1.0 + (2.0 * k + 1.0) / m;  // midpoints of m equal steps along the diameter
+    c_[k] = std::sqrt(std::max(0.0, 1.0 - s_[k] * s_[k]));
+    prefixS_[k + 1] = prefixS_[k] + s_[k];
+    prefixC_[k + 1] = prefixC_[k] + c_[k];
+  }
+}
+
+glm::dvec3 CylinderSampler::radiance(const CylinderFrame& fr, const glm::dvec3& view,
+                                     const PhongMaterial& m, const LightRig& rig,
+                                     double lobeCut) const {
+  const int M = samples_;
+  const double inv = 1.0 / M, n = m.exponent;
+  // The lobe matters where (R.V)^n > lobeCut, i.e. R.V > cut (n = 0: the indicator R.V > 0).
+  const double cut = n > 0.0 ? std::pow(lobeCut, 1.0 / n) : 0.0;
+  // Sample index whose s is nearest to x (x in [-1, 1]).
+  auto indexOf = [M](double x) { return std::clamp(int(std::floor((x + 1.0) * 0.5 * M)), 0, M - 1); };
+  glm::dvec3 out = m.diffuse * rig.ambient;
+  for (const DirectionalLight& l : rig.lights) {
+    const double a = glm::dot(fr.e1, l.direction), b = glm::dot(fr.e2, l.direction);
+    const double q = glm::dot(l.direction, view);
+    const double rho = std::sqrt(a * a + b * b);
+    if (!(rho > 0.0)) continue;  // light along the axis lights no normal
+    auto nl = [&](int k) { return c_[k] * a + s_[k] * b; };
+    // Lit run: theta in (beta - pi/2, beta + pi/2), i.e. s > -a/rho when b >= 0, s < a/rho when
+    // b < 0. Start from the analytic boundary, then settle it on the samples' own signs.
+    int k0 = 0, k1 = M;  // lit samples are [k0, k1)
+    if (b >= 0.0) {
+      k0 = indexOf(-a / rho);
+      while (k0 > 0 && nl(k0 - 1) > 0.0) --k0;
+      while (k0 < M && !(nl(k0) > 0.0)) ++k0;
+    } else {
+      k1 = indexOf(a / rho) + 1;
+      while (k1 < M && nl(k1) > 0.0) ++k1;
+      while (k1 > 0 && !(nl(k1 - 1) > 0.0)) --k1;
+    }
+    if (k0 >= k1) continue;
+    const double dsum = a * (prefixC_[k1] - prefixC_[k0]) + b * (prefixS_[k1] - prefixS_[k0]);
+    double ssum = 0.0;
+    // R.V = v (rho + a) - q at its peak theta = beta / 2, s* = sin(beta / 2).
+    if (fr.v * (rho + a) - q > cut) {
+      const double sPeak = std::copysign(std::sqrt(std::max(0.0, 0.5 * (1.0 - a / rho))), b);
+      const int kp = std::clamp(indexOf(sPeak), k0, k1 - 1);
+      auto rv = [&](int k) { return 2.0 * nl(k) * c_[k] * fr.v - q; };
+      for (int k = kp; k < k1; ++k) {
+        const double x = rv(k);
+        if (!(x > cut)) break;
+        ssum += phongLobe(x, n);
+      }
+      for (int k = kp - 1; k >= k0; --k) {
+        const double x = rv(k);
+        if (!(x > cut)) break;
+        ssum += phongLobe(x, n);
+      }
+    }
+    out += l.intensity * (m.diffuse * (dsum * inv) + m.specular * (ssum * inv));
+  }
+  return out;
+}
+
+glm::dvec3 cylinderRadianceSampled(const glm::dvec3& T, const glm::dvec3& V, const PhongMaterial& m,
+                                   const LightRig& rig, int samples) {
+  const CylinderFrame fr = cylinderFrame(T, V);
+  if (fr.endOn) {
+    const bool ok = finite3(T) && finite3(V) && glm::length(T) > 1e-300 && glm::length(V) > 1e-300;
+    const glm::dvec3 vv = ok ? glm::normalize(V) : glm::dvec3(0, 0, 1);
+    return endOnRadiance(vv, m, rig, vv);
+  }
+  return CylinderSampler(samples).radiance(fr, glm::normalize(V), m, rig);
+}
+
+}  // namespace wf

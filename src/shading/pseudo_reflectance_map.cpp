@@ -1,0 +1,132 @@
+#include "shading/pseudo_reflectance_map.h"
+
+#include "shading/cylinder_shading.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+namespace wf {
+namespace {
+
+double nodeCoord(int i, int n) { return -1.0 + 2.0 * i / (n - 1); }
+
+// Tangent of the texel at map coordinates (u, z): u is x for the XZ map, y for the YZ map; the
+// implicit component is the non-negative root. Outside the unit disc the point is moved to the
+// rim (those texels only serve as bilinear neighbours near z = +-1).
+glm::dvec3 texelTangent(PseudoReflectanceMap::Plane p, double u, double z) {
+  double r2 = u * u + z * z;
+  if (r2 > 1.0) {
+    const double r = std::sqrt(r2);
+    u /= r;
+    z /= r;
+    r2 = 1.0;
+  }
+  const double w = std::sqrt(std::max(0.0, 1.0 - r2));
+  return p == PseudoReflectanceMap::Plane::XZ ? glm::dvec3(u, w, z) : glm::dvec3(w, u, z);
+}
+
+}  // namespace
+
+PseudoReflectanceMap::Plane PseudoReflectanceMap::planeFor(const glm::dvec3& T) {
+  return std::abs(T.x) <= std::abs(T.y) ? Plane::XZ : Plane::YZ;
+}
+
+bool PseudoReflectanceMap::texelNeeded(int i, int j) const {
+  // A map is read where |u| <= |implicit component|, i.e. u^2 <= (1 - z^2) / 2. A texel is a
+  // bilinear neighbour of any point within one texel spacing h of it.
+  const int n = options_.resolution;
+  const double h = 2.0 / (n - 1);
+  const double u = std::max(0.0, std::abs(nodeCoord(i, n)) - h);
+  const double z = std::max(0.0, std::abs(nodeCoord(j, n)) - h);
+  return u * u <= 0.5 * (1.0 - z * z) + 1e-12;
+}
+
+void PseudoReflectanceMap::build(const PhongMaterial& material, const LightRig& eyeLights,
+                                 const PseudoReflectanceMapOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  options_.resolution = std::clamp(options.resolution, 8, 4096);
+  options_.samples = std::clamp(options.samples, 1, 65536);
+  material_ = material.sanitized();
+  lights_ = eyeLights.canonical();
+  const int n = options_.resolution;
+  const glm::dvec3 view(0.0, 0.0, 1.0);
+  std::atomic<size_t> computed{0};
+  const CylinderSampler sampler(options_.samples);
+  for (auto& m : maps_) m.assign(size_t(n) * size_t(n), glm::vec3(0.0f));
+  // Rows of both maps in one parallel loop; each texel is written by exactly one task, so the
+  // result does not depend on the thread count.
+  tbb::parallel_for(tbb::blocked_range<int>(0, 2 * n), [&](const tbb::blocked_range<int>& r) {
+    size_t local = 0;
+    for (int row = r.begin(); row != r.end(); ++row) {
+      const Plane p = row < n ? Plane::XZ : Plane::YZ;
+      const int j = row % n;
+      const double z = nodeCoord(j, n);
+      for (int i = 0; i < n; ++i) {
+        if (!texelNeeded(i, j)) continue;
+        const CylinderFrame fr = cylinderFrame(texelTangent(p, nodeCoord(i, n), z), view);
+        maps_[int(p)][size_t(j) * n + i] =
+            fr.endOn ? glm::vec3(cylinderRadianceSampled(view, view, material_, lights_, 1))
+                     : glm::vec3(sampler.radiance(fr, view, material_, lights_));
+        ++local;
+      }
+    }
+    computed += local;
+  });
+  endOn_ = glm::vec3(cylinderRadianceSampled(view, view, material_, lights_, options_.samples));
+  texelsComputed_ = computed.load();
+  ++buildCount_;
+  lastBuildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+bool PseudoReflectanceMap::update(const PhongMaterial& material, const LightRig& eyeLights,
+                                  const PseudoReflectanceMapOptions& options) {
+  PseudoReflectanceMapOptions o = options;
+  o.resolution = std::clamp(o.resolution, 8, 4096);
+  o.samples = std::clamp(o.samples, 1, 65536);
+  if (!empty() && o == options_ && material.sanitized() == material_ &&
+      eyeLights.canonical().nearlyEqual(lights_))
+    return false;
+  build(material, eyeLights, options);
+  return true;
+}
+
+glm::vec3 PseudoReflectanceMap::lookupPlane(Plane plane, double u, double z) const {
+  const int n = options_.resolution;
+  const std::vector<glm::vec3>& m = maps_[int(plane)];
+  const double fu = std::clamp((u + 1.0) * 0.5 * (n - 1), 0.0, double(n - 1));
+  const double fz = std::clamp((z + 1.0) * 0.5 * (n - 1), 0.0, double(n - 1));
+  const int i = std::min(int(fu), n - 2), j = std::min(int(fz), n - 2);
+  const float a = float(fu - i), b = float(fz - j);
+  const glm::vec3* row0 = &m[size_t(j) * n + i];
+  const glm::vec3* row1 = row0 + n;
+  return (row0[0] * (1.0f - a) + row0[1] * a) * (1.0f - b) + (row1[0] * (1.0f - a) + row1[1] * a) * b;
+}
+
+glm::vec3 PseudoReflectanceMap::lookup(const glm::dvec3& T) const {
+  if (empty()) return glm::vec3(0.0f);
+  const double len2 = glm::dot(T, T);
+  if (!(len2 > 1e-300) || !std::isfinite(len2)) return endOn_;
+  glm::dvec3 t = T / std::sqrt(len2);
+  if (std::abs(t.x) <= std::abs(t.y)) {
+    if (t.y < 0.0) t = -t;
+    return lookupPlane(Plane::XZ, t.x, t.z);
+  }
+  if (t.x < 0.0) t = -t;
+  return lookupPlane(Plane::YZ, t.y, t.z);
+}
+
+std::string PseudoReflectanceMap::toString() const {
+  std::ostringstream s;
+  s << "PseudoReflectanceMap{resolution=" << options_.resolution << " samples=" << options_.samples
+    << " builds=" << buildCount_ << " lastBuild=" << lastBuildSeconds_ * 1e3 << "ms texels="
+    << texelsComputed_ << " " << material_.toString() << " lights=" << lights_.lights.size() << "}";
+  return s.str();
+}
+
+}  // namespace wf
