@@ -16,10 +16,15 @@ namespace {
 
 double nodeCoord(int i, int n) { return -1.0 + 2.0 * i / (n - 1); }
 
-// Tangent of the texel at map coordinates (u, z): u is x for the XZ map, y for the YZ map; the
-// implicit component is the non-negative root. Outside the unit disc the point is moved to the
-// rim (those texels only serve as bilinear neighbours near z = +-1).
-glm::dvec3 texelTangent(PseudoReflectanceMap::Plane p, double u, double z) {
+using Indexing = PseudoReflectanceMapOptions::Indexing;
+constexpr double kSqrt2 = 1.4142135623730951;
+// Below this distance from the view axis a tangent is end-on (as in cylinderFrame).
+constexpr double kAxisR = 1e-9;
+
+// Paper indexing: u is x for the XZ map, y for the YZ map; the implicit component is the
+// non-negative root. Outside the unit disc the point is moved to the rim (those texels only
+// serve as bilinear neighbours near z = +-1).
+glm::dvec3 paperTangent(PseudoReflectanceMap::Plane p, double u, double z) {
   double r2 = u * u + z * z;
   if (r2 > 1.0) {
     const double r = std::sqrt(r2);
@@ -31,13 +36,31 @@ glm::dvec3 texelTangent(PseudoReflectanceMap::Plane p, double u, double z) {
   return p == PseudoReflectanceMap::Plane::XZ ? glm::dvec3(u, w, z) : glm::dvec3(w, u, z);
 }
 
+// Warped indexing (see the header). The edge rows zeta = +-1 stand for the view axis itself;
+// they hold the limit along their azimuth, taken 1e-7 rad from the axis.
+glm::dvec3 warpedTangent(PseudoReflectanceMap::Plane p, double a, double zeta) {
+  const double m = 1.0 - std::abs(zeta);           // sqrt(1 - |z|)
+  const double oneMinusZ = m * m;                  // 1 - |z|
+  double r = std::sqrt(oneMinusZ * (2.0 - oneMinusZ));  // sqrt(1 - z^2), without cancellation
+  r = std::max(r, 1e-7);
+  const double z = std::copysign(std::sqrt(std::max(0.0, 1.0 - r * r)), zeta);
+  const double c = std::clamp(a / kSqrt2, -1.0, 1.0);
+  const double u = r * c, w = r * std::sqrt(std::max(0.0, 1.0 - c * c));
+  return p == PseudoReflectanceMap::Plane::XZ ? glm::dvec3(u, w, z) : glm::dvec3(w, u, z);
+}
+
 }  // namespace
 
 PseudoReflectanceMap::Plane PseudoReflectanceMap::planeFor(const glm::dvec3& T) {
   return std::abs(T.x) <= std::abs(T.y) ? Plane::XZ : Plane::YZ;
 }
 
+glm::dvec3 PseudoReflectanceMap::tangentAt(Plane plane, double u, double v) const {
+  return options_.indexing == Indexing::Paper ? paperTangent(plane, u, v) : warpedTangent(plane, u, v);
+}
+
 bool PseudoReflectanceMap::texelNeeded(int i, int j) const {
+  if (options_.indexing == Indexing::Warped) return true;  // the sector fills the whole map
   // A map is read where |u| <= |implicit component|, i.e. u^2 <= (1 - z^2) / 2. A texel is a
   // bilinear neighbour of any point within one texel spacing h of it.
   const int n = options_.resolution;
@@ -52,6 +75,7 @@ void PseudoReflectanceMap::build(const PhongMaterial& material, const LightRig& 
   const auto t0 = std::chrono::steady_clock::now();
   options_.resolution = std::clamp(options.resolution, 8, 4096);
   options_.samples = std::clamp(options.samples, 1, 65536);
+  options_.indexing = options.indexing;
   material_ = material.sanitized();
   lights_ = eyeLights.canonical();
   const int n = options_.resolution;
@@ -69,7 +93,7 @@ void PseudoReflectanceMap::build(const PhongMaterial& material, const LightRig& 
       const double z = nodeCoord(j, n);
       for (int i = 0; i < n; ++i) {
         if (!texelNeeded(i, j)) continue;
-        const CylinderFrame fr = cylinderFrame(texelTangent(p, nodeCoord(i, n), z), view);
+        const CylinderFrame fr = cylinderFrame(tangentAt(p, nodeCoord(i, n), z), view);
         maps_[int(p)][size_t(j) * n + i] =
             fr.endOn ? glm::vec3(cylinderRadianceSampled(view, view, material_, lights_, 1))
                      : glm::vec3(sampler.radiance(fr, view, material_, lights_));
@@ -113,17 +137,23 @@ glm::vec3 PseudoReflectanceMap::lookup(const glm::dvec3& T) const {
   const double len2 = glm::dot(T, T);
   if (!(len2 > 1e-300) || !std::isfinite(len2)) return endOn_;
   glm::dvec3 t = T / std::sqrt(len2);
-  if (std::abs(t.x) <= std::abs(t.y)) {
-    if (t.y < 0.0) t = -t;
-    return lookupPlane(Plane::XZ, t.x, t.z);
-  }
-  if (t.x < 0.0) t = -t;
-  return lookupPlane(Plane::YZ, t.y, t.z);
+  // T and -T are one cylinder: make the implicit component non-negative.
+  const Plane plane = planeFor(t);
+  if ((plane == Plane::XZ ? t.y : t.x) < 0.0) t = -t;
+  const double u = plane == Plane::XZ ? t.x : t.y;
+  if (options_.indexing == Indexing::Paper) return lookupPlane(plane, u, t.z);
+  const double r2 = t.x * t.x + t.y * t.y;
+  if (!(r2 > kAxisR * kAxisR)) return endOn_;
+  const double r = std::sqrt(r2);
+  const double oneMinusZ = r2 / (1.0 + std::abs(t.z));  // 1 - |z| without cancellation
+  const double zeta = std::copysign(1.0 - std::sqrt(oneMinusZ), t.z);
+  return lookupPlane(plane, kSqrt2 * u / r, zeta);
 }
 
 std::string PseudoReflectanceMap::toString() const {
   std::ostringstream s;
-  s << "PseudoReflectanceMap{resolution=" << options_.resolution << " samples=" << options_.samples
+  s << "PseudoReflectanceMap{indexing=" << (options_.indexing == Indexing::Paper ? "paper" : "warped")
+    << " resolution=" << options_.resolution << " samples=" << options_.samples
     << " builds=" << buildCount_ << " lastBuild=" << lastBuildSeconds_ * 1e3 << "ms texels="
     << texelsComputed_ << " " << material_.toString() << " lights=" << lights_.lights.size() << "}";
   return s.str();

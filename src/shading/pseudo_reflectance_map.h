@@ -11,6 +11,17 @@
 // the paper's orthographic assumption; lookups are bilinear between texel nodes at
 // -1 + 2 i / (resolution - 1). Texels that no lookup can reach (outside each map's region plus
 // one texel) are not computed. The map is RGB float.
+//
+// Indexing::Paper is the paper's (x, z) indexing. It samples z ~ 0 well but the view axis
+// badly: near z = +-1 a step in z is a step of dz / sin(angle) in angle, so a 256^2 map has a
+// z texel 8.6 degrees tall at 3 degrees from the axis, and there the cylinder's shading changes
+// fastest (its limit at the axis depends on the direction of approach). Indexing::Warped keeps
+// the two maps and the |x| <= |y| switch but indexes each by
+//   a    = sqrt(2) * u / sqrt(x^2 + y^2)  (u = x or y: the azimuth within the map's 90° sector)
+//   zeta = sign(z) (1 - sqrt(1 - |z|))    (grows linearly with the angle at the view axis)
+// so texels are spread nearly evenly in angle, every texel is used, and the view axis becomes
+// the edge rows zeta = +-1, holding the limit along each azimuth: the map is smooth there.
+// It is the default; docs/shading.md shows both against the exact path.
 #pragma once
 
 #include "shading/light.h"
@@ -25,8 +36,10 @@
 namespace wf {
 
 struct PseudoReflectanceMapOptions {
+  enum class Indexing { Paper, Warped };
   int resolution = 256;  ///< texel nodes per side of each map, 8 ... 4096
   int samples = 64;      ///< normals averaged across the cylinder, 1 ... 65536
+  Indexing indexing = Indexing::Warped;
   bool operator==(const PseudoReflectanceMapOptions&) const = default;
 };
 
@@ -52,13 +65,17 @@ class PseudoReflectanceMap {
 
   /// Which map a tangent uses.
   static Plane planeFor(const glm::dvec3& T);
-  /// Bilinear lookup in one map at its own coordinates (u, z) = (x, z) or (y, z), in [-1, 1].
+  /// Bilinear lookup in one map at its texel coordinates (both in [-1, 1]): (x or y, z) for
+  /// Indexing::Paper, (a, zeta) for Indexing::Warped.
   glm::vec3 lookupPlane(Plane plane, double u, double z) const;
+  /// The unit tangent a map stands for at texel coordinates (u, v) (see lookupPlane).
+  glm::dvec3 tangentAt(Plane plane, double u, double v) const;
   /// Whether lookups can reach texel (i, j) of a map: only those texels are built.
   bool texelNeeded(int i, int j) const;
 
   int resolution() const { return options_.resolution; }
   int samples() const { return options_.samples; }
+  const PseudoReflectanceMapOptions& options() const { return options_; }
   const std::vector<glm::vec3>& texels(Plane p) const { return maps_[int(p)]; }
   glm::vec3 endOnValue() const { return endOn_; }
   int buildCount() const { return buildCount_; }
