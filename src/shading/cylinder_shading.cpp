@@ -195,6 +195,40 @@ glm::dvec3 cylinderRadianceExact(const glm::dvec3& T, const glm::dvec3& V, const
   return out;
 }
 
+// Sum over samples k in [kl, kr) of the Phong lobe max(0, R.V)^n with
+// R.V = 2 (c_k a + s_k b) c_k v - q. Written as whole-window passes (R.V for every sample, then
+// binary powering applied to the whole window) so the compiler vectorises them; the final sum
+// stays in order, so every build of the same map is bit-identical.
+__attribute__((target_clones("avx2", "default"))) double windowLobeSum(
+    const double* s, const double* c, int kl, int kr, double a, double b, double v, double q, double n) {
+  constexpr int kChunk = 256;
+  double x[kChunk], r[kChunk];
+  const bool integer = n <= 1024.0 && n == std::floor(n);
+  double sum = 0.0;
+  for (int base = kl; base < kr; base += kChunk) {
+    const int len = std::min(kChunk, kr - base);
+    for (int i = 0; i < len; ++i) {
+      const int k = base + i;
+      const double rv = 2.0 * (c[k] * a + s[k] * b) * c[k] * v - q;
+      x[i] = std::clamp(rv, 0.0, 1.0);
+    }
+    if (n == 0.0) {
+      for (int i = 0; i < len; ++i) r[i] = x[i] > 0.0 ? 1.0 : 0.0;
+    } else if (integer) {
+      for (int i = 0; i < len; ++i) r[i] = 1.0;
+      for (unsigned e = unsigned(n); e; e >>= 1) {
+        if (e & 1u)
+          for (int i = 0; i < len; ++i) r[i] *= x[i];
+        for (int i = 0; i < len; ++i) x[i] *= x[i];
+      }
+    } else {
+      for (int i = 0; i < len; ++i) r[i] = x[i] > 0.0 ? std::pow(x[i], n) : 0.0;
+    }
+    for (int i = 0; i < len; ++i) sum += r[i];
+  }
+  return sum;
+}
+
 CylinderSampler::CylinderSampler(int samples) : samples_(std::max(1, samples)) {
   const int m = samples_;
   s_.resize(m);
@@ -212,6 +246,7 @@ CylinderSampler::CylinderSampler(int samples) : samples_(std::max(1, samples)) {
 glm::dvec3 CylinderSampler::radiance(const CylinderFrame& fr, const glm::dvec3& view,
                                      const PhongMaterial& m, const LightRig& rig,
                                      double lobeCut) const {
+  lobeCut = std::clamp(lobeCut, 1e-300, 1.0);
   const int M = samples_;
   const double inv = 1.0 / M, n = m.exponent;
   // The lobe matters where (R.V)^n > lobeCut, i.e. R.V > cut (n = 0: the indicator R.V > 0).
@@ -240,21 +275,23 @@ glm::dvec3 CylinderSampler::radiance(const CylinderFrame& fr, const glm::dvec3& 
     if (k0 >= k1) continue;
     const double dsum = a * (prefixC_[k1] - prefixC_[k0]) + b * (prefixS_[k1] - prefixS_[k0]);
     double ssum = 0.0;
-    // R.V = v (rho + a) - q at its peak theta = beta / 2, s* = sin(beta / 2).
+    // R.V = P (cos(beta) + cos(2 theta - beta)) - q peaks at v (rho + a) - q (theta = beta / 2).
     if (fr.v * (rho + a) - q > cut) {
-      const double sPeak = std::copysign(std::sqrt(std::max(0.0, 0.5 * (1.0 - a / rho))), b);
-      const int kp = std::clamp(indexOf(sPeak), k0, k1 - 1);
-      auto rv = [&](int k) { return 2.0 * nl(k) * c_[k] * fr.v - q; };
-      for (int k = kp; k < k1; ++k) {
-        const double x = rv(k);
-        if (!(x > cut)) break;
-        ssum += phongLobe(x, n);
+      // Window where R.V > cut: cos(2 theta - beta) > C, theta = beta/2 -+ w with cos(2w) = C.
+      // Its ends in s = sin(theta) follow from half-angle identities, no trigonometric calls.
+      const double P = rho * fr.v, cb = a / rho;
+      const double ch = std::sqrt(std::max(0.0, 0.5 * (1.0 + cb)));                 // cos(beta/2)
+      const double sh = std::copysign(std::sqrt(std::max(0.0, 0.5 * (1.0 - cb))), b);  // sin(beta/2)
+      const double C = (cut + q) / P - cb;
+      int kl = k0, kr = k1;
+      if (C > -1.0) {
+        const double cw = std::sqrt(std::max(0.0, 0.5 * (1.0 + C))), sw = std::sqrt(std::max(0.0, 0.5 * (1.0 - C)));
+        const double sHi = (ch * cw - sh * sw < 0.0) ? 1.0 : sh * cw + ch * sw;    // past theta = pi/2: clamp
+        const double sLo = (ch * cw + sh * sw < 0.0) ? -1.0 : sh * cw - ch * sw;   // before -pi/2: clamp
+        kl = std::max(k0, indexOf(sLo) - 1);
+        kr = std::min(k1, indexOf(sHi) + 2);
       }
-      for (int k = kp - 1; k >= k0; --k) {
-        const double x = rv(k);
-        if (!(x > cut)) break;
-        ssum += phongLobe(x, n);
-      }
+      if (kl < kr) ssum = windowLobeSum(s_.data(), c_.data(), kl, kr, a, b, fr.v, q, n);
     }
     out += l.intensity * (m.diffuse * (dsum * inv) + m.specular * (ssum * inv));
   }

@@ -45,15 +45,16 @@ glm::dvec3 cylinderRadianceExact(const glm::dvec3& T, const glm::dvec3& V, const
                                  const LightRig& rig, double relTol = 1e-10);
 
 /// The paper's estimate: mean of `samples` normals at the midpoints of equal steps along the
-/// projected diameter (see CylinderSampler; specular samples below 1e-9 of the light are skipped).
+/// projected diameter (see CylinderSampler; specular samples below 1e-8 of the light are skipped).
 glm::dvec3 cylinderRadianceSampled(const glm::dvec3& T, const glm::dvec3& V, const PhongMaterial& m,
                                    const LightRig& rig, int samples);
 
 /// The paper's equal-spacing samples for one sample count M, precomputed so that the mean costs
 /// O(1) per light for the diffuse part and O(samples inside the highlight) for the specular part:
 /// the lit samples form one contiguous run in s (prefix sums of sqrt(1-s^2) and s give the
-/// diffuse sum exactly), and R.V is unimodal in s, so the specular sum walks out from the peak
-/// sample until the lobe drops below `lobeCut` (its error is at most lobeCut * ks * L).
+/// diffuse sum exactly), and R.V is unimodal in s, so the specular sum runs only over the
+/// window where the lobe exceeds `lobeCut`, found in closed form (the error of leaving out the
+/// rest is at most lobeCut * ks * L per light).
 class CylinderSampler {
  public:
   explicit CylinderSampler(int samples);
@@ -61,7 +62,7 @@ class CylinderSampler {
   /// Same quantity as cylinderRadianceSampled; `frame` must not be end-on, `view` unit,
   /// material sanitised and rig canonical.
   glm::dvec3 radiance(const CylinderFrame& frame, const glm::dvec3& view, const PhongMaterial& m,
-                      const LightRig& rig, double lobeCut = 1e-9) const;
+                      const LightRig& rig, double lobeCut = 1e-8) const;
 
  private:
   int samples_;
