@@ -73,7 +73,8 @@ EnvironmentMap EnvironmentMap::mountainScene(int width, uint32_t seed) {
   width = std::max(16, width);
   const int height = width / 2;
   std::vector<glm::vec3> px(size_t(width) * height);
-  const glm::dvec3 sunDir = glm::normalize(glm::dvec3(0.45, 0.35, -0.82));
+  // The sun stands behind the viewer, so that a chrome ball shows it.
+  const glm::dvec3 sunDir = glm::normalize(glm::dvec3(-0.45, 0.40, 0.80));
   for (int y = 0; y < height; ++y) {
     const double lat = (0.5 - (y + 0.5) / height) * kPi;  // +pi/2 at the top
     for (int x = 0; x < width; ++x) {
@@ -81,7 +82,7 @@ EnvironmentMap EnvironmentMap::mountainScene(int width, uint32_t seed) {
       const double lon = (phi - 0.5) * 2.0 * kPi;
       const glm::dvec3 dir(std::cos(lat) * std::sin(lon), std::sin(lat), -std::cos(lat) * std::cos(lon));
       glm::dvec3 c;
-      const double mountainTop = 0.03 + 0.30 * ridge(seed, phi);  // radians above the horizon
+      const double mountainTop = 0.04 + 0.55 * ridge(seed, phi);  // radians above the horizon
       if (lat > mountainTop) {
         // Sky: pale at the horizon, deep blue at the zenith, plus a sun with a soft halo.
         const double t = std::pow(std::clamp(lat / (kPi / 2), 0.0, 1.0), 0.6);
@@ -91,7 +92,7 @@ EnvironmentMap EnvironmentMap::mountainScene(int width, uint32_t seed) {
         else c += glm::dvec3(1.0, 0.9, 0.7) * (0.6 * std::pow(std::max(0.0, cs), 64.0));
       } else if (lat > 0.0) {
         // Mountains: rock, with snow above a height that varies along the range.
-        const double snowLine = 0.17 + 0.05 * noise1(seed + 7, phi * 40, 40);
+        const double snowLine = 0.30 + 0.08 * noise1(seed + 7, phi * 40, 40);
         const double shade = 0.75 + 0.25 * noise1(seed + 13, phi * 160 + lat * 50, 160);
         c = lat > snowLine ? glm::dvec3(0.92, 0.94, 0.98) * shade
                            : glm::dvec3(0.33, 0.30, 0.28) * shade;
