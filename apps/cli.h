@@ -1,0 +1,36 @@
+// Small helpers shared by the wirefur subcommands: argument errors, progress, timing.
+#pragma once
+
+#include <chrono>
+#include <stdexcept>
+#include <string>
+
+namespace wfapp {
+
+/// Bad input from the user: reported as one line on stderr, exit status 2.
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// Progress lines on stderr only when stderr is a terminal, not in CI and not --quiet.
+class Progress {
+ public:
+  explicit Progress(bool quiet);
+  void say(const std::string& line) const;
+  bool enabled() const { return enabled_; }
+
+ private:
+  bool enabled_;
+};
+
+inline double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// Parses a positive integer option value; throws UsageError naming the option.
+int parsePositiveInt(const std::string& option, const std::string& value);
+
+/// Creates a directory (and parents); throws UsageError if it cannot.
+void ensureDirectory(const std::string& dir);
+
+}  // namespace wfapp
