@@ -35,7 +35,10 @@ void writePng(const wf::ImageRGBA& image, const std::string& path) {
     }
   }
   const std::filesystem::path target(path);
-  const std::filesystem::path tmp = target.parent_path() / ("." + target.filename().string() + ".tmp");
+  std::string tmpName = target.filename().string();  // hidden sibling: ".NAME.tmp"
+  tmpName.insert(0, 1, '.');
+  tmpName += ".tmp";
+  const std::filesystem::path tmp = target.parent_path() / tmpName;
   vtkNew<vtkPNGWriter> writer;
   writer->SetFileName(tmp.string().c_str());
   writer->SetInputData(data);

@@ -38,7 +38,9 @@ void plotPng(const PlotSpec& spec, const std::string& pngPath) {
   std::string plots;
   for (size_t i = 0; i < spec.series.size(); ++i) {
     const PlotSeries& s = spec.series[i];
-    const fs::path data = dir / ("s" + std::to_string(i) + ".dat");
+    std::string dataName = std::to_string(i);
+    dataName += ".dat";
+    const fs::path data = dir / dataName;
     std::ofstream d(data);
     d.precision(10);
     for (size_t k = 0; k < s.x.size(); ++k)
