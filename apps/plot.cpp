@@ -26,11 +26,11 @@ void plotPng(const PlotSpec& spec, const std::string& pngPath) {
   fs::create_directories(dir);
   const fs::path script = dir / "plot.gp";
   std::ofstream gp(script);
-  gp << "set terminal pngcairo size 960,600 font 'Sans,10'\n";
+  gp << "set terminal pngcairo size 900,720 font 'Sans,10'\n";
   gp << "set output " << quoted(fs::absolute(pngPath).string() + ".tmp") << "\n";
   gp << "set title " << quoted(spec.title) << "\n";
   gp << "set xlabel " << quoted(spec.xlabel) << "\nset ylabel " << quoted(spec.ylabel) << "\n";
-  gp << "set grid\nset key outside right\nset format y '%.0e'\n";
+  gp << "set grid\nset key below Left reverse\nset format y '%.0e'\n";
   if (spec.logx) gp << "set logscale x\n";
   if (spec.logy) gp << "set logscale y\n";
   for (double h : spec.hlines) gp << "set arrow from graph 0, first " << h << " to graph 1, first " << h

@@ -21,7 +21,7 @@ struct PlotSpec {
   std::vector<double> hlines;  ///< horizontal reference lines (targets)
 };
 
-/// Draws `spec` into `pngPath` (960x600). Throws std::runtime_error when gnuplot is missing or fails.
+/// Draws `spec` into `pngPath` (900x720, legend below). Throws std::runtime_error when gnuplot is missing or fails.
 void plotPng(const PlotSpec& spec, const std::string& pngPath);
 
 }  // namespace wfapp
