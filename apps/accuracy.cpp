@@ -249,7 +249,8 @@ int runAccuracy(const AccuracyOptions& opt) {
     double sink = 0;
     sampledNs = medianNsPerItem(3, nExactFrag, [&] {
       for (size_t i = 0; i < nExactFrag; ++i)
-        sink += sampler.radiance(wf::cylinderFrame(fragT[i], kView), kView, ref.material, ref.rig).x;
+        sink += sampler.radiance(wf::cylinderFrame(fragT[i], kView), kView, ref.material, ref.rig,
+                                 wf::CylinderSampler::lobeThreshold(ref.material.exponent)).x;
     });
     if (sink == -1.0) std::puts("");
     for (size_t i = 0; i < tangents.size(); ++i)

@@ -243,35 +243,33 @@ CylinderSampler::CylinderSampler(int samples) : samples_(std::max(1, samples)) {
   }
 }
 
+double CylinderSampler::lobeThreshold(double exponent, double lobeCut) {
+  lobeCut = std::clamp(lobeCut, 1e-300, 1.0);
+  return exponent > 0.0 ? std::pow(lobeCut, 1.0 / exponent) : 0.0;
+}
+
 glm::dvec3 CylinderSampler::radiance(const CylinderFrame& fr, const glm::dvec3& view,
                                      const PhongMaterial& m, const LightRig& rig,
-                                     double lobeCut) const {
-  lobeCut = std::clamp(lobeCut, 1e-300, 1.0);
+                                     double cut) const {
   const int M = samples_;
-  const double inv = 1.0 / M, n = m.exponent;
-  // The lobe matters where (R.V)^n > lobeCut, i.e. R.V > cut (n = 0: the indicator R.V > 0).
-  const double cut = n > 0.0 ? std::pow(lobeCut, 1.0 / n) : 0.0;
-  // Sample index whose s is nearest to x (x in [-1, 1]).
-  auto indexOf = [M](double x) { return std::clamp(int(std::floor((x + 1.0) * 0.5 * M)), 0, M - 1); };
+  const double inv = 1.0 / M, n = m.exponent, halfM = 0.5 * M;
+  // Samples k with s_k > x are those with k > (x + 1) M / 2 - 1/2: the first of them.
+  auto firstAbove = [M, halfM](double x) {
+    const double t = (x + 1.0) * halfM + 0.5;  // >= 0 for x >= -1
+    return t <= 0.0 ? 0 : std::min(M, int(t));  // int() is floor() here: t >= 0
+  };
   glm::dvec3 out = m.diffuse * rig.ambient;
   for (const DirectionalLight& l : rig.lights) {
     const double a = glm::dot(fr.e1, l.direction), b = glm::dot(fr.e2, l.direction);
     const double q = glm::dot(l.direction, view);
     const double rho = std::sqrt(a * a + b * b);
     if (!(rho > 0.0)) continue;  // light along the axis lights no normal
-    auto nl = [&](int k) { return c_[k] * a + s_[k] * b; };
-    // Lit run: theta in (beta - pi/2, beta + pi/2), i.e. s > -a/rho when b >= 0, s < a/rho when
-    // b < 0. Start from the analytic boundary, then settle it on the samples' own signs.
-    int k0 = 0, k1 = M;  // lit samples are [k0, k1)
-    if (b >= 0.0) {
-      k0 = indexOf(-a / rho);
-      while (k0 > 0 && nl(k0 - 1) > 0.0) --k0;
-      while (k0 < M && !(nl(k0) > 0.0)) ++k0;
-    } else {
-      k1 = indexOf(a / rho) + 1;
-      while (k1 < M && nl(k1) > 0.0) ++k1;
-      while (k1 > 0 && !(nl(k1 - 1) > 0.0)) --k1;
-    }
+    // Lit run [k0, k1): theta in (beta - pi/2, beta + pi/2), i.e. s > -a/rho when b >= 0 and
+    // s < a/rho when b < 0. A sample exactly on the boundary has N.l ~ 1e-16 either way.
+    const double cb = a / rho;
+    int k0 = 0, k1 = M;
+    if (b >= 0.0) k0 = firstAbove(-cb);
+    else k1 = firstAbove(cb);
     if (k0 >= k1) continue;
     const double dsum = a * (prefixC_[k1] - prefixC_[k0]) + b * (prefixS_[k1] - prefixS_[k0]);
     double ssum = 0.0;
@@ -279,7 +277,7 @@ glm::dvec3 CylinderSampler::radiance(const CylinderFrame& fr, const glm::dvec3& 
     if (fr.v * (rho + a) - q > cut) {
       // Window where R.V > cut: cos(2 theta - beta) > C, theta = beta/2 -+ w with cos(2w) = C.
       // Its ends in s = sin(theta) follow from half-angle identities, no trigonometric calls.
-      const double P = rho * fr.v, cb = a / rho;
+      const double P = rho * fr.v;
       const double ch = std::sqrt(std::max(0.0, 0.5 * (1.0 + cb)));                 // cos(beta/2)
       const double sh = std::copysign(std::sqrt(std::max(0.0, 0.5 * (1.0 - cb))), b);  // sin(beta/2)
       const double C = (cut + q) / P - cb;
@@ -288,8 +286,8 @@ glm::dvec3 CylinderSampler::radiance(const CylinderFrame& fr, const glm::dvec3& 
         const double cw = std::sqrt(std::max(0.0, 0.5 * (1.0 + C))), sw = std::sqrt(std::max(0.0, 0.5 * (1.0 - C)));
         const double sHi = (ch * cw - sh * sw < 0.0) ? 1.0 : sh * cw + ch * sw;    // past theta = pi/2: clamp
         const double sLo = (ch * cw + sh * sw < 0.0) ? -1.0 : sh * cw - ch * sw;   // before -pi/2: clamp
-        kl = std::max(k0, indexOf(sLo) - 1);
-        kr = std::min(k1, indexOf(sHi) + 2);
+        kl = std::max(k0, firstAbove(sLo) - 1);
+        kr = std::min(k1, firstAbove(sHi) + 1);
       }
       if (kl < kr) ssum = windowLobeSum(s_.data(), c_.data(), kl, kr, a, b, fr.v, q, n);
     }
@@ -306,7 +304,8 @@ glm::dvec3 cylinderRadianceSampled(const glm::dvec3& T, const glm::dvec3& V, con
     const glm::dvec3 vv = ok ? glm::normalize(V) : glm::dvec3(0, 0, 1);
     return endOnRadiance(vv, m, rig, vv);
   }
-  return CylinderSampler(samples).radiance(fr, glm::normalize(V), m, rig);
+  return CylinderSampler(samples).radiance(fr, glm::normalize(V), m, rig,
+                                          CylinderSampler::lobeThreshold(m.exponent));
 }
 
 }  // namespace wf

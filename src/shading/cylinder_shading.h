@@ -25,6 +25,7 @@
 
 #include <glm/glm.hpp>
 
+#include <cmath>
 #include <vector>
 
 namespace wf {
@@ -38,6 +39,19 @@ struct CylinderFrame {
 
 /// Frame for any T, V (need not be unit). Degenerate input yields endOn = true.
 CylinderFrame cylinderFrame(const glm::dvec3& T, const glm::dvec3& V);
+
+/// The same for a unit, finite T and V = (0, 0, 1), without the checks and normalisations
+/// (the map build's inner loop).
+inline CylinderFrame cylinderFrameOrthographic(const glm::dvec3& unitT) {
+  CylinderFrame f;
+  const double v = std::sqrt(unitT.x * unitT.x + unitT.y * unitT.y);  // |V - (V.T) T|
+  if (!(v > 1e-9)) return f;
+  f.e1 = glm::dvec3(-unitT.z * unitT.x, -unitT.z * unitT.y, v * v) / v;
+  f.e2 = glm::cross(unitT, f.e1);
+  f.v = std::min(v, 1.0);
+  f.endOn = false;
+  return f;
+}
 
 /// Reference value of the cylinder-averaged Phong model. `relTol` is the relative tolerance of
 /// the specular quadrature per light (the diffuse part is exact).
@@ -60,9 +74,11 @@ class CylinderSampler {
   explicit CylinderSampler(int samples);
   int samples() const { return samples_; }
   /// Same quantity as cylinderRadianceSampled; `frame` must not be end-on, `view` unit,
-  /// material sanitised and rig canonical.
+  /// material sanitised and rig canonical; `cut` = lobeThreshold(m.exponent).
   glm::dvec3 radiance(const CylinderFrame& frame, const glm::dvec3& view, const PhongMaterial& m,
-                      const LightRig& rig, double lobeCut = 1e-8) const;
+                      const LightRig& rig, double cut) const;
+  /// The R.V below which the lobe (R.V)^n is under `lobeCut` (0 for n = 0).
+  static double lobeThreshold(double exponent, double lobeCut = 1e-8);
 
  private:
   int samples_;

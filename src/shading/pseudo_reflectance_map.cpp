@@ -82,6 +82,7 @@ void PseudoReflectanceMap::build(const PhongMaterial& material, const LightRig& 
   const glm::dvec3 view(0.0, 0.0, 1.0);
   std::atomic<size_t> computed{0};
   const CylinderSampler sampler(options_.samples);
+  const double cut = CylinderSampler::lobeThreshold(material_.exponent);
   for (auto& m : maps_) m.assign(size_t(n) * size_t(n), glm::vec3(0.0f));
   // Rows of both maps in one parallel loop; each texel is written by exactly one task, so the
   // result does not depend on the thread count.
@@ -93,10 +94,10 @@ void PseudoReflectanceMap::build(const PhongMaterial& material, const LightRig& 
       const double z = nodeCoord(j, n);
       for (int i = 0; i < n; ++i) {
         if (!texelNeeded(i, j)) continue;
-        const CylinderFrame fr = cylinderFrame(tangentAt(p, nodeCoord(i, n), z), view);
+        const CylinderFrame fr = cylinderFrameOrthographic(tangentAt(p, nodeCoord(i, n), z));
         maps_[int(p)][size_t(j) * n + i] =
             fr.endOn ? glm::vec3(cylinderRadianceSampled(view, view, material_, lights_, 1))
-                     : glm::vec3(sampler.radiance(fr, view, material_, lights_));
+                     : glm::vec3(sampler.radiance(fr, view, material_, lights_, cut));
         ++local;
       }
     }
