@@ -79,10 +79,21 @@ void reportPerItem(benchmark::State& state, double itemsPerIteration) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Map build. Args: resolution, samples, lights, exponent.
+using Indexing = wf::PseudoReflectanceMapOptions::Indexing;
 
+wf::PseudoReflectanceMapOptions mapOptions(int resolution, int samples, Indexing indexing) {
+  wf::PseudoReflectanceMapOptions o;
+  o.resolution = resolution;
+  o.samples = samples;
+  o.indexing = indexing;
+  return o;
+}
+
+// Map build. Args: resolution, samples, lights, exponent, indexing (0 = Warped, the default;
+// 1 = Paper, the paper's (x, z) indexing).
 void BM_MapBuild(benchmark::State& state) {
-  const wf::PseudoReflectanceMapOptions opt{int(state.range(0)), int(state.range(1))};
+  const wf::PseudoReflectanceMapOptions opt =
+      mapOptions(int(state.range(0)), int(state.range(1)), state.range(4) ? Indexing::Paper : Indexing::Warped);
   const wf::LightRig rig = wf::LightRig::studioRig(int(state.range(2)));
   const wf::PhongMaterial m = material(double(state.range(3)));
   wf::PseudoReflectanceMap map;
@@ -98,24 +109,28 @@ void BM_MapBuild(benchmark::State& state) {
 }
 
 void MapBuildArgs(benchmark::internal::Benchmark* b) {
-  b->ArgNames({"res", "samples", "lights", "n"});
+  b->ArgNames({"res", "samples", "lights", "n", "paper"});
   // Resolution sweep at 64 samples, 7 lights.
   for (int res : {64, 128, 256, 512})
-    for (int n : {10, 100}) b->Args({res, 64, 7, n});
+    for (int n : {10, 100}) b->Args({res, 64, 7, n, 0});
   // Sample-count sweep at 256 x 256, 7 lights (64 is already above).
   for (int samples : {16, 256})
-    for (int n : {10, 100}) b->Args({256, samples, 7, n});
+    for (int n : {10, 100}) b->Args({256, samples, 7, n, 0});
   // Light-count sweep at 256 x 256, 64 samples (7 is already above).
-  for (int n : {10, 100}) b->Args({256, 64, 1, n});
+  for (int n : {10, 100}) b->Args({256, 64, 1, n, 0});
+  // The paper's indexing at 256 x 256, 64 samples, 7 lights (builds only the texels it reads).
+  for (int n : {10, 100}) b->Args({256, 64, 7, n, 1});
 }
 BENCHMARK(BM_MapBuild)->Apply(MapBuildArgs)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // ---------------------------------------------------------------------------------------------
 // Per-fragment shading of a cylinder with a random tangent.
 
+// Args: exponent, indexing (0 = Warped, 1 = Paper).
 void BM_MapLookup(benchmark::State& state) {
   wf::PseudoReflectanceMap map;
-  map.build(material(double(state.range(0))), wf::LightRig::studioRig(7), {256, 64});
+  map.build(material(double(state.range(0))), wf::LightRig::studioRig(7),
+            mapOptions(256, 64, state.range(1) ? Indexing::Paper : Indexing::Warped));
   const std::vector<glm::dvec3>& ts = tangents();
   for (auto _ : state) {
     glm::vec3 acc(0.0f);
@@ -123,9 +138,10 @@ void BM_MapLookup(benchmark::State& state) {
     benchmark::DoNotOptimize(acc);
   }
   reportPerItem(state, double(ts.size()));
-  state.SetLabel("256x256, 64 samples, 7 lights");
+  state.SetLabel(state.range(1) ? "256x256 paper, 64 samples, 7 lights"
+                                 : "256x256 warped, 64 samples, 7 lights");
 }
-BENCHMARK(BM_MapLookup)->ArgName("n")->Arg(100)->UseRealTime();
+BENCHMARK(BM_MapLookup)->ArgNames({"n", "paper"})->Args({100, 0})->Args({100, 1})->UseRealTime();
 
 void BM_ExactCylinder(benchmark::State& state) {
   const wf::PhongMaterial m = material(double(state.range(0)));
@@ -158,17 +174,18 @@ void BM_SampledCylinder(benchmark::State& state) {
 }
 BENCHMARK(BM_SampledCylinder)->ArgName("n")->Arg(10)->Arg(100)->Arg(10000)->Arg(100000)->UseRealTime();
 
-// ... and with the sample table built once, as a map build uses it.
+// ... and with the sample table and lobe threshold computed once, as a map build uses them.
 void BM_SampledCylinderPrebuilt(benchmark::State& state) {
   const wf::PhongMaterial m = material(double(state.range(0)));
   const wf::LightRig rig = wf::LightRig::studioRig(7).canonical();
   const wf::CylinderSampler sampler(64);
+  const double cut = wf::CylinderSampler::lobeThreshold(m.exponent);
   const std::vector<glm::dvec3>& ts = tangents();
   for (auto _ : state) {
     glm::dvec3 acc(0.0);
     for (size_t i = 0; i < kExactCount; ++i) {
       const wf::CylinderFrame fr = wf::cylinderFrame(ts[i], kView);
-      if (!fr.endOn) acc += sampler.radiance(fr, kView, m, rig);
+      if (!fr.endOn) acc += sampler.radiance(fr, kView, m, rig, cut);
     }
     benchmark::DoNotOptimize(acc);
   }
