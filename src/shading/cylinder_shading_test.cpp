@@ -200,7 +200,7 @@ TEST(CylinderDiffuse, ClosedFormMatchesBruteForceMidpoint) {
               worst, count);
 }
 
-// BUG (cylinder_shading.cpp, cylinderDiffuseClosedForm, the line
+// Regression test (the bug it found is fixed) (cylinder_shading.cpp, cylinderDiffuseClosedForm, the line
 // `return 0.25 * (std::abs(b) + (kPi - beta) * a);`): for a light almost straight behind the
 // visible half (a ~ -rho, |b| << rho, beta ~ +-pi) the two terms cancel catastrophically: the
 // true value rho * eps^3 / 12 (eps = pi - |beta|) is far below the rounding error of each term
@@ -303,7 +303,7 @@ TEST(CylinderSpecular, LightAlongTangentInFrontGivesNothing) {
   EXPECT_NEAR(s.x, 0.0, 1e-15);
 }
 
-// BUG (cylinder_shading.cpp, cylinderSpecularQuadrature `if (!(rho > 0.0)) return 0.0;` and
+// Regression test (the bug it found is fixed) (cylinder_shading.cpp, cylinderSpecularQuadrature `if (!(rho > 0.0)) return 0.0;` and
 // CylinderSampler::radiance `if (!(rho > 0.0)) continue;`): a light exactly along the axis is
 // meant to light no normal (the comments say so, and [N.l > 0] = 0 for every normal), but
 // rho = |(e1.l, e2.l)| comes out ~1e-17 instead of 0 (e1 is computed with rounding), so the
@@ -325,7 +325,7 @@ TEST(CylinderSpecular, LightAlongTangentBehindGivesNothing) {
   EXPECT_NEAR(s.x, 0.0, 1e-15);
 }
 
-// BUG (cylinder_shading.cpp, `adaptive`, the stopping test
+// Regression test (the bug it found is fixed) (cylinder_shading.cpp, `adaptive`, the stopping test
 // `if (e <= std::max(absTol, relTol * std::abs(r)) || depth >= 48 || hi - lo < 1e-15) return r;`
 // with absTol = 1e-16 * peakValue from cylinderSpecularQuadrature): when a highlight barely
 // exists (peak R.V = P (1 + cos beta) - q tiny, here 2.4e-7, reached by cancellation), R.V carries
@@ -647,7 +647,7 @@ TEST(CylinderExtremes, OneSampleIsTheCentreNormal) {
   }
 }
 
-// BUG: the free functions phongRadiance, cylinderRadianceExact and cylinderRadianceSampled do
+// Regression test (the bug it found is fixed): the free functions phongRadiance, cylinderRadianceExact and cylinderRadianceSampled do
 // not sanitise the material and their headers do not require a sanitised one (phong.h only asks
 // for a canonical rig), yet an out-of-range exponent breaks them:
 //   * NaN exponent: phongLobe -> pow(x, NaN) = NaN, so phongRadiance and cylinderRadianceSampled

@@ -49,7 +49,13 @@ double ridge(uint32_t seed, double phi) {
 }  // namespace
 
 EnvironmentMap::EnvironmentMap(int width, int height, std::vector<glm::vec3> texels)
-    : width_(width), height_(height), texels_(std::move(texels)) {}
+    : width_(width), height_(height), texels_(std::move(texels)) {
+  // An inconsistent image is an empty one (lookups give black), never an out-of-bounds read.
+  if (width_ <= 0 || height_ <= 0 || texels_.size() != size_t(width_) * size_t(height_)) {
+    width_ = height_ = 0;
+    texels_.clear();
+  }
+}
 
 glm::vec3 EnvironmentMap::lookup(const glm::dvec3& d) const {
   if (texels_.empty()) return glm::vec3(0.0f);
@@ -59,22 +65,28 @@ glm::vec3 EnvironmentMap::lookup(const glm::dvec3& d) const {
   const double lat = std::asin(std::clamp(u.y, -1.0, 1.0));
   const double fx = (lon / (2.0 * kPi) + 0.5) * width_ - 0.5;
   const double fy = std::clamp((0.5 - lat / kPi) * height_ - 0.5, 0.0, double(height_ - 1));
-  const int x0 = int(std::floor(fx)), y0 = std::min(int(fy), height_ - 2);
-  const float a = float(fx - x0), b = float(fy - y0);
+  const int x0 = int(std::floor(fx)), y0 = std::max(0, std::min(int(fy), height_ - 2));
+  const int y1 = std::min(y0 + 1, height_ - 1);  // a one-row image reads its only row
+  const float a = float(fx - x0), b = height_ > 1 ? float(fy - y0) : 0.0f;
   auto at = [&](int x, int y) {
     x = ((x % width_) + width_) % width_;
     return texels_[size_t(y) * width_ + x];
   };
   return (at(x0, y0) * (1 - a) + at(x0 + 1, y0) * a) * (1 - b) +
-         (at(x0, y0 + 1) * (1 - a) + at(x0 + 1, y0 + 1) * a) * b;
+         (at(x0, y1) * (1 - a) + at(x0 + 1, y1) * a) * b;
+}
+
+glm::dvec3 EnvironmentMap::mountainSceneSunDirection() {
+  // Behind the viewer, 45 degrees up (above the highest ridge, 0.59 rad), so that a chrome ball
+  // shows it.
+  return glm::normalize(glm::dvec3(-0.45, 0.75, 0.60));
 }
 
 EnvironmentMap EnvironmentMap::mountainScene(int width, uint32_t seed) {
   width = std::max(16, width);
   const int height = width / 2;
   std::vector<glm::vec3> px(size_t(width) * height);
-  // The sun stands behind the viewer, so that a chrome ball shows it.
-  const glm::dvec3 sunDir = glm::normalize(glm::dvec3(-0.45, 0.40, 0.80));
+  const glm::dvec3 sunDir = mountainSceneSunDirection();
   for (int y = 0; y < height; ++y) {
     const double lat = (0.5 - (y + 0.5) / height) * kPi;  // +pi/2 at the top
     for (int x = 0; x < width; ++x) {

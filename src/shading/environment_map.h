@@ -22,6 +22,8 @@ class EnvironmentMap {
   /// Sky with a sun, a ring of snow-capped mountains, a lake-blue band and a grassy plain;
   /// deterministic in `seed`. height = width / 2.
   static EnvironmentMap mountainScene(int width = 1024, uint32_t seed = 1988);
+  /// Where mountainScene's sun stands (its disc has radiance (30, 28, 24), radius 1.8 degrees).
+  static glm::dvec3 mountainSceneSunDirection();
 
   int width() const { return width_; }
   int height() const { return height_; }

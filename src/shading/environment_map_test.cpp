@@ -63,7 +63,7 @@ TEST(EnvironmentMap, MountainSceneContent) {
   for (const glm::vec3& c : env.texels()) ASSERT_TRUE(finite3(c) && c.x >= 0 && c.y >= 0 && c.z >= 0);
 }
 
-// BUG (environment_map.cpp, mountainScene, commit 8024e81 "taller mountains, sun behind the
+// Regression test (the bug it found is fixed) (environment_map.cpp, mountainScene, commit 8024e81 "taller mountains, sun behind the
 // viewer so the chrome ball shows it"): the sun direction normalize(-0.45, 0.40, 0.80) has
 // latitude asin(0.3975) = 0.411 rad, but at its longitude (phi = 0.0815) the raised ridge
 // `mountainTop = 0.04 + 0.55 * ridge(seed, phi)` reaches ~0.44 ... 0.49 rad, so `lat > mountainTop`
@@ -79,9 +79,10 @@ TEST(EnvironmentMap, MountainSceneShowsTheSun) {
   std::printf("[ measured ] brightest texel of the mountain scene: %.4g (sun radiance 30)\n", brightest);
   // The sun disc (radius acos(0.9995) = 1.8 deg, ~5 texels) is drawn at (30, 28, 24).
   EXPECT_GE(brightest, 30.0f - 1e-4f);
-  // Its centre, normalize(-0.45, 0.40, 0.80), reads the sun's radiance (all four bilinear
-  // neighbours inside the disc).
-  const glm::dvec3 sun = glm::normalize(glm::dvec3(-0.45, 0.40, 0.80));
+  // Its centre reads the sun's radiance (all four bilinear neighbours inside the disc), and it
+  // stands clear of the ridge (whose highest point is 0.04 + 0.55 rad).
+  const glm::dvec3 sun = EnvironmentMap::mountainSceneSunDirection();
+  EXPECT_GT(std::asin(sun.y), 0.59 + 0.0315);
   EXPECT_LT(maxAbsDiff(glm::dvec3(env.lookup(sun)), {30.0, 28.0, 24.0}), 1e-4);
 }
 
@@ -120,7 +121,7 @@ TEST(EnvironmentMapExtremes, DegenerateDirections) {
   EXPECT_EQ(EnvironmentMap().lookup({0, 0, -1}), glm::vec3(0.0f));
 }
 
-// BUG (environment_map.cpp, lookup: `const int ... y0 = std::min(int(fy), height_ - 2);`):
+// Regression test (the bug it found is fixed) (environment_map.cpp, lookup: `const int ... y0 = std::min(int(fy), height_ - 2);`):
 // the public constructor accepts any size, but for height 1 y0 becomes -1 and the lookup reads
 // the row before the texel buffer (out of bounds, with weight 1 - b = 0, so a Release build
 // usually returns the right value and only a sanitizer or a NaN in that memory shows it;

@@ -25,6 +25,8 @@ std::string PhongMaterial::toString() const {
 
 double phongLobe(double x, double n) {
   if (!(x > 0.0)) return 0.0;  // also NaN
+  if (!(n >= 0.0)) n = std::isnan(n) ? 1.0 : 0.0;  // as PhongMaterial::sanitized()
+  n = std::min(n, kMaxPhongExponent);
   x = std::min(x, 1.0);
   // Integer exponents up to 1024 (the common case, and the paper's) by binary powering:
   // several times cheaper than pow() and exact to a few ulp.
@@ -41,8 +43,9 @@ double phongLobe(double x, double n) {
   return std::pow(x, n);
 }
 
-glm::dvec3 phongRadiance(const glm::dvec3& N, const glm::dvec3& V, const PhongMaterial& m,
+glm::dvec3 phongRadiance(const glm::dvec3& N, const glm::dvec3& V, const PhongMaterial& material,
                          const LightRig& rig) {
+  const PhongMaterial m = material.sanitized();
   glm::dvec3 out = m.diffuse * rig.ambient;
   const double ln = glm::length(N), lv = glm::length(V);
   if (!(ln > 0.0) || !(lv > 0.0) || !std::isfinite(ln) || !std::isfinite(lv)) return out;

@@ -122,6 +122,9 @@ bool PseudoReflectanceMap::update(const PhongMaterial& material, const LightRig&
 }
 
 glm::vec3 PseudoReflectanceMap::lookupPlane(Plane plane, double u, double z) const {
+  if (empty()) return glm::vec3(0.0f);
+  if (!std::isfinite(u)) u = 0.0;
+  if (!std::isfinite(z)) z = 0.0;
   const int n = options_.resolution;
   const std::vector<glm::vec3>& m = maps_[int(plane)];
   const double fu = std::clamp((u + 1.0) * 0.5 * (n - 1), 0.0, double(n - 1));
@@ -142,9 +145,11 @@ glm::vec3 PseudoReflectanceMap::lookup(const glm::dvec3& T) const {
   const Plane plane = planeFor(t);
   if ((plane == Plane::XZ ? t.y : t.x) < 0.0) t = -t;
   const double u = plane == Plane::XZ ? t.x : t.y;
-  if (options_.indexing == Indexing::Paper) return lookupPlane(plane, u, t.z);
+  // Seen end-on (as cylinderFrame decides it), whatever the indexing: the end-on value, not a
+  // blend of the texels around the axis.
   const double r2 = t.x * t.x + t.y * t.y;
   if (!(r2 > kAxisR * kAxisR)) return endOn_;
+  if (options_.indexing == Indexing::Paper) return lookupPlane(plane, u, t.z);
   const double r = std::sqrt(r2);
   const double oneMinusZ = r2 / (1.0 + std::abs(t.z));  // 1 - |z| without cancellation
   const double zeta = std::copysign(1.0 - std::sqrt(oneMinusZ), t.z);

@@ -476,7 +476,7 @@ TEST(PseudoReflectanceMapExtremes, DegenerateTangentsAndMaterials) {
   EXPECT_TRUE(finite3(small.lookup({1, 2, 3})));
 }
 
-// BUG (pseudo_reflectance_map.cpp, lookup(), Indexing::Paper branch
+// Regression test (the bug it found is fixed) (pseudo_reflectance_map.cpp, lookup(), Indexing::Paper branch
 // `if (options_.indexing == Indexing::Paper) return lookupPlane(plane, u, t.z);`): a tangent
 // exactly along the view axis, T = (0, 0, +-1), is a cylinder seen end-on, whose value is the
 // end-on mean (cylinder_shading.h; endOnValue(), and what the warped branch returns). The paper
@@ -543,7 +543,7 @@ TEST(PseudoReflectanceMapExtremes, EmptyMapLookupIsZero) {
   EXPECT_EQ(map.lookup({1, 0, 0}), glm::vec3(0.0f));
 }
 
-// BUG (pseudo_reflectance_map.cpp, lookupPlane): unlike lookup(), lookupPlane() does not check
+// Regression test (the bug it found is fixed) (pseudo_reflectance_map.cpp, lookupPlane): unlike lookup(), lookupPlane() does not check
 // empty(): on a map that was never built, options_.resolution is 256 but maps_[plane] is empty,
 // so `&m[size_t(j) * n + i]` indexes an empty vector (null data) and the read crashes
 // (SIGSEGV for lookupPlane(XZ, 0, 0)). Expected: the same as lookup() on an empty map, 0.
