@@ -5,6 +5,7 @@
 
 #include "shading/cylinder_shading.h"
 #include "shading/pseudo_reflectance_map.h"
+#include "shading/reflectance_sphere.h"
 
 #include <nlohmann/json.hpp>
 #include <tbb/parallel_for.h>
@@ -312,6 +313,71 @@ int runAccuracy(const AccuracyOptions& opt) {
     orthoSeries.push_back(srms);
   }
 
+  // ---- reflectance spheres (paper §2.1): resolution x indexing against direct Phong ---------------
+  // Rigs of 1 and 3 lights, all in front (l.z > 0), so Phong is continuous over the hemisphere
+  // and a max error means something; n = 10 and 100. Normals uniform over the disc (the screen
+  // area of a sphere), seeded.
+  progress.say("reflectance spheres");
+  const std::vector<int> sphereRes = opt.quick ? std::vector<int>{64, 256} : std::vector<int>{64, 128, 256, 512, 1024};
+  std::vector<glm::dvec3> discNormals;
+  {
+    std::mt19937_64 rng(2024);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    while (int(discNormals.size()) < (opt.quick ? 4000 : 40000)) {
+      const double x = u(rng), y = u(rng);
+      if (x * x + y * y < 1.0) discNormals.push_back(wf::ReflectanceSphere::normalAt(x, y));
+    }
+  }
+  json spheres = json::array();
+  std::vector<PlotSeries> sphereSeries;
+  double sphereLookupNs = 0, phongNs = 0;
+  for (auto ix : {wf::ReflectanceSphere::Indexing::Warped, wf::ReflectanceSphere::Indexing::Williams}) {
+    const std::string ixName = ix == wf::ReflectanceSphere::Indexing::Warped ? "warped" : "williams";
+    PlotSeries mx{"max, " + ixName, {}, {}, {}, "linespoints"}, rms{"RMS, " + ixName, {}, {}, {}, "linespoints dt 2"};
+    for (int r : sphereRes) {
+      double maxErr = 0, sumSq = 0, buildMs = 0;
+      size_t count = 0;
+      for (int lights : {1, 3})
+        for (double n : {10.0, 100.0}) {
+          wf::PhongMaterial m;
+          m.exponent = n;
+          const wf::LightRig rig = wf::LightRig::studioRig(lights).canonical();
+          const auto t0 = std::chrono::steady_clock::now();
+          const wf::ReflectanceSphere s = wf::ReflectanceSphere::phong(r, m, rig, ix);
+          buildMs = std::max(buildMs, secondsSince(t0) * 1e3);
+          for (const glm::dvec3& N : discNormals) {
+            const double e = channelError(glm::dvec3(s.lookup(N)), wf::phongRadiance(N, kView, m, rig));
+            maxErr = std::max(maxErr, e);
+            sumSq += e * e;
+            ++count;
+          }
+          if (r == 256 && lights == 3 && n == 100.0 && ix == wf::ReflectanceSphere::Indexing::Warped) {
+            float sink = 0.0f;
+            sphereLookupNs = medianNsPerItem(5, discNormals.size(), [&] {
+              glm::vec3 acc(0.0f);
+              for (const glm::dvec3& N : discNormals) acc += s.lookup(N);
+              sink += acc.x;
+            });
+            double sinkD = 0.0;
+            phongNs = medianNsPerItem(5, discNormals.size(), [&] {
+              for (const glm::dvec3& N : discNormals) sinkD += wf::phongRadiance(N, kView, m, rig).x;
+            });
+            if (sink == -1.0f || sinkD == -1.0) std::puts("");
+          }
+        }
+      const double rmsErr = std::sqrt(sumSq / double(count));
+      mx.x.push_back(buildMs);
+      mx.y.push_back(maxErr);
+      mx.labels.push_back(std::to_string(r));
+      rms.x.push_back(buildMs);
+      rms.y.push_back(rmsErr);
+      spheres.push_back({{"indexing", ixName}, {"resolution", r}, {"build_ms", buildMs},
+                         {"max_error", maxErr}, {"rms_error", rmsErr}});
+    }
+    sphereSeries.push_back(mx);
+    sphereSeries.push_back(rms);
+  }
+
   // ---- report ------------------------------------------------------------------------------
   std::printf("Pseudo-reflectance map accuracy (error = max |map - exact| over RGB, linear radiance;\n");
   std::printf("%zu seeded tangents over the sphere x rigs of 1/3/7 lights x n = 1,10,100,1e4;\n", tangents.size());
@@ -330,6 +396,12 @@ int runAccuracy(const AccuracyOptions& opt) {
   for (size_t i = 0; i < resolutions.size(); ++i)
     std::printf("  map lookup %4dx%-4d %6.1f ns  (exact / lookup = %.0fx)\n", resolutions[i], resolutions[i],
                 lookupNs[i], exactNs100 / lookupNs[i]);
+  std::printf("\nReflectance sphere (Phong, 1 and 3 front lights, n = 10 and 100) against direct Phong, whole disc:\n");
+  for (const auto& sp : spheres)
+    std::printf("  %-8s %5d^2  build %7.2f ms  max %.2e  rms %.2e\n", sp["indexing"].get<std::string>().c_str(),
+                sp["resolution"].get<int>(), sp["build_ms"].get<double>(), sp["max_error"].get<double>(),
+                sp["rms_error"].get<double>());
+  std::printf("  lookup %.1f ns per normal (warped 256^2), direct Phong (3 lights) %.1f ns\n", sphereLookupNs, phongNs);
   std::printf("\nOrthographic assumption (7 lights), error against the perspective-correct value:\n");
   for (const auto& o : ortho)
     if (o["fov_deg"] == 30.0 || o["fov_deg"] == 60.0 || o["fov_deg"] == 90.0)
@@ -353,6 +425,7 @@ int runAccuracy(const AccuracyOptions& opt) {
   doc["exact_cost"] = exactCost;
   doc["sampled_per_fragment"] = {{"samples", defaults.samples}, {"ns", sampledNs}, {"max_error", sampledMaxErr}};
   doc["orthographic_assumption"] = ortho;
+  doc["reflectance_sphere"] = {{"sweep", spheres}, {"lookup_ns", sphereLookupNs}, {"direct_phong_ns", phongNs}};
 
   if (!opt.plotsDir.empty()) {
     progress.say("plots into " + opt.plotsDir);
@@ -398,6 +471,9 @@ int runAccuracy(const AccuracyOptions& opt) {
     PlotSpec orth{"Orthographic assumption: error against field of view (7 lights)", "field of view [deg]",
                   "error vs perspective-correct (linear radiance)", false, true, orthoSeries, {2e-3}};
     plotPng(orth, dir + "orthographic.png");
+    PlotSpec sph{"Reflectance sphere: error against build time (labels: resolution)", "build time [ms]",
+                 "error vs direct Phong (linear radiance)", true, true, sphereSeries, {2e-3}};
+    plotPng(sph, dir + "reflectance_sphere.png");
   }
   if (!opt.jsonPath.empty()) {
     doc["seconds_total"] = secondsSince(tStart);

@@ -140,7 +140,8 @@ int runGallery(const GalleryOptions& opt) {
     writePng(r.image, dir + "/phong_sphere.png");
     entries.push_back({"phong_sphere.png", "1. Phong reflectance sphere, seven lights",
                        "Williams' reflectance sphere of the isotropic Phong model (kd red, ks 6 white, n = 80) "
-                       "under seven directional lights; 512x512 table, bilinear lookup by (nx, ny), 4x4 samples per pixel.",
+                       "under seven directional lights; 512x512 table (warped indexing, docs/shading.md), bilinear lookup, "
+                       "4x4 samples per pixel.",
                        secs, "table vs direct Phong max " + sci(r.maxError) + ", RMS " + sci(r.rmsError)});
   }
 
