@@ -45,6 +45,15 @@ glm::dvec3 endOnRadiance(const glm::dvec3& T, const PhongMaterial& m, const Ligh
   return out;
 }
 
+// A frame that is end-on: T along V, or T / V zero or non-finite. Undefined input shades as a
+// cylinder seen end-on along the eye axis, a defined colour.
+glm::dvec3 endOnFallback(const glm::dvec3& T, const glm::dvec3& V, const PhongMaterial& m,
+                         const LightRig& rig) {
+  const bool ok = finite3(T) && finite3(V) && glm::length(T) > 1e-300 && glm::length(V) > 1e-300;
+  const glm::dvec3 vv = ok ? glm::normalize(V) : glm::dvec3(0, 0, 1);
+  return endOnRadiance(vv, m, rig, vv);
+}
+
 // ---- adaptive Gauss-Kronrod (7, 15) ------------------------------------------------------
 constexpr std::array<double, 8> kXgk = {0.991455371120812639206854697526329,
                                         0.949107912342758524526189684047851,
@@ -230,12 +239,7 @@ glm::dvec3 cylinderRadianceExact(const glm::dvec3& T, const glm::dvec3& V, const
                                  const LightRig& rig, double relTol) {
   const PhongMaterial m = material.sanitized();
   const CylinderFrame fr = cylinderFrame(T, V);
-  if (fr.endOn) {
-    // Undefined T or V: shade as a cylinder seen end-on along the eye axis, a defined colour.
-    const bool ok = finite3(T) && finite3(V) && glm::length(T) > 1e-300 && glm::length(V) > 1e-300;
-    const glm::dvec3 vv = ok ? glm::normalize(V) : glm::dvec3(0, 0, 1);
-    return endOnRadiance(vv, m, rig, vv);
-  }
+  if (fr.endOn) return endOnFallback(T, V, m, rig);
   const glm::dvec3 vv = glm::normalize(V);
   glm::dvec3 out = m.diffuse * rig.ambient;
   for (const DirectionalLight& l : rig.lights) {
@@ -353,11 +357,7 @@ glm::dvec3 cylinderRadianceSampled(const glm::dvec3& T, const glm::dvec3& V, con
                                    const LightRig& rig, int samples) {
   const PhongMaterial m = material.sanitized();
   const CylinderFrame fr = cylinderFrame(T, V);
-  if (fr.endOn) {
-    const bool ok = finite3(T) && finite3(V) && glm::length(T) > 1e-300 && glm::length(V) > 1e-300;
-    const glm::dvec3 vv = ok ? glm::normalize(V) : glm::dvec3(0, 0, 1);
-    return endOnRadiance(vv, m, rig, vv);
-  }
+  if (fr.endOn) return endOnFallback(T, V, m, rig);
   return CylinderSampler(samples).radiance(fr, glm::normalize(V), m, rig,
                                           CylinderSampler::lobeThreshold(m.exponent));
 }

@@ -12,6 +12,8 @@
 
 #include <gtest/gtest.h>
 
+#include "test_support.h"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -25,17 +27,11 @@
 namespace wf {
 namespace {
 
+using namespace wf::test;
+
 constexpr double kPi = std::numbers::pi;
 
-bool finite3(const glm::dvec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
 
-std::string str(const glm::dvec3& v) {
-  char buf[128];
-  std::snprintf(buf, sizeof buf, "(%.17g, %.17g, %.17g)", v.x, v.y, v.z);
-  return buf;
-}
 
 // ---- independent brute force --------------------------------------------------------------
 

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "test_support.h"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -16,14 +18,11 @@
 namespace wf {
 namespace {
 
+using namespace wf::test;
+
 constexpr double kPi = std::numbers::pi;
 
-bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-double maxAbsDiff(const glm::dvec3& a, const glm::dvec3& b) {
-  const glm::dvec3 d = glm::abs(a - b);
-  return std::max({d.x, d.y, d.z});
-}
 
 // Direction at latitude lat (up from the horizon) and longitude lon (0 straight ahead = -z,
 // increasing towards +x), as documented in environment_map.h.

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "test_support.h"
+
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -13,9 +15,8 @@
 namespace wf {
 namespace {
 
-bool finite3(const glm::dvec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
+using namespace wf::test;
+
 
 TEST(PhongLobe, KnownValues) {
   // 0^0 := [x > 0]: exponent 0 is the indicator of a positive argument.

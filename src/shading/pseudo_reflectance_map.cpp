@@ -1,5 +1,6 @@
 #include "shading/pseudo_reflectance_map.h"
 
+#include "core/node_grid.h"
 #include "shading/cylinder_shading.h"
 
 #include <tbb/blocked_range.h>
@@ -125,15 +126,7 @@ glm::vec3 PseudoReflectanceMap::lookupPlane(Plane plane, double u, double z) con
   if (empty()) return glm::vec3(0.0f);
   if (!std::isfinite(u)) u = 0.0;
   if (!std::isfinite(z)) z = 0.0;
-  const int n = options_.resolution;
-  const std::vector<glm::vec3>& m = maps_[int(plane)];
-  const double fu = std::clamp((u + 1.0) * 0.5 * (n - 1), 0.0, double(n - 1));
-  const double fz = std::clamp((z + 1.0) * 0.5 * (n - 1), 0.0, double(n - 1));
-  const int i = std::min(int(fu), n - 2), j = std::min(int(fz), n - 2);
-  const float a = float(fu - i), b = float(fz - j);
-  const glm::vec3* row0 = &m[size_t(j) * n + i];
-  const glm::vec3* row1 = row0 + n;
-  return (row0[0] * (1.0f - a) + row0[1] * a) * (1.0f - b) + (row1[0] * (1.0f - a) + row1[1] * a) * b;
+  return bilinearNodeGrid(maps_[int(plane)].data(), options_.resolution, u, z);
 }
 
 glm::vec3 PseudoReflectanceMap::lookup(const glm::dvec3& T) const {

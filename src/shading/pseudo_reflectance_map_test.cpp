@@ -7,6 +7,8 @@
 #include "shading/cylinder_shading.h"
 
 #include <gtest/gtest.h>
+
+#include "test_support.h"
 #include <tbb/global_control.h>
 
 #include <unistd.h>
@@ -23,24 +25,14 @@
 namespace wf {
 namespace {
 
+using namespace wf::test;
+
 using Plane = PseudoReflectanceMap::Plane;
 
 constexpr double kPi = std::numbers::pi;
 
-bool finite3(const glm::vec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
 
-std::string str(const glm::dvec3& v) {
-  char buf[128];
-  std::snprintf(buf, sizeof buf, "(%.17g, %.17g, %.17g)", v.x, v.y, v.z);
-  return buf;
-}
 
-double maxAbsDiff(const glm::dvec3& a, const glm::dvec3& b) {
-  const glm::dvec3 d = glm::abs(a - b);
-  return std::max({d.x, d.y, d.z});
-}
 
 PhongMaterial testMaterial(double n) {
   PhongMaterial m;

@@ -1,5 +1,7 @@
 #include "shading/reflectance_sphere.h"
 
+#include "core/node_grid.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -82,14 +84,7 @@ ReflectanceSphere ReflectanceSphere::chrome(int resolution, const EnvironmentMap
 glm::vec3 ReflectanceSphere::lookupTable(double X, double Y) const {
   if (texels_.empty()) return glm::vec3(0.0f);
   if (!std::isfinite(X) || !std::isfinite(Y)) X = Y = 0.0;
-  const int n = resolution_;
-  const double fx = std::clamp((X + 1.0) * 0.5 * (n - 1), 0.0, double(n - 1));
-  const double fy = std::clamp((Y + 1.0) * 0.5 * (n - 1), 0.0, double(n - 1));
-  const int i = std::min(int(fx), n - 2), j = std::min(int(fy), n - 2);
-  const float a = float(fx - i), b = float(fy - j);
-  const glm::vec3* r0 = &texels_[size_t(j) * n + i];
-  const glm::vec3* r1 = r0 + n;
-  return (r0[0] * (1 - a) + r0[1] * a) * (1 - b) + (r1[0] * (1 - a) + r1[1] * a) * b;
+  return bilinearNodeGrid(texels_.data(), resolution_, X, Y);
 }
 
 glm::vec3 ReflectanceSphere::lookupXY(double nx, double ny) const {

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "test_support.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -12,12 +14,9 @@
 namespace wf {
 namespace {
 
-bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+using namespace wf::test;
 
-double maxAbsDiff(const glm::dvec3& a, const glm::dvec3& b) {
-  const glm::dvec3 d = glm::abs(a - b);
-  return std::max({d.x, d.y, d.z});
-}
+
 
 TEST(ReflectanceSphere, NormalAt) {
   // Inside the disc: (x, y, sqrt(1 - x^2 - y^2)); outside: moved onto the rim (z = 0).
@@ -113,7 +112,9 @@ TEST(ReflectanceSphere, TexelsAreTheShaderAtTheirNodes) {
     for (int j = 0; j < n; j += 4)
       for (int i = 0; i < n; i += 4) {
         const glm::dvec3 N = s.normalAtTable(-1 + i * h, -1 + j * h);
-        if (ix == ReflectanceSphere::Indexing::Williams) EXPECT_EQ(N, ReflectanceSphere::normalAt(-1 + i * h, -1 + j * h));
+        if (ix == ReflectanceSphere::Indexing::Williams) {
+          EXPECT_EQ(N, ReflectanceSphere::normalAt(-1 + i * h, -1 + j * h));
+        }
         const glm::dvec3 want = phongRadiance(N, {0, 0, 1}, m, rig);
         EXPECT_LT(maxAbsDiff(glm::dvec3(s.texels()[size_t(j) * n + i]), want), 1e-6 * (1 + want.x));
       }
