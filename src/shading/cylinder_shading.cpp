@@ -177,7 +177,7 @@ double cylinderDiffuseClosedForm(double a, double b) {
 
 double cylinderSpecularQuadrature(double a, double b, double q, double v, double n,
                                   double relTol) {
-  n = PhongMaterial{glm::dvec3(0.0), glm::dvec3(0.0), n}.sanitized().exponent;
+  n = sanitizedExponent(n);
   const double rho = std::hypot(a, b);
   if (!(rho > kAxisLightSin) || !std::isfinite(rho) || !std::isfinite(q) || !std::isfinite(v))
     return 0.0;  // light along the axis: no normal is lit

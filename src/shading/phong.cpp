@@ -12,7 +12,7 @@ PhongMaterial PhongMaterial::sanitized() const {
     m.diffuse[i] = std::isfinite(diffuse[i]) ? std::max(0.0, diffuse[i]) : 0.0;
     m.specular[i] = std::isfinite(specular[i]) ? std::max(0.0, specular[i]) : 0.0;
   }
-  m.exponent = std::isnan(exponent) ? 1.0 : std::clamp(exponent, 0.0, kMaxPhongExponent);
+  m.exponent = sanitizedExponent(exponent);
   return m;
 }
 
@@ -23,10 +23,13 @@ std::string PhongMaterial::toString() const {
   return s.str();
 }
 
+double sanitizedExponent(double n) {
+  return std::isnan(n) ? 1.0 : std::clamp(n, 0.0, kMaxPhongExponent);
+}
+
 double phongLobe(double x, double n) {
   if (!(x > 0.0)) return 0.0;  // also NaN
-  if (!(n >= 0.0)) n = std::isnan(n) ? 1.0 : 0.0;  // as PhongMaterial::sanitized()
-  n = std::min(n, kMaxPhongExponent);
+  n = sanitizedExponent(n);
   x = std::min(x, 1.0);
   // Integer exponents up to 1024 (the common case, and the paper's) by binary powering:
   // several times cheaper than pow() and exact to a few ulp.

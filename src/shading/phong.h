@@ -31,6 +31,9 @@ inline constexpr double kMaxPhongExponent = 1e6;
 glm::dvec3 phongRadiance(const glm::dvec3& N, const glm::dvec3& V, const PhongMaterial& m,
                          const LightRig& rig);
 
+/// The exponent every entry point uses: NaN -> 1, clamped to [0, kMaxPhongExponent].
+double sanitizedExponent(double n);
+
 /// max(0, x)^n with the convention that 0^0 is the indicator [x > 0]; defined for all x, n >= 0.
 double phongLobe(double x, double n);
 

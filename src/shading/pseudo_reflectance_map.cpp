@@ -83,6 +83,9 @@ void PseudoReflectanceMap::build(const PhongMaterial& material, const LightRig& 
   const glm::dvec3 view(0.0, 0.0, 1.0);
   std::atomic<size_t> computed{0};
   const CylinderSampler sampler(options_.samples);
+  // The end-on value (the mean over approach directions, exact): the lookup of a tangent along
+  // the view axis, and the texels that stand exactly for it.
+  endOn_ = glm::vec3(cylinderRadianceSampled(view, view, material_, lights_, options_.samples));
   const double cut = CylinderSampler::lobeThreshold(material_.exponent);
   for (auto& m : maps_) m.assign(size_t(n) * size_t(n), glm::vec3(0.0f));
   // Rows of both maps in one parallel loop; each texel is written by exactly one task, so the
@@ -97,14 +100,12 @@ void PseudoReflectanceMap::build(const PhongMaterial& material, const LightRig& 
         if (!texelNeeded(i, j)) continue;
         const CylinderFrame fr = cylinderFrameOrthographic(tangentAt(p, nodeCoord(i, n), z));
         maps_[int(p)][size_t(j) * n + i] =
-            fr.endOn ? glm::vec3(cylinderRadianceSampled(view, view, material_, lights_, 1))
-                     : glm::vec3(sampler.radiance(fr, view, material_, lights_, cut));
+            fr.endOn ? endOn_ : glm::vec3(sampler.radiance(fr, view, material_, lights_, cut));
         ++local;
       }
     }
     computed += local;
   });
-  endOn_ = glm::vec3(cylinderRadianceSampled(view, view, material_, lights_, options_.samples));
   texelsComputed_ = computed.load();
   ++buildCount_;
   lastBuildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
