@@ -1,0 +1,302 @@
+#include "abuffer/abuffer.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace wf {
+
+namespace {
+// How many of a pixel's most recent fragments are checked for a merge: pieces of one object
+// arrive one after another (consecutive segments, neighbouring triangles), so a short look-back
+// finds them without making insertion O(list length).
+constexpr int kMergeLookBack = 8;
+// Solid means the whole pixel: the exact area may fall short of 1 by rounding only.
+constexpr float kSolidArea = 1.0f - 1e-5f;
+
+bool depthRangesTouch(const Fragment& a, const Fragment& b) {
+  const float eps = 1e-5f * std::max(std::abs(a.zmax), std::abs(b.zmax)) + 1e-30f;
+  return a.zmin <= b.zmax + eps && b.zmin <= a.zmax + eps;
+}
+
+void mergeInto(Fragment& g, const Fragment& f) {
+  const float a = g.area + f.area;
+  const float wg = a > 0 ? g.area / a : 0.5f, wf = 1.0f - wg;
+  g.colour = g.colour * wg + f.colour * wf;
+  g.opacity = g.opacity * wg + f.opacity * wf;
+  g.zkey = g.zkey * wg + f.zkey * wf;
+  g.zmin = std::min(g.zmin, f.zmin);
+  g.zmax = std::max(g.zmax, f.zmax);
+  g.area = std::min(1.0f, a);
+  g.mask |= f.mask;
+  g.standInMask = g.standInMask && f.standInMask;
+}
+}  // namespace
+
+void ABufferCounters::add(const ABufferCounters& o) {
+  fragments += o.fragments;
+  merged += o.merged;
+  culled += o.culled;
+  tail += o.tail;
+  pixelsWithList += o.pixelsWithList;
+  pixelsSolidOnly += o.pixelsSolidOnly;
+  pixelsOverBudget += o.pixelsOverBudget;
+  coveredPixels += o.coveredPixels;
+  maxFragmentsPerPixel = std::max(maxFragmentsPerPixel, o.maxFragmentsPerPixel);
+  maxListLength = std::max(maxListLength, o.maxListLength);
+  peakBytes = std::max(peakBytes, o.peakBytes);
+}
+
+TileABuffer::TileABuffer(const MaskLayout& layout, int budget)
+    : layout_(layout), budget_(std::clamp(budget, 1, 65535)) {}
+
+void TileABuffer::reset(int w, int h) {
+  w_ = w;
+  h_ = h;
+  pixels_.assign(size_t(w) * size_t(h), Pixel{});
+  nodes_.clear();
+  freeNodes_.clear();
+  tails_.clear();
+  occlusion_.assign(size_t(w) * size_t(h), INFINITY);
+  bw_ = (w + 3) / 4;
+  blockOcclusion_.assign(size_t(bw_) * size_t((h + 3) / 4), INFINITY);
+  subpixelDepth_.assign(size_t(w) * size_t(h) * size_t(layout_.samples()), INFINITY);
+}
+
+std::size_t TileABuffer::bytes() const {
+  return pixels_.capacity() * sizeof(Pixel) + nodes_.capacity() * sizeof(Node) +
+         freeNodes_.capacity() * sizeof(std::int32_t) + tails_.capacity() * sizeof(Tail) +
+         (subpixelDepth_.capacity() + occlusion_.capacity() + blockOcclusion_.capacity()) * sizeof(float);
+}
+
+bool TileABuffer::isSolid(const Fragment& f) const {
+  return f.opacity >= 1.0f && f.area >= kSolidArea && f.mask == layout_.full() && !f.standInMask;
+}
+
+std::int32_t TileABuffer::allocNode() {
+  if (!freeNodes_.empty()) {
+    const std::int32_t i = freeNodes_.back();
+    freeNodes_.pop_back();
+    return i;
+  }
+  nodes_.push_back(Node{});
+  peakBytes_ = std::max(peakBytes_, bytes());
+  return std::int32_t(nodes_.size() - 1);
+}
+
+void TileABuffer::toTail(Pixel& p, const Fragment& f) {
+  if (p.tail < 0) {
+    p.tail = std::int32_t(tails_.size());
+    tails_.push_back(Tail{});
+    p.hasTail = true;
+  }
+  Tail& t = tails_[size_t(p.tail)];
+  const float w = f.opacity * f.area;
+  t.premultiplied += f.colour * w;
+  t.weight += w;
+  t.transmittance *= std::max(0.0f, 1.0f - w);
+  ++local_.tail;
+}
+
+void TileABuffer::occlude(Pixel& p, size_t pixelIndex, const Fragment& f) {
+  // Only fragments that hide their subpixels wholly in the resolve (opaque, and not thinner
+  // than their mask says: A * N >= k) occlude; then the skip is exact, not an approximation.
+  const int k = maskCount(f.mask);
+  if (f.opacity < 1.0f || f.standInMask || f.area * float(layout_.samples()) < float(k)) return;
+  const int n = layout_.samples();
+  float* z = &subpixelDepth_[pixelIndex * size_t(n)];
+  for (MaskBits m = f.mask; m; m &= m - 1) {
+    float& d = z[std::countr_zero(m)];
+    d = std::min(d, f.zmax);
+  }
+  float occ = 0.0f;
+  for (int s = 0; s < n; ++s) occ = std::max(occ, z[s]);
+  if (!(occ < occlusion_[pixelIndex])) return;
+  occlusion_[pixelIndex] = occ;
+  const int px = int(pixelIndex % size_t(w_)), py = int(pixelIndex / size_t(w_));
+  const int bx = px >> 2, by = py >> 2;
+  float bmax = 0.0f;
+  for (int y = by * 4; y < std::min(h_, by * 4 + 4); ++y)
+    for (int x = bx * 4; x < std::min(w_, bx * 4 + 4); ++x) bmax = std::max(bmax, occlusion_[size_t(y) * size_t(w_) + size_t(x)]);
+  blockOcclusion_[size_t(by) * size_t(bw_) + size_t(bx)] = bmax;
+}
+
+void TileABuffer::pruneHidden(Pixel& p, float occlusion) {
+  std::int32_t* link = &p.head;
+  while (*link >= 0) {
+    Node& n = nodes_[size_t(*link)];
+    if (n.f.zmin >= occlusion) {
+      const std::int32_t dead = *link;
+      *link = n.next;
+      freeNodes_.push_back(dead);
+      --p.length;
+      ++local_.culled;
+    } else {
+      link = &n.next;
+    }
+  }
+}
+
+void TileABuffer::pushList(Pixel& p, const Fragment& f) {
+  const float occ = occlusion_[size_t(&p - pixels_.data())];
+  if (p.length >= budget_ && occ < INFINITY) pruneHidden(p, occ);
+  if (p.length >= budget_) {
+    // Keep the nearest `budget` exactly: the farthest of list + f goes to the tail.
+    std::int32_t far = -1;
+    for (std::int32_t i = p.head; i >= 0; i = nodes_[size_t(i)].next)
+      if (far < 0 || nodes_[size_t(i)].f.zkey >= nodes_[size_t(far)].f.zkey) far = i;
+    if (f.zkey >= nodes_[size_t(far)].f.zkey) {
+      toTail(p, f);
+      return;
+    }
+    toTail(p, nodes_[size_t(far)].f);
+    nodes_[size_t(far)].f = f;
+    nodes_[size_t(far)].seq = p.seq++;
+    return;
+  }
+  const std::int32_t n = allocNode();
+  nodes_[size_t(n)] = Node{f, p.seq++, p.head};
+  p.head = n;
+  ++p.length;
+  local_.maxListLength = std::max<std::uint32_t>(local_.maxListLength, p.length);
+}
+
+void TileABuffer::setSolid(Pixel& p, const Fragment& f) {
+  if (p.hasSolid) {
+    if (!(f.zkey < p.solid.zkey)) {
+      if (f.zmin < p.solid.zmax) pushList(p, f);
+      else ++local_.culled;
+      return;
+    }
+    const Fragment old = p.solid;
+    p.solid = f;
+    if (old.zmin < f.zmax) pushList(p, old);  // interpenetrates the new solid: keep it
+    else ++local_.culled;
+  } else {
+    p.solid = f;
+    p.hasSolid = true;
+  }
+  // Drop list entries wholly behind the new solid fragment.
+  std::int32_t* link = &p.head;
+  while (*link >= 0) {
+    Node& n = nodes_[size_t(*link)];
+    if (n.f.zmin >= p.solid.zmax) {
+      const std::int32_t dead = *link;
+      *link = n.next;
+      freeNodes_.push_back(dead);
+      --p.length;
+      ++local_.culled;
+    } else {
+      link = &n.next;
+    }
+  }
+}
+
+void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
+  Pixel& p = pixels_[size_t(y) * size_t(w_) + size_t(x)];
+  ++p.offered;
+  ++local_.fragments;
+  if (!(f.area > 0.0f)) return;
+  f.area = std::min(f.area, 1.0f);
+  f.opacity = std::clamp(f.opacity, 0.0f, 1.0f);
+  if (f.zmin >= occlusion_[size_t(y) * size_t(w_) + size_t(x)] || (p.hasSolid && f.zmin >= p.solid.zmax)) {
+    ++local_.culled;
+    return;
+  }
+  const size_t pixelIndex = size_t(y) * size_t(w_) + size_t(x);
+  if (f.mask == 0) {
+    f.mask = MaskBits(1) << std::clamp(centroidSubpixel, 0, layout_.samples() - 1);
+    f.standInMask = true;
+  }
+  // Merge with a recent piece of the same object.
+  std::int32_t* link = &p.head;
+  for (int look = 0; *link >= 0 && look < kMergeLookBack; ++look) {
+    Node& n = nodes_[size_t(*link)];
+    if (n.f.tag == f.tag && ((n.f.mask & f.mask) == 0 || n.f.standInMask || f.standInMask) &&
+        depthRangesTouch(n.f, f)) {
+      mergeInto(n.f, f);
+      ++local_.merged;
+      occlude(p, pixelIndex, n.f);
+      if (isSolid(n.f)) {
+        const Fragment whole = n.f;
+        const std::int32_t dead = *link;
+        *link = n.next;
+        freeNodes_.push_back(dead);
+        --p.length;
+        setSolid(p, whole);
+      }
+      return;
+    }
+    link = &n.next;
+  }
+  occlude(p, pixelIndex, f);
+  if (isSolid(f)) setSolid(p, f);
+  else pushList(p, f);
+}
+
+glm::vec4 TileABuffer::resolve(int x, int y) const {
+  const Pixel& p = pixels_[size_t(y) * size_t(w_) + size_t(x)];
+  if (p.length == 0 && !p.hasTail) {
+    if (p.hasSolid) return glm::vec4(p.solid.colour, 1.0f);
+    return glm::vec4(0.0f);
+  }
+  // Gather, sort front to back (depth, then arrival: deterministic).
+  thread_local std::vector<const Node*> order;
+  thread_local Node solidNode;
+  order.clear();
+  for (std::int32_t i = p.head; i >= 0; i = nodes_[size_t(i)].next) order.push_back(&nodes_[size_t(i)]);
+  if (p.hasSolid) {
+    solidNode = Node{p.solid, 0xFFFFFFFFu, -1};
+    order.push_back(&solidNode);
+  }
+  std::sort(order.begin(), order.end(), [](const Node* a, const Node* b) {
+    return a->f.zkey < b->f.zkey || (a->f.zkey == b->f.zkey && a->seq < b->seq);
+  });
+  const int N = layout_.samples();
+  float T[64];
+  std::fill(T, T + N, 1.0f);
+  glm::vec3 rgb(0.0f);
+  float alpha = 0.0f;
+  for (const Node* n : order) {
+    const Fragment& f = n->f;
+    const int k = maskCount(f.mask);
+    if (k == 0) continue;
+    float sumT = 0;
+    for (MaskBits m = f.mask; m; m &= m - 1) sumT += T[std::countr_zero(m)];
+    const float w = f.opacity * f.area * (sumT / float(k));
+    rgb += f.colour * w;
+    alpha += w;
+    const float hide = f.opacity * std::min(1.0f, f.area * float(N) / float(k));
+    for (MaskBits m = f.mask; m; m &= m - 1) T[std::countr_zero(m)] *= 1.0f - hide;
+  }
+  if (p.hasTail) {
+    const Tail& t = tails_[size_t(p.tail)];
+    float meanT = 0;
+    for (int s = 0; s < N; ++s) meanT += T[s];
+    meanT /= float(N);
+    const float ta = (1.0f - t.transmittance) * meanT;
+    if (t.weight > 0) rgb += t.premultiplied / t.weight * ta;
+    alpha += ta;
+  }
+  // Quantised masks can let true areas overlap where masks do not: never more than full cover.
+  if (alpha > 1.0f) {
+    rgb /= alpha;
+    alpha = 1.0f;
+  }
+  return glm::vec4(rgb, alpha);
+}
+
+void TileABuffer::finish(ABufferCounters& counters) {
+  for (const Pixel& p : pixels_) {
+    if (p.offered == 0) continue;
+    ++local_.coveredPixels;
+    local_.maxFragmentsPerPixel = std::max(local_.maxFragmentsPerPixel, p.offered);
+    if (p.length > 0 || p.hasTail) ++local_.pixelsWithList;
+    else if (p.hasSolid) ++local_.pixelsSolidOnly;
+    if (p.hasTail) ++local_.pixelsOverBudget;
+  }
+  local_.peakBytes = std::max(peakBytes_, bytes());
+  counters.add(local_);
+  local_ = ABufferCounters{};
+}
+
+}  // namespace wf

@@ -1,0 +1,157 @@
+// The A-buffer of one tile (Carpenter 1984, extended to line segments as in the paper §3):
+// per-pixel lists of fragments with subpixel coverage masks, resolved front to back.
+//
+// A fragment carries its exact covered area (the primitive clipped to the pixel) as well as
+// its mask. The mask decides what hides what; the area decides how much the fragment adds, so
+// an isolated primitive contributes exactly its area, and a line thinner than a subpixel, which
+// may hit no sample at all, still adds its true coverage and fades instead of aliasing. Such a
+// fragment gets the one subpixel nearest its centroid as a stand-in mask.
+//
+// Resolve (box filter): fragments sorted by depth (zkey, then arrival); each subpixel s keeps
+// the transmittance T[s] left by what lies in front. A fragment with mask M (k bits), area A
+// and opacity alpha adds colour * alpha * A * mean_{s in M} T[s], then multiplies T[s] on M by
+// 1 - alpha * min(1, A * N / k) (N samples per pixel): opaque polygons hide their subpixels as
+// in Carpenter's A-buffer, sub-subpixel lines only dim them by the share they cover.
+//
+// Leaving out what a pixel does not need: an opaque fragment that covers the whole pixel becomes
+// the pixel's `solid` fragment, not a list entry; fragments wholly behind it are dropped at once
+// and a pixel that has only a solid fragment keeps no list at all.
+//
+// Merging: a fragment with the same object tag as one already in the list, with a disjoint mask
+// and a touching depth range, is one more piece of the same surface or polyline (abutting
+// triangles, consecutive segments); the two become one fragment (masks or'ed, areas added), so
+// the seam is neither a crack nor covered twice.
+//
+// Budget (as in TressFX's k-buffer): a list holds at most `budget` fragments; the nearest are
+// kept exactly, farther ones are blended into one order-independent tail per pixel, composited
+// behind the list, and counted in the stats.
+#pragma once
+
+#include "abuffer/coverage_mask.h"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace wf {
+
+struct Fragment {
+  float zmin = 0, zmax = 0;  ///< view depth range of the primitive inside the pixel
+  float zkey = 0;            ///< depth used for ordering (the primitive's depth at its centroid)
+  float area = 0;            ///< exact covered fraction of the pixel, (0, 1]
+  float opacity = 1;
+  glm::vec3 colour{0.0f};    ///< radiance (not premultiplied)
+  MaskBits mask = 0;         ///< subpixel samples covered
+  std::uint32_t tag = 0;     ///< object id: pieces with the same tag may merge
+  bool standInMask = false;  ///< mask is the centroid's subpixel, not a sampled mask
+};
+
+struct ABufferCounters {
+  std::uint64_t fragments = 0;        ///< fragments offered to the buffer
+  std::uint64_t merged = 0;           ///< merged into a fragment of the same object
+  std::uint64_t culled = 0;           ///< dropped because wholly behind a solid fragment
+  std::uint64_t tail = 0;             ///< blended into a pixel's tail (over budget)
+  std::uint64_t pixelsWithList = 0;   ///< pixels that needed a fragment list
+  std::uint64_t pixelsSolidOnly = 0;  ///< covered pixels resolved without a list
+  std::uint64_t pixelsOverBudget = 0;
+  std::uint64_t coveredPixels = 0;    ///< pixels that received any fragment
+  std::uint32_t maxFragmentsPerPixel = 0;  ///< most fragments offered to one pixel
+  std::uint32_t maxListLength = 0;         ///< longest list kept (budget-bounded)
+  std::size_t peakBytes = 0;               ///< largest memory this buffer held
+  void add(const ABufferCounters& o);
+};
+
+class TileABuffer {
+ public:
+  TileABuffer(const MaskLayout& layout, int budget);
+  /// Empties the buffer for a tile of w x h pixels (keeps its memory).
+  void reset(int w, int h);
+  /// Adds a fragment to pixel (x, y) of the tile. `centroidSubpixel` is the sample index used as
+  /// a stand-in when `f.mask` is empty.
+  void insert(int x, int y, Fragment f, int centroidSubpixel);
+  /// Depth behind which everything in pixel (x, y) is hidden: every subpixel is covered by an
+  /// opaque fragment (one that hides its subpixels wholly) nearer than this; +inf until then.
+  /// A fragment with zmin >= this depth cannot change the pixel, so the rasteriser may skip it
+  /// before computing its coverage.
+  float occlusionDepth(int x, int y) const { return occlusion_[size_t(y) * size_t(w_) + size_t(x)]; }
+  /// The largest occlusionDepth over pixels x0 ... x1 of row y.
+  float rowOcclusionDepth(int y, int x0, int x1) const {
+    const float* o = &occlusion_[size_t(y) * size_t(w_)];
+    float m = 0.0f;
+    for (int x = x0; x <= x1; ++x) m = std::max(m, o[x]);
+    return m;
+  }
+  /// The largest occlusionDepth over the pixels [x0, x1] x [y0, y1] (inclusive, tile
+  /// coordinates), from 4x4-pixel blocks, so possibly over a slightly larger region: a primitive
+  /// wholly behind it is hidden everywhere in the region (hierarchical occlusion culling).
+  float regionOcclusionDepth(int x0, int y0, int x1, int y1) const {
+    float m = 0.0f;
+    for (int by = y0 >> 2; by <= (y1 >> 2); ++by)
+      for (int bx = x0 >> 2; bx <= (x1 >> 2); ++bx) m = std::max(m, blockOcclusion_[size_t(by) * size_t(bw_) + size_t(bx)]);
+    return m;
+  }
+  /// Counts a fragment skipped by the caller because of occlusionDepth().
+  void countCulled(int x, int y) {
+    Pixel& p = pixels_[size_t(y) * size_t(w_) + size_t(x)];
+    ++p.offered;
+    ++local_.fragments;
+    ++local_.culled;
+  }
+  /// Premultiplied linear RGBA of pixel (x, y) (alpha = coverage).
+  glm::vec4 resolve(int x, int y) const;
+  /// Folds the per-pixel counts into counters (call after resolving the tile).
+  void finish(ABufferCounters& counters);
+
+  const MaskLayout& layout() const { return layout_; }
+  std::size_t bytes() const;
+
+ private:
+  struct Node {
+    Fragment f;
+    std::uint32_t seq;  ///< arrival order within the pixel, for a deterministic sort
+    std::int32_t next;
+  };
+  struct Tail {
+    glm::vec3 premultiplied{0.0f};
+    float weight = 0;             ///< sum of alpha * area
+    float transmittance = 1;      ///< product of (1 - alpha * area)
+  };
+  struct Pixel {
+    std::int32_t head = -1;
+    std::uint16_t length = 0;
+    bool hasSolid = false;
+    bool hasTail = false;
+    std::uint32_t offered = 0;
+    std::uint32_t seq = 0;
+    std::int32_t tail = -1;
+    Fragment solid;
+  };
+
+  bool isSolid(const Fragment& f) const;
+  void setSolid(Pixel& p, const Fragment& f);
+  void pushList(Pixel& p, const Fragment& f);
+  void toTail(Pixel& p, const Fragment& f);
+  void occlude(Pixel& p, size_t pixelIndex, const Fragment& f);
+  void pruneHidden(Pixel& p, float occlusion);
+  std::int32_t allocNode();
+
+  MaskLayout layout_;
+  int budget_;
+  int w_ = 0, h_ = 0;
+  std::vector<Pixel> pixels_;
+  std::vector<Node> nodes_;
+  std::vector<std::int32_t> freeNodes_;
+  std::vector<Tail> tails_;
+  std::vector<float> occlusion_;      ///< per pixel: see occlusionDepth
+  std::vector<float> blockOcclusion_; ///< per 4x4 block: the largest occlusion_ in it
+  int bw_ = 0;
+  std::vector<float> subpixelDepth_;  ///< per subpixel: nearest zmax of an opaque fragment over it
+  std::size_t peakBytes_ = 0;
+  ABufferCounters local_;
+};
+
+}  // namespace wf

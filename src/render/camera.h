@@ -1,0 +1,76 @@
+// Cameras and the view transform every renderer in the core shares.
+//
+// Eye space: camera at the origin looking down -z, +y up (OpenGL's convention, and the one in
+// which the pseudo-reflectance maps and reflectance spheres are built: viewer on +z). Screen
+// space: x to the right and y down in pixels, pixel (i, j) covering [i, i+1] x [j, j+1].
+// Depth is the view distance d = -z_eye > 0. For a perspective camera 1/d is linear in screen
+// space, for an orthographic one d itself; ViewTransform::screenDepthKey gives that quantity.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <string>
+
+namespace wf {
+
+struct Camera {
+  enum class Projection { Perspective, Orthographic };
+  Projection projection = Projection::Perspective;
+  glm::dvec3 eye{0.0, 0.0, 5.0};
+  glm::dvec3 target{0.0};
+  glm::dvec3 up{0.0, 1.0, 0.0};
+  double fovYDegrees = 30.0;  ///< perspective: vertical field of view, (0, 179]
+  double orthoHeight = 2.0;   ///< orthographic: world height of the image
+  double nearPlane = 0.0;     ///< 0: chosen from the scene's bounds
+  double farPlane = 0.0;      ///< 0: chosen from the scene's bounds
+  /// Empty when the camera can be used; otherwise what is wrong with it.
+  std::string problem() const;
+};
+
+/// A camera that frames the box [lo, hi] seen from `direction` (from the target towards the
+/// eye), with the bounding sphere filling the smaller image side. Works for any scale.
+Camera frameBounds(const glm::dvec3& lo, const glm::dvec3& hi, double aspect,
+                   Camera::Projection projection = Camera::Projection::Perspective,
+                   const glm::dvec3& direction = glm::dvec3(0.55, -0.75, 0.45));
+
+struct ViewTransform {
+  glm::dmat3 eyeFromWorld{1.0};  ///< rows: right, up, back
+  glm::dvec3 eye{0.0};
+  bool perspective = true;
+  double focal = 1.0;       ///< perspective: pixels per unit of x/d
+  double orthoScale = 1.0;  ///< orthographic: pixels per world unit
+  double cx = 0, cy = 0;    ///< image centre in pixels
+  double nearPlane = 0.1, farPlane = 100.0;
+  int width = 1, height = 1;
+
+  static ViewTransform make(const Camera& camera, int width, int height);
+  glm::dvec3 toEye(const glm::dvec3& world) const { return eyeFromWorld * (world - eye); }
+  /// Screen position of an eye-space point in front of the camera (d > 0 for perspective).
+  glm::dvec2 project(const glm::dvec3& p) const {
+    if (perspective) {
+      const double d = -p.z;
+      return {cx + focal * p.x / d, cy - focal * p.y / d};
+    }
+    return {cx + orthoScale * p.x, cy - orthoScale * p.y};
+  }
+  /// The depth key (1/d or d), linear in screen space.
+  double depthKey(double d) const { return perspective ? 1.0 / d : d; }
+  double depthFromKey(double key) const { return perspective ? 1.0 / key : key; }
+  /// Eye-space point at screen (x, y) and view depth d.
+  glm::dvec3 eyePoint(double x, double y, double d) const {
+    if (perspective) return {(x - cx) / focal * d, -(y - cy) / focal * d, -d};
+    return {(x - cx) / orthoScale, -(y - cy) / orthoScale, -d};
+  }
+  /// Unit vector from an eye-space point towards the viewer.
+  glm::dvec3 viewVector(const glm::dvec3& p) const {
+    if (!perspective) return {0.0, 0.0, 1.0};
+    const double l = glm::length(p);
+    return l > 0 ? -p / l : glm::dvec3(0.0, 0.0, 1.0);
+  }
+  /// Half-width in pixels of a line of world thickness `t` at depth d.
+  double pixelsPerWorld(double d) const { return perspective ? focal / d : orthoScale; }
+  /// The largest angle (radians) between a view ray and the view axis in this image.
+  double maxRayAngle() const;
+};
+
+}  // namespace wf

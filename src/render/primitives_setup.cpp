@@ -1,0 +1,768 @@
+#include "render/primitives_setup.h"
+
+#include "abuffer/screen_polygon.h"
+#include "shading/cylinder_shading.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <numbers>
+
+namespace wf {
+
+bool Scene::bounds(glm::dvec3& lo, glm::dvec3& hi) const {
+  lo = glm::dvec3(1e300);
+  hi = glm::dvec3(-1e300);
+  bool any = false;
+  auto add = [&](const glm::dvec3& p) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return;
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+    any = true;
+  };
+  for (const SceneSurface& s : surfaces)
+    for (const glm::uvec3& t : s.mesh.triangles)
+      for (int k = 0; k < 3; ++k)
+        if (t[k] < s.mesh.positions.size()) add(s.mesh.positions[t[k]]);
+  for (const SceneWire& w : wires)
+    for (const glm::dvec3& p : w.lines.points) add(p);
+  return any;
+}
+
+size_t PreparedScene::bytes() const {
+  size_t b = primitives.capacity() * sizeof(Primitive) + vertices.capacity() * sizeof(glm::dvec2) +
+             triangles.capacity() * sizeof(TriangleAttributes) +
+             segments.capacity() * sizeof(SegmentAttributes);
+  for (const ShaderSlot& s : shaders) {
+    if (s.map) b += s.map->bytes();
+    if (s.sphere) b += s.sphere->texels().size() * sizeof(glm::vec3);
+  }
+  return b;
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+bool finite3(const glm::dvec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+// Unit vectors spread evenly over the sphere (Fibonacci lattice): the test set of the error
+// estimates.
+std::vector<glm::dvec3> fibonacciSphere(int n) {
+  std::vector<glm::dvec3> out;
+  const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
+  for (int i = 0; i < n; ++i) {
+    const double z = 1.0 - (i + 0.5) * 2.0 / n, r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    out.emplace_back(r * std::cos(golden * i), r * std::sin(golden * i), z);
+  }
+  return out;
+}
+
+double maxComponentDiff(const glm::dvec3& a, const glm::dvec3& b) {
+  const glm::dvec3 d = glm::abs(a - b);
+  return std::max({d.x, d.y, d.z});
+}
+
+glm::dvec3 chromeRadiance(const EnvironmentMap& env, const glm::dvec3& refl, const glm::dvec3& n,
+                          const glm::dvec3& v) {
+  const glm::dvec3 r = 2.0 * glm::dot(n, v) * n - v;
+  return refl * glm::dvec3(env.lookup(r));
+}
+
+const EnvironmentMap& defaultEnvironment() {
+  static const EnvironmentMap env = EnvironmentMap::mountainScene(512);
+  return env;
+}
+
+// ---- camera, lights, shaders -------------------------------------------------------------
+
+Camera chooseCamera(const Scene& scene, const RenderOptions& o) {
+  glm::dvec3 lo, hi;
+  const bool hasBounds = scene.bounds(lo, hi);
+  Camera c = scene.camera ? *scene.camera
+                          : (hasBounds ? frameBounds(lo, hi, double(o.width) / o.height)
+                                       : Camera{});
+  if (c.nearPlane > 0 && c.farPlane > 0) return c;
+  // Near and far from the bounding sphere, as tight as the scene allows.
+  const glm::dvec3 dir = glm::normalize(c.target - c.eye);
+  double dmin = 1e-3, dmax = 1e3;
+  if (hasBounds) {
+    const glm::dvec3 centre = 0.5 * (lo + hi);
+    const double radius = std::max(0.5 * glm::length(hi - lo), 1e-300);
+    const double along = glm::dot(centre - c.eye, dir);
+    dmax = along + radius * 1.01;
+    dmin = std::max(along - radius * 1.01, dmax * 1e-6);
+    if (!(dmax > 0)) dmax = 1.0, dmin = 1e-6;
+  }
+  if (c.nearPlane <= 0) c.nearPlane = dmin;
+  if (c.farPlane <= 0) c.farPlane = std::max(dmax, c.nearPlane * 2);
+  return c;
+}
+
+void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& o,
+                    std::vector<int>& surfaceShader, std::vector<int>& wireShader,
+                    RenderStats& st) {
+  const auto t0 = Clock::now();
+  const bool maps = o.shading == ShadingPath::Maps;
+  std::map<int, std::shared_ptr<PseudoReflectanceMap>> mapOf;
+  std::map<int, std::shared_ptr<ReflectanceSphere>> sphereOf;
+  std::map<int, int> surfaceSlotOf;
+  auto material = [&](int i) -> const Material& {
+    return scene.materials[size_t(std::clamp(i, 0, int(scene.materials.size()) - 1))];
+  };
+  const EnvironmentMap& env = scene.environment ? *scene.environment : defaultEnvironment();
+  for (const SceneSurface& s : scene.surfaces) {
+    if (s.mesh.triangles.empty()) {
+      surfaceShader.push_back(0);
+      continue;
+    }
+    const int mi = std::clamp(s.material, 0, int(scene.materials.size()) - 1);
+    auto it = surfaceSlotOf.find(mi);
+    if (it == surfaceSlotOf.end()) {
+      ShaderSlot slot;
+      const Material& m = material(mi);
+      slot.kind = m.kind == Material::Kind::Chrome ? ShaderSlot::Kind::SurfaceChrome
+                                                   : ShaderSlot::Kind::SurfacePhong;
+      slot.phong = m.phong.sanitized();
+      slot.chromeReflectance = m.chromeReflectance;
+      if (maps) {
+        if (slot.kind == ShaderSlot::Kind::SurfacePhong)
+          slot.sphere = std::make_shared<ReflectanceSphere>(
+              ReflectanceSphere::phong(o.sphereResolution, slot.phong, ps.eyeLights));
+        else
+          slot.sphere = std::make_shared<ReflectanceSphere>(
+              ReflectanceSphere::chrome(o.sphereResolution, env, slot.chromeReflectance));
+        sphereOf[mi] = slot.sphere;
+        ++st.reflectanceSpheres;
+      }
+      ps.shaders.push_back(slot);
+      it = surfaceSlotOf.emplace(mi, int(ps.shaders.size()) - 1).first;
+    }
+    surfaceShader.push_back(it->second);
+  }
+  for (const SceneWire& w : scene.wires) {
+    ShaderSlot slot;
+    const int mi = std::clamp(w.material, 0, int(scene.materials.size()) - 1);
+    slot.phong = material(mi).phong.sanitized();
+    slot.colour = w.colour;
+    slot.kind = w.style == WireStyle::Shaded  ? ShaderSlot::Kind::WireShaded
+                : w.style == WireStyle::Plain ? ShaderSlot::Kind::WirePlain
+                                              : ShaderSlot::Kind::WireDepthCued;
+    if (maps && slot.kind == ShaderSlot::Kind::WireShaded && w.lines.points.size() >= 2) {
+      auto it = mapOf.find(mi);
+      if (it == mapOf.end()) {
+        auto map = std::make_shared<PseudoReflectanceMap>();
+        map->build(slot.phong, ps.eyeLights, o.map);
+        ++st.pseudoReflectanceMaps;
+        it = mapOf.emplace(mi, map).first;
+      }
+      slot.map = it->second;
+    }
+    ps.shaders.push_back(slot);
+    wireShader.push_back(int(ps.shaders.size()) - 1);
+  }
+  st.maps = secondsSince(t0);
+
+  // Error estimates of the tables against the exact path, and of the orthographic assumption
+  // (the tables are built for V = +z; the ray through the image corner sees the most change).
+  if (!maps) return;
+  const glm::dvec3 axis(0, 0, 1);
+  const double ang = ps.view.maxRayAngle();
+  const glm::dvec3 corner = glm::normalize(glm::dvec3(std::sin(ang), 0.0, std::cos(ang)) +
+                                           glm::dvec3(0.0, 1e-9, 0.0));
+  const std::vector<glm::dvec3> dirs = fibonacciSphere(192);
+  for (auto& [mi, map] : mapOf) {
+    const PhongMaterial m = material(mi).phong.sanitized();
+    for (size_t i = 0; i < dirs.size(); ++i) {
+      const glm::dvec3 exact = cylinderRadianceExact(dirs[i], axis, m, ps.eyeLights, 1e-8);
+      st.mapError = std::max(st.mapError, maxComponentDiff(glm::dvec3(map->lookup(dirs[i])), exact));
+      if (ang > 0 && i % 3 == 0)
+        st.orthographicError = std::max(
+            st.orthographicError,
+            maxComponentDiff(cylinderRadianceExact(dirs[i], corner, m, ps.eyeLights, 1e-8), exact));
+    }
+  }
+  for (auto& [mi, sphere] : sphereOf) {
+    const Material& mat = material(mi);
+    const PhongMaterial m = mat.phong.sanitized();
+    for (const glm::dvec3& d : dirs) {
+      const glm::dvec3 n(d.x, d.y, std::abs(d.z));
+      const glm::dvec3 exact = mat.kind == Material::Kind::Chrome
+                                   ? chromeRadiance(env, mat.chromeReflectance, n, axis)
+                                   : phongRadiance(n, axis, m, ps.eyeLights);
+      st.sphereError = std::max(st.sphereError, maxComponentDiff(glm::dvec3(sphere->lookup(n)), exact));
+      if (ang > 0 && mat.kind == Material::Kind::Phong && glm::dot(n, corner) > 0)
+        st.orthographicError = std::max(
+            st.orthographicError, maxComponentDiff(phongRadiance(n, corner, m, ps.eyeLights), exact));
+    }
+  }
+}
+
+// ---- geometry ----------------------------------------------------------------------------
+
+struct ChunkOut {
+  std::vector<Primitive> prims;
+  std::vector<glm::dvec2> verts;
+  std::vector<TriangleAttributes> tris;
+  std::vector<SegmentAttributes> segs;
+  size_t triangles = 0, segments = 0, rejected = 0, zeroLength = 0, clipped = 0, endOn = 0;
+};
+
+// Intersection of the segment a-b with the plane depth = plane, computed from the endpoints in
+// a canonical order so that the two triangles sharing an edge get the very same point.
+glm::dvec3 depthIntersection(glm::dvec3 a, glm::dvec3 b, double plane) {
+  if (b.x < a.x || (b.x == a.x && (b.y < a.y || (b.y == a.y && b.z < a.z)))) std::swap(a, b);
+  const double t = (plane - (-a.z)) / ((-b.z) - (-a.z));
+  return a + t * (b - a);
+}
+
+// Keeps the part of a convex eye-space polygon with depth >= plane (keepFar) or <= plane.
+int clipDepth(const glm::dvec3* in, int n, glm::dvec3* out, double plane, bool keepFar) {
+  int m = 0;
+  for (int i = 0; i < n; ++i) {
+    const glm::dvec3 &a = in[i], &b = in[(i + 1) % n];
+    const bool ia = keepFar ? -a.z >= plane : -a.z <= plane;
+    const bool ib = keepFar ? -b.z >= plane : -b.z <= plane;
+    if (ia) out[m++] = a;
+    if (ia != ib) out[m++] = depthIntersection(a, b, plane);
+  }
+  return m;
+}
+
+bool finishPolygon(const ScreenPolygon& poly, const ViewTransform& view, Primitive& prim,
+                   ChunkOut& out) {
+  double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+  for (int i = 0; i < poly.count; ++i) {
+    x0 = std::min(x0, poly.x[i]);
+    x1 = std::max(x1, poly.x[i]);
+    y0 = std::min(y0, poly.y[i]);
+    y1 = std::max(y1, poly.y[i]);
+  }
+  x0 = std::max(x0, 0.0);
+  y0 = std::max(y0, 0.0);
+  x1 = std::min(x1, double(view.width));
+  y1 = std::min(y1, double(view.height));
+  if (!(x1 > x0) || !(y1 > y0) || poly.count < 3 || !(poly.area() > 0)) return false;
+  prim.bbox[0] = float(x0);
+  prim.bbox[1] = float(y0);
+  prim.bbox[2] = float(x1);
+  prim.bbox[3] = float(y1);
+  prim.firstVertex = std::uint32_t(out.verts.size());
+  prim.vertexCount = std::uint16_t(poly.count);
+  for (int i = 0; i < poly.count; ++i) out.verts.emplace_back(poly.x[i], poly.y[i]);
+  out.prims.push_back(prim);
+  return true;
+}
+
+void setupTriangles(const PreparedScene& ps, const SceneSurface& surf, std::uint32_t surfaceIndex,
+                    std::uint16_t shader, std::uint32_t tag, float opacity, size_t begin, size_t end,
+                    ChunkOut& out) {
+  const ViewTransform& view = ps.view;
+  const TriangleMesh& mesh = surf.mesh;
+  for (size_t t = begin; t < end; ++t) {
+    const glm::uvec3 tri = mesh.triangles[t];
+    if (tri.x >= mesh.positions.size() || tri.y >= mesh.positions.size() ||
+        tri.z >= mesh.positions.size()) {
+      ++out.rejected;
+      continue;
+    }
+    glm::dvec3 e[3];
+    bool ok = true;
+    for (int k = 0; k < 3; ++k) {
+      const glm::dvec3& w = mesh.positions[tri[k]];
+      ok = ok && finite3(w);
+      e[k] = view.toEye(w);
+    }
+    if (!ok || !finite3(e[0]) || !finite3(e[1]) || !finite3(e[2])) {
+      ++out.rejected;
+      continue;
+    }
+    ++out.triangles;
+    glm::dvec3 a[8], b[8];
+    int n = clipDepth(e, 3, a, view.nearPlane, true);
+    n = clipDepth(a, n, b, view.farPlane, false);
+    if (n < 3) {
+      ++out.clipped;
+      continue;
+    }
+    ScreenPolygon poly;
+    float zlo = 1e30f, zhi = 0;
+    for (int k = 0; k < n; ++k) {
+      const glm::dvec2 p = view.project(b[k]);
+      poly.add(p.x, p.y);
+      zlo = std::min(zlo, float(-b[k].z));
+      zhi = std::max(zhi, float(-b[k].z));
+    }
+    poly.removeDuplicates();
+    // Depth key plane from the eye-space plane n.P = k of the triangle.
+    const glm::dvec3 e1 = e[1] - e[0], e2 = e[2] - e[0];
+    const glm::dvec3 nrm = glm::cross(e1, e2);
+    const double k = glm::dot(nrm, e[0]);
+    Primitive prim;
+    if (view.perspective) {
+      if (!(std::abs(k) > 1e-300)) {
+        ++out.clipped;  // seen exactly edge-on: no area
+        continue;
+      }
+      const double f = view.focal;
+      prim.qa = nrm.x / (f * k);
+      prim.qb = -nrm.y / (f * k);
+      prim.qc = (-nrm.x * view.cx / f + nrm.y * view.cy / f - nrm.z) / k;
+    } else {
+      if (!(std::abs(nrm.z) > 1e-300)) {
+        ++out.clipped;
+        continue;
+      }
+      const double s = view.orthoScale;
+      prim.qa = nrm.x / (s * nrm.z);
+      prim.qb = -nrm.y / (s * nrm.z);
+      prim.qc = (-nrm.x * view.cx / s + nrm.y * view.cy / s - k) / nrm.z;
+    }
+    prim.zlo = zlo;
+    prim.zhi = zhi;
+    prim.tag = tag;
+    prim.opacity = opacity;
+    prim.isSegment = false;
+    prim.attribute = std::uint32_t(out.tris.size());
+    if (!finishPolygon(poly, view, prim, out)) {
+      ++out.clipped;
+      continue;
+    }
+    TriangleAttributes ta;
+    ta.p0 = e[0];
+    ta.e1 = e1;
+    ta.e2 = e2;
+    ta.d00 = glm::dot(e1, e1);
+    ta.d01 = glm::dot(e1, e2);
+    ta.d11 = glm::dot(e2, e2);
+    const double den = ta.d00 * ta.d11 - ta.d01 * ta.d01;
+    ta.invDen = den > 0 ? 1.0 / den : 0.0;
+    ta.surface = surfaceIndex;
+    ta.triangle = std::uint32_t(t);
+    ta.shader = shader;
+    out.tris.push_back(ta);
+  }
+}
+
+// Screen-space state of one wire segment during set-up.
+struct SegScreen {
+  bool valid = false, endOn = false;
+  bool clipped0 = false, clipped1 = false;
+  glm::dvec3 e0, e1;      // eye space, after clipping
+  glm::dvec2 p0, p1;      // screen
+  double d0 = 0, d1 = 0;  // depths
+  double w0 = 0, w1 = 0;  // half widths, pixels
+  glm::dvec2 dir{0}, nrm{0};
+  double length = 0;
+  glm::dvec3 tangent{0};  // eye-space unit direction (unclipped)
+};
+
+void addStadium(const SegScreen& s, ScreenPolygon& poly) {
+  // Hull of two 16-gon discs with the discs' exact areas (circumradius scaled up).
+  constexpr int kSides = 16;
+  const double scale = std::sqrt(std::numbers::pi / (0.5 * kSides * std::sin(2 * std::numbers::pi / kSides)));
+  std::vector<glm::dvec2> pts;
+  for (int end = 0; end < 2; ++end) {
+    const glm::dvec2 c = end ? s.p1 : s.p0;
+    const double r = (end ? s.w1 : s.w0) * scale;
+    for (int i = 0; i < kSides; ++i) {
+      const double a = 2 * std::numbers::pi * i / kSides;
+      pts.emplace_back(c.x + r * std::cos(a), c.y + r * std::sin(a));
+    }
+  }
+  std::sort(pts.begin(), pts.end(), [](const glm::dvec2& a, const glm::dvec2& b) {
+    return a.x < b.x || (a.x == b.x && a.y < b.y);
+  });
+  std::vector<glm::dvec2> hull(2 * pts.size());
+  size_t k = 0;
+  auto cross = [](const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
+    return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+  };
+  for (size_t i = 0; i < pts.size(); ++i) {
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+    hull[k++] = pts[i];
+  }
+  for (size_t i = pts.size() - 1, t = k + 1; i > 0; --i) {
+    while (k >= t && cross(hull[k - 2], hull[k - 1], pts[i - 1]) <= 0) --k;
+    hull[k++] = pts[i - 1];
+  }
+  poly.count = 0;
+  for (size_t i = 0; i + 1 < k; ++i) poly.add(hull[i].x, hull[i].y);
+}
+
+void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint16_t shader,
+                    std::uint32_t tagBase, size_t begin, size_t end, ChunkOut& out) {
+  const ViewTransform& view = ps.view;
+  const PolylineSet& L = wire.lines;
+  const ShaderSlot& slot = ps.shaders[shader];
+  const bool hasColours = L.colours.size() == L.points.size();
+  std::vector<SegScreen> segs;
+  std::vector<glm::dvec2> offsets;
+  std::vector<char> mitred;
+  for (size_t li = begin; li < end; ++li) {
+    const size_t a = L.starts[li], b = std::min<size_t>(L.starts[li + 1], L.points.size());
+    if (b < a + 2) continue;
+    const size_t nseg = b - a - 1;
+    segs.assign(nseg, SegScreen{});
+    for (size_t j = 0; j < nseg; ++j) {
+      SegScreen& s = segs[j];
+      const glm::dvec3 &w0 = L.points[a + j], &w1 = L.points[a + j + 1];
+      if (!finite3(w0) || !finite3(w1)) {
+        ++out.rejected;
+        continue;
+      }
+      if (w0 == w1) {
+        ++out.zeroLength;
+        continue;
+      }
+      glm::dvec3 e0 = view.toEye(w0), e1 = view.toEye(w1);
+      if (!finite3(e0) || !finite3(e1) || e0 == e1) {
+        ++out.zeroLength;
+        continue;
+      }
+      ++out.segments;
+      s.tangent = glm::normalize(e1 - e0);
+      double d0 = -e0.z, d1 = -e1.z;
+      const double nearP = view.nearPlane, farP = view.farPlane;
+      if ((d0 < nearP && d1 < nearP) || (d0 > farP && d1 > farP)) {
+        ++out.clipped;
+        continue;
+      }
+      // Clip to [near, far] along the segment.
+      auto clipEnd = [&](glm::dvec3& p, double& d, const glm::dvec3& q, double dq, bool& flag) {
+        if (d < nearP) {
+          p = p + (nearP - d) / (dq - d) * (q - p);
+          d = nearP;
+          flag = true;
+        } else if (d > farP) {
+          p = p + (farP - d) / (dq - d) * (q - p);
+          d = farP;
+          flag = true;
+        }
+      };
+      const glm::dvec3 o0 = e0, o1 = e1;
+      clipEnd(e0, d0, o1, d1, s.clipped0);
+      clipEnd(e1, d1, o0, -o0.z, s.clipped1);
+      s.e0 = e0;
+      s.e1 = e1;
+      s.d0 = d0;
+      s.d1 = d1;
+      s.p0 = view.project(e0);
+      s.p1 = view.project(e1);
+      const double halfT = 0.5 * wire.thickness;
+      s.w0 = wire.thicknessInPixels ? halfT : halfT * view.pixelsPerWorld(d0);
+      s.w1 = wire.thicknessInPixels ? halfT : halfT * view.pixelsPerWorld(d1);
+      const glm::dvec2 dv = s.p1 - s.p0;
+      s.length = glm::length(dv);
+      if (!(std::isfinite(s.length)) || !(s.w0 > 0) || !(s.w1 > 0) || !std::isfinite(s.w0) ||
+          !std::isfinite(s.w1)) {
+        ++out.clipped;
+        continue;
+      }
+      s.endOn = s.length < std::max(s.w0, s.w1);
+      if (!s.endOn) {
+        s.dir = dv / s.length;
+        s.nrm = glm::dvec2(-s.dir.y, s.dir.x);
+      }
+      s.valid = true;
+    }
+    // Joint offsets: vertex j joins segment j-1 and j.
+    offsets.assign(nseg + 1, glm::dvec2(0));
+    mitred.assign(nseg + 1, 0);
+    for (size_t j = 1; j < nseg; ++j) {
+      const SegScreen &p = segs[j - 1], &q = segs[j];
+      if (!p.valid || !q.valid || p.endOn || q.endOn || p.clipped1 || q.clipped0) continue;
+      const glm::dvec2 m = p.nrm + q.nrm;
+      const double ml = glm::length(m);
+      if (!(ml > 1e-6)) continue;
+      const glm::dvec2 mh = m / ml;
+      const double c = glm::dot(mh, q.nrm);
+      if (!(c > 1.0 / kMitreLimit)) continue;
+      offsets[j] = mh * (q.w0 / c);
+      mitred[j] = 1;
+    }
+    const std::uint32_t tag = tagBase + std::uint32_t(li);
+    for (size_t j = 0; j < nseg; ++j) {
+      const SegScreen& s = segs[j];
+      if (!s.valid) continue;
+      ScreenPolygon poly;
+      if (s.endOn) {
+        addStadium(s, poly);
+        ++out.endOn;
+      } else {
+        glm::dvec2 o0 = mitred[j] ? offsets[j] : s.nrm * s.w0;
+        glm::dvec2 o1 = mitred[j + 1] ? offsets[j + 1] : s.nrm * s.w1;
+        auto quad = [&](const glm::dvec2& u0, const glm::dvec2& u1) {
+          poly.count = 0;
+          poly.add(s.p0.x + u0.x, s.p0.y + u0.y);
+          poly.add(s.p1.x + u1.x, s.p1.y + u1.y);
+          poly.add(s.p1.x - u1.x, s.p1.y - u1.y);
+          poly.add(s.p0.x - u0.x, s.p0.y - u0.y);
+        };
+        quad(o0, o1);
+        if (!isConvex(poly)) quad(s.nrm * s.w0, s.nrm * s.w1);  // a folding mitre: square ends
+      }
+      poly.removeDuplicates();
+      Primitive prim;
+      const double k0 = view.depthKey(s.d0), k1 = view.depthKey(s.d1);
+      if (s.length > 1e-12) {
+        const glm::dvec2 u = (s.p1 - s.p0) / (s.length * s.length);
+        prim.qa = (k1 - k0) * u.x;
+        prim.qb = (k1 - k0) * u.y;
+        prim.qc = k0 - prim.qa * s.p0.x - prim.qb * s.p0.y;
+      } else {
+        prim.qa = prim.qb = 0;
+        prim.qc = view.perspective ? std::max(k0, k1) : std::min(k0, k1);
+      }
+      prim.zlo = float(std::min(s.d0, s.d1));
+      prim.zhi = float(std::max(s.d0, s.d1));
+      prim.tag = tag;
+      prim.opacity = wire.opacity;
+      prim.isSegment = true;
+      prim.attribute = std::uint32_t(out.segs.size());
+      SegmentAttributes sa;
+      sa.p0 = s.e0;
+      sa.p1 = s.e1;
+      // Tangents at the ends: averaged with the neighbour at a joint, so a smooth curve of
+      // straight segments shades smoothly, like one bent wire.
+      auto jointTangent = [&](size_t jv, const glm::dvec3& own) {
+        const SegScreen* other = nullptr;
+        if (jv == j && j > 0) other = &segs[j - 1];
+        if (jv == j + 1 && j + 1 < nseg) other = &segs[j + 1];
+        if (!other || !other->valid) return own;
+        const glm::dvec3 sum = own + other->tangent;
+        const double l = glm::length(sum);
+        return l > 1e-6 ? sum / l : own;
+      };
+      sa.t0 = jointTangent(j, s.tangent);
+      sa.t1 = jointTangent(j + 1, s.tangent);
+      sa.c0 = hasColours ? L.colours[a + j] : glm::vec3(1.0f);
+      sa.c1 = hasColours ? L.colours[a + j + 1] : glm::vec3(1.0f);
+      sa.shader = shader;
+      if (sa.c0 == sa.c1) {
+        if (slot.kind == ShaderSlot::Kind::WirePlain) {
+          prim.constantColour = true;
+          prim.colour = slot.colour * sa.c0;
+        } else if (slot.kind == ShaderSlot::Kind::WireShaded && slot.map && sa.t0 == sa.t1) {
+          prim.constantColour = true;  // the map depends on the tangent alone
+          prim.colour = slot.map->lookup(sa.t0) * sa.c0;
+        }
+      }
+      if (!finishPolygon(poly, view, prim, out)) {
+        ++out.clipped;
+        continue;
+      }
+      out.segs.push_back(sa);
+    }
+  }
+}
+
+}  // namespace
+
+PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderStats& st) {
+  const auto t0 = Clock::now();
+  PreparedScene ps;
+  ps.scene = &scene;
+  ps.path = o.shading;
+  const Camera camera = chooseCamera(scene, o);
+  ps.view = ViewTransform::make(camera, o.width, o.height);
+  ps.eyeLights = scene.lights.transformed(ps.view.eyeFromWorld).canonical();
+
+  std::vector<int> surfaceShader, wireShader;
+  const auto tm = Clock::now();
+  prepareShaders(ps, scene, o, surfaceShader, wireShader, st);
+  const double mapSeconds = secondsSince(tm);
+
+  // Depth-cue range: the wires' depths.
+  double cn = 1e300, cf = -1e300;
+  for (const SceneWire& w : scene.wires)
+    if (w.style == WireStyle::DepthCued)
+      for (const glm::dvec3& p : w.lines.points) {
+        const double d = -ps.view.toEye(p).z;
+        if (std::isfinite(d)) cn = std::min(cn, d), cf = std::max(cf, d);
+      }
+  ps.cueNear = std::max(cn, ps.view.nearPlane);
+  ps.cueFar = std::min(cf, ps.view.farPlane);
+
+  // Work items in a fixed order: chunks of triangles, then chunks of polylines.
+  struct Job {
+    bool wire;
+    std::uint32_t object;
+    size_t begin, end;
+  };
+  std::vector<Job> jobs;
+  constexpr size_t kTriChunk = 4096, kLineChunk = 2048;
+  for (size_t s = 0; s < scene.surfaces.size(); ++s)
+    for (size_t b = 0; b < scene.surfaces[s].mesh.triangles.size(); b += kTriChunk)
+      jobs.push_back({false, std::uint32_t(s), b, std::min(b + kTriChunk, scene.surfaces[s].mesh.triangles.size())});
+  std::vector<std::uint32_t> tagBase(scene.wires.size());
+  std::uint32_t nextTag = std::uint32_t(scene.surfaces.size()) + 1;
+  for (size_t w = 0; w < scene.wires.size(); ++w) {
+    tagBase[w] = nextTag;
+    const size_t n = scene.wires[w].lines.polylineCount();
+    nextTag += std::uint32_t(n);
+    for (size_t b = 0; b < n; b += kLineChunk) jobs.push_back({true, std::uint32_t(w), b, std::min(b + kLineChunk, n)});
+  }
+  std::vector<ChunkOut> chunks(jobs.size());
+  tbb::parallel_for(size_t(0), jobs.size(), [&](size_t i) {
+    const Job& j = jobs[i];
+    if (j.wire) {
+      setupPolylines(ps, scene.wires[j.object], std::uint16_t(wireShader[j.object]), tagBase[j.object],
+                     j.begin, j.end, chunks[i]);
+    } else {
+      const SceneSurface& s = scene.surfaces[j.object];
+      const Material& m = scene.materials[size_t(std::clamp(s.material, 0, int(scene.materials.size()) - 1))];
+      setupTriangles(ps, s, j.object, std::uint16_t(surfaceShader[j.object]), j.object + 1,
+                     std::clamp(m.opacity, 0.0f, 1.0f), j.begin, j.end, chunks[i]);
+    }
+  });
+  // Concatenate in job order (deterministic whatever the thread count).
+  std::vector<size_t> rejectedPerObject(scene.surfaces.size() + scene.wires.size(), 0);
+  size_t np = 0, nv = 0, nt = 0, ns = 0;
+  for (const ChunkOut& c : chunks) np += c.prims.size(), nv += c.verts.size(), nt += c.tris.size(), ns += c.segs.size();
+  ps.primitives.reserve(np);
+  ps.vertices.reserve(nv);
+  ps.triangles.reserve(nt);
+  ps.segments.reserve(ns);
+  for (size_t i = 0; i < chunks.size(); ++i) {
+    ChunkOut& c = chunks[i];
+    const std::uint32_t v0 = std::uint32_t(ps.vertices.size());
+    const std::uint32_t a0 = std::uint32_t(jobs[i].wire ? ps.segments.size() : ps.triangles.size());
+    for (Primitive p : c.prims) {
+      p.firstVertex += v0;
+      p.attribute += a0;
+      ps.primitives.push_back(p);
+    }
+    ps.vertices.insert(ps.vertices.end(), c.verts.begin(), c.verts.end());
+    ps.triangles.insert(ps.triangles.end(), c.tris.begin(), c.tris.end());
+    ps.segments.insert(ps.segments.end(), c.segs.begin(), c.segs.end());
+    st.triangles += c.triangles;
+    st.segments += c.segments;
+    st.rejectedNonFinite += c.rejected;
+    st.droppedZeroLength += c.zeroLength;
+    st.clippedAway += c.clipped;
+    st.endOnDiscs += c.endOn;
+    rejectedPerObject[jobs[i].wire ? scene.surfaces.size() + jobs[i].object : jobs[i].object] += c.rejected;
+    c = ChunkOut{};
+  }
+  for (size_t i = 0; i < rejectedPerObject.size(); ++i) {
+    if (!rejectedPerObject[i]) continue;
+    const bool wire = i >= scene.surfaces.size();
+    const std::string name = wire ? scene.wires[i - scene.surfaces.size()].name : scene.surfaces[i].name;
+    st.warnings.push_back((wire ? "wire '" : "surface '") + name + "': " +
+                          std::to_string(rejectedPerObject[i]) +
+                          (wire ? " segments" : " triangles") +
+                          " with non-finite (NaN/Inf) or missing vertices skipped");
+  }
+  st.primitives = ps.primitives.size();
+  st.setup = secondsSince(t0) - mapSeconds;
+  return ps;
+}
+
+TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& st) {
+  const auto t0 = Clock::now();
+  TileBins bins;
+  bins.tilesX = (ps.view.width + tileSize - 1) / tileSize;
+  bins.tilesY = (ps.view.height + tileSize - 1) / tileSize;
+  const size_t tiles = size_t(bins.tilesX) * size_t(bins.tilesY);
+  bins.offsets.assign(tiles + 1, 0);
+  auto range = [&](const Primitive& p, int& tx0, int& ty0, int& tx1, int& ty1) {
+    tx0 = std::clamp(int(std::floor(p.bbox[0])) / tileSize, 0, bins.tilesX - 1);
+    ty0 = std::clamp(int(std::floor(p.bbox[1])) / tileSize, 0, bins.tilesY - 1);
+    tx1 = std::clamp((int(std::ceil(p.bbox[2])) - 1) / tileSize, 0, bins.tilesX - 1);
+    ty1 = std::clamp((int(std::ceil(p.bbox[3])) - 1) / tileSize, 0, bins.tilesY - 1);
+  };
+  for (const Primitive& p : ps.primitives) {
+    int a, b, c, d;
+    range(p, a, b, c, d);
+    for (int ty = b; ty <= d; ++ty)
+      for (int tx = a; tx <= c; ++tx) ++bins.offsets[size_t(ty) * bins.tilesX + tx + 1];
+  }
+  for (size_t t = 0; t < tiles; ++t) bins.offsets[t + 1] += bins.offsets[t];
+  bins.items.resize(bins.offsets[tiles]);
+  std::vector<std::uint32_t> fill(bins.offsets.begin(), bins.offsets.end() - 1);
+  for (size_t i = 0; i < ps.primitives.size(); ++i) {
+    int a, b, c, d;
+    range(ps.primitives[i], a, b, c, d);
+    for (int ty = b; ty <= d; ++ty)
+      for (int tx = a; tx <= c; ++tx) bins.items[fill[size_t(ty) * bins.tilesX + tx]++] = std::uint32_t(i);
+  }
+  st.tiles = tiles;
+  st.tilesEmpty = 0;
+  for (size_t t = 0; t < tiles; ++t) st.tilesEmpty += bins.offsets[t] == bins.offsets[t + 1];
+  st.binning = secondsSince(t0);
+  return bins;
+}
+
+glm::vec3 shadeFragment(const PreparedScene& ps, const Primitive& prim, double x, double y,
+                        double depth) {
+  if (prim.constantColour) return prim.colour;
+  const ViewTransform& view = ps.view;
+  const glm::dvec3 P = view.eyePoint(x, y, depth);
+  const glm::dvec3 V = view.viewVector(P);
+  if (prim.isSegment) {
+    const SegmentAttributes& sa = ps.segments[prim.attribute];
+    const ShaderSlot& slot = ps.shaders[sa.shader];
+    const glm::dvec3 d = sa.p1 - sa.p0;
+    const double dd = glm::dot(d, d);
+    const double s = dd > 0 ? std::clamp(glm::dot(P - sa.p0, d) / dd, 0.0, 1.0) : 0.0;
+    const glm::vec3 c = glm::mix(sa.c0, sa.c1, float(s));
+    switch (slot.kind) {
+      case ShaderSlot::Kind::WirePlain:
+        return slot.colour * c;
+      case ShaderSlot::Kind::WireDepthCued: {
+        // The paper's baseline (§3): lines dimmer as they recede, full at the nearest wire
+        // depth, 15% at the farthest.
+        const double range = ps.cueFar - ps.cueNear;
+        const double t = range > 0 ? std::clamp((depth - ps.cueNear) / range, 0.0, 1.0) : 0.0;
+        return slot.colour * c * float(1.0 - 0.85 * t);
+      }
+      default: {
+        glm::dvec3 T = glm::mix(sa.t0, sa.t1, s);
+        if (ps.path == ShadingPath::Maps && slot.map) return slot.map->lookup(T) * c;
+        return glm::vec3(cylinderRadianceExact(T, V, slot.phong, ps.eyeLights, 1e-8)) * c;
+      }
+    }
+  }
+  const TriangleAttributes& ta = ps.triangles[prim.attribute];
+  const ShaderSlot& slot = ps.shaders[ta.shader];
+  const glm::dvec3 v = P - ta.p0;
+  const double d20 = glm::dot(v, ta.e1), d21 = glm::dot(v, ta.e2);
+  double b1 = (ta.d11 * d20 - ta.d01 * d21) * ta.invDen;
+  double b2 = (ta.d00 * d21 - ta.d01 * d20) * ta.invDen;
+  double b0 = 1.0 - b1 - b2;
+  b0 = std::max(b0, 0.0), b1 = std::max(b1, 0.0), b2 = std::max(b2, 0.0);
+  const double bs = b0 + b1 + b2;
+  if (bs > 0) b0 /= bs, b1 /= bs, b2 /= bs;
+  else b0 = 1, b1 = b2 = 0;
+  const TriangleMesh& mesh = ps.scene->surfaces[ta.surface].mesh;
+  const glm::uvec3 tri = mesh.triangles[ta.triangle];
+  glm::dvec3 N;
+  if (mesh.normals.size() == mesh.positions.size()) {
+    N = view.eyeFromWorld * (b0 * mesh.normals[tri.x] + b1 * mesh.normals[tri.y] + b2 * mesh.normals[tri.z]);
+  } else {
+    N = glm::cross(ta.e1, ta.e2);
+  }
+  const double nl = glm::length(N);
+  N = (nl > 0 && std::isfinite(nl)) ? N / nl : V;
+  if (glm::dot(N, V) < 0) N = -N;  // two-sided: the side facing the viewer
+  glm::vec3 c(1.0f);
+  if (mesh.colours.size() == mesh.positions.size())
+    c = mesh.colours[tri.x] * float(b0) + mesh.colours[tri.y] * float(b1) + mesh.colours[tri.z] * float(b2);
+  if (ps.path == ShadingPath::Maps && slot.sphere) return slot.sphere->lookup(N) * c;
+  if (slot.kind == ShaderSlot::Kind::SurfaceChrome) {
+    const EnvironmentMap& env = ps.scene->environment ? *ps.scene->environment : defaultEnvironment();
+    return glm::vec3(chromeRadiance(env, slot.chromeReflectance, N, V)) * c;
+  }
+  return glm::vec3(phongRadiance(N, V, slot.phong, ps.eyeLights)) * c;
+}
+
+}  // namespace wf

@@ -1,0 +1,110 @@
+// The stages before rasterisation, shared by the A-buffer renderer and its brute-force
+// reference: camera and eye-space lights, the shading tables a scene needs (and only those),
+// clipping and projection of triangles and wire segments into convex screen polygons, binning
+// into tiles, and per-fragment shading.
+//
+// Wire segments follow the paper (§3): a polygon as thick as the wire, its narrow side across
+// the screen direction of the segment and its long side joining the end points. Consecutive
+// segments of a polyline share their joint edge (a mitre along the bisector), so the polygons
+// abut exactly: no gap, no overlap, and the A-buffer merges the two pieces by their common tag.
+// A mitre longer than kMitreLimit half-widths, or one that would fold a polygon, falls back to
+// square ends. A segment whose screen length is less than its width is seen (nearly) end-on and
+// is drawn as the hull of its two end discs (32-gons of the disc's exact area).
+#pragma once
+
+#include "abuffer/coverage_mask.h"
+#include "render/renderer.h"
+#include "shading/pseudo_reflectance_map.h"
+#include "shading/reflectance_sphere.h"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace wf {
+
+inline constexpr double kMitreLimit = 4.0;
+
+struct Primitive {
+  std::uint32_t firstVertex = 0;
+  std::uint16_t vertexCount = 0;
+  bool isSegment = false;
+  bool constantColour = false;  ///< `colour` holds the shading of every fragment
+  std::uint32_t tag = 0;
+  std::uint32_t attribute = 0;  ///< index into triangles or segments of PreparedScene
+  float opacity = 1.0f;
+  float bbox[4] = {0, 0, 0, 0};  ///< x0, y0, x1, y1 in pixels, clamped to the image
+  double qa = 0, qb = 0, qc = 0;  ///< depth key = qa x + qb y + qc (1/d or d)
+  float zlo = 0, zhi = 0;         ///< depth range of the polygon
+  glm::vec3 colour{0.0f};
+  double depthKeyAt(double x, double y) const { return qa * x + qb * y + qc; }
+};
+
+/// Eye-space data to interpolate over a triangle (perspective-correct by construction: the
+/// barycentrics are those of the eye-space point under the fragment).
+struct TriangleAttributes {
+  glm::dvec3 p0, e1, e2;
+  double d00, d01, d11, invDen;
+  std::uint32_t surface, triangle;
+  std::uint16_t shader;
+};
+
+struct SegmentAttributes {
+  glm::dvec3 p0, p1;  ///< eye space (after near / far clipping)
+  glm::dvec3 t0, t1;  ///< eye-space unit tangents at the two ends (averaged at joints)
+  glm::vec3 c0, c1;   ///< per-point colours
+  std::uint16_t shader;
+};
+
+/// One way of shading: a surface material or a wire style, with the tables it reads.
+struct ShaderSlot {
+  enum class Kind { SurfacePhong, SurfaceChrome, WireShaded, WirePlain, WireDepthCued };
+  Kind kind = Kind::SurfacePhong;
+  PhongMaterial phong;
+  glm::dvec3 chromeReflectance{0.9};
+  glm::vec3 colour{1.0f};
+  std::shared_ptr<PseudoReflectanceMap> map;
+  std::shared_ptr<ReflectanceSphere> sphere;
+};
+
+struct PreparedScene {
+  const Scene* scene = nullptr;
+  ViewTransform view;
+  LightRig eyeLights;  ///< canonical, eye space
+  ShadingPath path = ShadingPath::Maps;
+  std::vector<ShaderSlot> shaders;
+  std::vector<Primitive> primitives;
+  std::vector<glm::dvec2> vertices;
+  std::vector<TriangleAttributes> triangles;
+  std::vector<SegmentAttributes> segments;
+  double cueNear = 0, cueFar = 1;  ///< depth range of the wires (depth cueing)
+  size_t bytes() const;
+};
+
+struct PixelCoverage {
+  int x = 0, y = 0;
+  double area = 0;         ///< exact covered fraction
+  MaskBits mask = 0;
+  double cx = 0, cy = 0;   ///< centroid of the covered part (where the fragment is shaded)
+  double keyMin = 0, keyMax = 0;
+  int subpixel = 0;        ///< sample index nearest the centroid
+};
+
+struct TileBins {
+  int tilesX = 0, tilesY = 0;
+  std::vector<std::uint32_t> offsets;  ///< tile t: items[offsets[t], offsets[t+1])
+  std::vector<std::uint32_t> items;    ///< primitive indices, in primitive order
+  size_t bytes() const { return (offsets.capacity() + items.capacity()) * sizeof(std::uint32_t); }
+};
+
+/// Camera, lights, shading tables, screen primitives. Fills the setup / maps times, input
+/// counts, warnings and error estimates of `stats`.
+PreparedScene prepareScene(const Scene& scene, const RenderOptions& options, RenderStats& stats);
+TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& stats);
+/// Radiance of a primitive's fragment at screen point (x, y), view depth `depth`.
+glm::vec3 shadeFragment(const PreparedScene& ps, const Primitive& prim, double x, double y,
+                        double depth);
+
+}  // namespace wf

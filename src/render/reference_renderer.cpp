@@ -1,0 +1,202 @@
+// Brute-force reference for the A-buffer: n x n stratified (jittered) point samples per pixel,
+// each resolving its own visibility (nearest opaque primitive, translucent ones in front of it
+// in depth order), box-filtered. Same screen geometry as render(), so the difference between the
+// two is the A-buffer's own error: mask quantisation where primitives overlap, the budget tail,
+// and per-fragment shading. Shading is per (pixel, primitive) at the mean of that primitive's
+// visible samples in the pixel, by options.shading (Exact: the cylinder integral / Phong at the
+// true view vector).
+#include "abuffer/screen_polygon.h"
+#include "render/primitives_setup.h"
+#include "render/renderer.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace wf {
+
+namespace {
+
+std::uint64_t mix64(std::uint64_t z) {
+  z += 0x9E3779B97F4A7C15ull;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+struct Translucent {
+  std::uint32_t sample;
+  float depth;
+  std::uint32_t order;  // arrival, for ties
+  std::uint32_t prim;
+};
+
+struct TileSamples {
+  std::vector<float> depth;
+  std::vector<std::int32_t> prim;
+  std::vector<Translucent> translucent;
+};
+
+struct Visible {
+  std::uint32_t prim;
+  double sx, sy, sd;
+  int n;
+  glm::vec3 colour;
+};
+
+}  // namespace
+
+RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  RenderResult result;
+  RenderStats& st = result.stats;
+  result.image = ImageRGBA(options.width, options.height);
+  const int S = options.referenceSamples, S2 = S * S;
+  auto body = [&] {
+    PreparedScene ps = prepareScene(scene, options, st);
+    const TileBins bins = binPrimitives(ps, options.tileSize, st);
+    const auto tr = std::chrono::steady_clock::now();
+    tbb::enumerable_thread_specific<TileSamples> store;
+    tbb::parallel_for(0, bins.tilesX * bins.tilesY, [&](int tile) {
+      const int ts = options.tileSize;
+      const int tx0 = (tile % bins.tilesX) * ts, ty0 = (tile / bins.tilesX) * ts;
+      const int tx1 = std::min(options.width, tx0 + ts), ty1 = std::min(options.height, ty0 + ts);
+      const int tw = tx1 - tx0, th = ty1 - ty0;
+      TileSamples& buf = store.local();
+      buf.depth.assign(size_t(tw) * th * S2, INFINITY);
+      buf.prim.assign(size_t(tw) * th * S2, -1);
+      buf.translucent.clear();
+      auto samplePos = [&](int px, int py, int s, double& x, double& y) {
+        const std::uint64_t h = mix64(options.referenceSeed * 0x100000001B3ull ^
+                                      mix64((std::uint64_t(px) << 32) ^ std::uint64_t(py)) ^ std::uint64_t(s));
+        const double jx = double(h >> 40) * 0x1.0p-24, jy = double(h & 0xFFFFFF) * 0x1.0p-24;
+        x = px + ((s % S) + jx) / S;
+        y = py + ((s / S) + jy) / S;
+      };
+      std::uint32_t order = 0;
+      const std::uint32_t b0 = bins.offsets[size_t(tile)], b1 = bins.offsets[size_t(tile) + 1];
+      for (std::uint32_t b = b0; b < b1; ++b) {
+        const std::uint32_t pi = bins.items[b];
+        const Primitive& prim = ps.primitives[pi];
+        ScreenPolygon poly;
+        poly.count = prim.vertexCount;
+        for (int i = 0; i < poly.count; ++i) {
+          poly.x[i] = ps.vertices[prim.firstVertex + i].x;
+          poly.y[i] = ps.vertices[prim.firstVertex + i].y;
+        }
+        EdgeFunction edges[ScreenPolygon::kMaxVertices];
+        const int ne = polygonEdges(poly, edges);
+        if (ne < 3) continue;
+        const int r0 = std::max(ty0, int(std::floor(prim.bbox[1])));
+        const int r1 = std::min(ty1 - 1, int(std::ceil(prim.bbox[3])) - 1);
+        ScreenPolygon half, band;
+        for (int row = r0; row <= r1; ++row) {
+          clipAxis(poly, half, false, row, true);
+          clipAxis(half, band, false, row + 1.0, false);
+          if (band.count < 3) continue;
+          double xmin = band.x[0], xmax = band.x[0];
+          for (int i = 1; i < band.count; ++i) xmin = std::min(xmin, band.x[i]), xmax = std::max(xmax, band.x[i]);
+          const int c0 = std::max(tx0, int(std::floor(xmin))), c1 = std::min(tx1 - 1, int(std::ceil(xmax)) - 1);
+          for (int col = c0; col <= c1; ++col) {
+            const size_t base = (size_t(row - ty0) * tw + (col - tx0)) * S2;
+            for (int s = 0; s < S2; ++s) {
+              double x, y;
+              samplePos(col, row, s, x, y);
+              bool in = true;
+              for (int e = 0; e < ne && in; ++e) in = edges[e](x, y) >= 0.0;
+              if (!in) continue;
+              const double d = std::clamp(ps.view.depthFromKey(prim.depthKeyAt(x, y)), double(prim.zlo),
+                                          double(prim.zhi));
+              if (prim.opacity >= 1.0f) {
+                if (float(d) < buf.depth[base + s]) {
+                  buf.depth[base + s] = float(d);
+                  buf.prim[base + s] = std::int32_t(pi);
+                }
+              } else if (prim.opacity > 0.0f) {
+                buf.translucent.push_back({std::uint32_t(base + s), float(d), order++, pi});
+              }
+            }
+          }
+        }
+      }
+      std::sort(buf.translucent.begin(), buf.translucent.end(), [](const Translucent& a, const Translucent& b) {
+        return a.sample < b.sample || (a.sample == b.sample && (a.depth < b.depth || (a.depth == b.depth && a.order < b.order)));
+      });
+      size_t tcur = 0;
+      std::vector<Visible> vis;
+      for (int py = ty0; py < ty1; ++py)
+        for (int px = tx0; px < tx1; ++px) {
+          const size_t base = (size_t(py - ty0) * tw + (px - tx0)) * S2;
+          const size_t tbegin = tcur;
+          while (tcur < buf.translucent.size() && buf.translucent[tcur].sample < base + S2) ++tcur;
+          vis.clear();
+          auto find = [&](std::uint32_t p) -> Visible& {
+            for (Visible& v : vis)
+              if (v.prim == p) return v;
+            vis.push_back({p, 0, 0, 0, 0, glm::vec3(0)});
+            return vis.back();
+          };
+          // Pass 1: which primitives are seen, and where (for shading).
+          size_t tp = tbegin;
+          for (int s = 0; s < S2; ++s) {
+            double x, y;
+            samplePos(px, py, s, x, y);
+            const float zo = buf.depth[base + s];
+            for (; tp < tcur && buf.translucent[tp].sample == base + s; ++tp)
+              if (buf.translucent[tp].depth < zo) {
+                Visible& v = find(buf.translucent[tp].prim);
+                v.sx += x, v.sy += y, v.sd += buf.translucent[tp].depth, ++v.n;
+              }
+            if (buf.prim[base + s] >= 0) {
+              Visible& v = find(std::uint32_t(buf.prim[base + s]));
+              v.sx += x, v.sy += y, v.sd += zo, ++v.n;
+            }
+          }
+          for (Visible& v : vis)
+            v.colour = shadeFragment(ps, ps.primitives[v.prim], v.sx / v.n, v.sy / v.n, v.sd / v.n);
+          // Pass 2: composite every sample front to back.
+          glm::vec3 rgb(0.0f);
+          float alpha = 0;
+          tp = tbegin;
+          for (int s = 0; s < S2; ++s) {
+            float T = 1.0f;
+            glm::vec3 c(0.0f);
+            const float zo = buf.depth[base + s];
+            for (; tp < tcur && buf.translucent[tp].sample == base + s; ++tp) {
+              if (!(buf.translucent[tp].depth < zo)) continue;
+              const float a = ps.primitives[buf.translucent[tp].prim].opacity;
+              c += T * a * find(buf.translucent[tp].prim).colour;
+              T *= 1.0f - a;
+            }
+            if (buf.prim[base + s] >= 0) {
+              c += T * find(std::uint32_t(buf.prim[base + s])).colour;
+              T = 0;
+            }
+            rgb += c;
+            alpha += 1.0f - T;
+          }
+          const glm::vec4 px4(rgb / float(S2), alpha / float(S2));
+          const glm::vec4& bg = scene.background;
+          result.image.at(px, py) = glm::vec4(glm::vec3(px4) + (1 - px4.w) * glm::vec3(bg) * bg.w,
+                                              px4.w + (1 - px4.w) * bg.w);
+        }
+    });
+    st.raster = std::chrono::duration<double>(std::chrono::steady_clock::now() - tr).count();
+    st.peakBytes = ps.bytes() + bins.bytes() + store.size() * size_t(options.tileSize) * options.tileSize * S2 * 8;
+  };
+  if (options.threads > 0) {
+    tbb::task_arena arena(options.threads);
+    arena.execute(body);
+  } else {
+    body();
+  }
+  st.coverageQuantisation = 0.5 / S;  // stratified sampling: about half a stratum per edge
+  st.total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return result;
+}
+
+}  // namespace wf

@@ -1,0 +1,252 @@
+#include "render/renderer.h"
+
+#include "abuffer/screen_polygon.h"
+#include "render/primitives_setup.h"
+#include "shading/cylinder_shading.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace wf {
+
+std::string RenderOptions::problem() const {
+  if (width < 1 || height < 1 || width > 16384 || height > 16384)
+    return "image size must be 1 ... 16384 on each side";
+  if (!mask.valid()) return "mask must be 4x4, 8x4 or 8x8";
+  if (budget < 1 || budget > 65535) return "budget must be 1 ... 65535";
+  if (tileSize < 8 || tileSize > 256) return "tile size must be 8 ... 256";
+  if (threads < 0 || threads > 1024) return "threads must be 0 ... 1024";
+  if (referenceSamples < 1 || referenceSamples > 64) return "reference samples must be 1 ... 64";
+  if (map.resolution < 8 || map.resolution > 4096) return "map resolution must be 8 ... 4096";
+  if (map.samples < 1 || map.samples > 65536) return "map samples must be 1 ... 65536";
+  if (sphereResolution < 8 || sphereResolution > 8192) return "sphere resolution must be 8 ... 8192";
+  return {};
+}
+
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Rasterises one convex screen polygon into the pixels of one tile: for every pixel it touches,
+// the exact covered area (the polygon clipped to the pixel), the coverage mask from its edges,
+// its depth range and the centroid of the covered part. Pixels wholly inside skip the clipping.
+template <class OccludedRow, class Occluded, class Emit>
+void rasterizePolygon(const PreparedScene& ps, const Primitive& prim, int tx0, int ty0, int tx1,
+                      int ty1, const MaskLayout& layout, OccludedRow&& occludedRow, Occluded&& occluded,
+                      Emit&& emit) {
+  ScreenPolygon poly;
+  poly.count = prim.vertexCount;
+  for (int i = 0; i < prim.vertexCount; ++i) {
+    poly.x[i] = ps.vertices[prim.firstVertex + i].x;
+    poly.y[i] = ps.vertices[prim.firstVertex + i].y;
+  }
+  EdgeFunction edges[ScreenPolygon::kMaxVertices];
+  const int edgeCount = polygonEdges(poly, edges);
+  if (edgeCount < 3) return;
+  const int row0 = std::max(ty0, int(std::floor(prim.bbox[1])));
+  const int row1 = std::min(ty1 - 1, int(std::ceil(prim.bbox[3])) - 1);
+  const double fullArea = 1.0;
+  ScreenPolygon half, band, pixHalf, pix;
+  for (int row = row0; row <= row1; ++row) {
+    clipAxis(poly, half, false, row, true);
+    clipAxis(half, band, false, row + 1.0, false);
+    if (band.count < 3) continue;
+    std::int64_t spanLo[8], spanHi[8];  // the polygon's sample runs on this row's sample rows
+    bool spansDone = false;
+    double xmin = band.x[0], xmax = band.x[0];
+    double topL = 1e300, topR = -1e300, botL = 1e300, botR = -1e300;
+    for (int i = 0; i < band.count; ++i) {
+      xmin = std::min(xmin, band.x[i]);
+      xmax = std::max(xmax, band.x[i]);
+      if (band.y[i] == row) topL = std::min(topL, band.x[i]), topR = std::max(topR, band.x[i]);
+      if (band.y[i] == row + 1.0) botL = std::min(botL, band.x[i]), botR = std::max(botR, band.x[i]);
+    }
+    // Pixels in [innerL, innerR) are wholly inside (convex polygon: its left boundary is
+    // convex and its right one concave over the band, so their extremes are at the band's ends).
+    int innerL = 1, innerR = 0;
+    if (topL <= topR && botL <= botR) {
+      const double l = std::ceil(std::max(topL, botL)), r = std::floor(std::min(topR, botR));
+      if (r - l >= 1 && l > -1e9 && r < 1e9) innerL = int(l), innerR = int(r);
+    }
+    const int c0 = std::max(tx0, int(floorToInt(xmin)));
+    const int c1 = std::min(tx1 - 1, int(ceilToInt(xmax)) - 1);
+    if (c0 > c1 || occludedRow(row, c0, c1, prim.zlo)) continue;
+    for (int col = c0; col <= c1; ++col) {
+      // Cheap tests first: the primitive's nearest depth, then its nearest depth over the
+      // whole pixel square, against the pixel's occlusion depth.
+      if (occluded(col, row, prim.zlo)) continue;
+      if (prim.zlo < prim.zhi) {
+        const double k00 = prim.depthKeyAt(col, row), k11 = prim.depthKeyAt(col + 1, row + 1);
+        const double k10 = prim.depthKeyAt(col + 1, row), k01 = prim.depthKeyAt(col, row + 1);
+        const double near = ps.view.perspective ? std::max({k00, k10, k01, k11}) : std::min({k00, k10, k01, k11});
+        const double d = std::max(double(prim.zlo), ps.view.depthFromKey(near));
+        if (occluded(col, row, d)) continue;
+      }
+      PixelCoverage pc;
+      pc.x = col;
+      pc.y = row;
+      if (col >= innerL && col < innerR) {
+        pc.area = fullArea;
+        pc.mask = layout.full();
+        pc.cx = col + 0.5;
+        pc.cy = row + 0.5;
+        const double k00 = prim.depthKeyAt(col, row), k10 = prim.depthKeyAt(col + 1, row);
+        const double k01 = prim.depthKeyAt(col, row + 1), k11 = prim.depthKeyAt(col + 1, row + 1);
+        pc.keyMin = std::min({k00, k10, k01, k11});
+        pc.keyMax = std::max({k00, k10, k01, k11});
+        pc.subpixel = layout.samples() / 2;
+      } else {
+        clipAxis(band, pixHalf, true, col, true);
+        clipAxis(pixHalf, pix, true, col + 1.0, false);
+        if (pix.count < 3) continue;
+        pc.area = pix.area();
+        if (!(pc.area > 0.0)) continue;
+        if (!spansDone) {
+          for (int j = 0; j < layout.h; ++j)
+            sampleRowSpan(edges, edgeCount, layout, row + layout.sampleY(j), spanLo[j], spanHi[j]);
+          spansDone = true;
+        }
+        pc.mask = 0;
+        for (int j = 0; j < layout.h; ++j)
+          pc.mask |= spanRowBits(spanLo[j], spanHi[j], std::int64_t(col) * layout.w, layout) << (j * layout.w);
+        pix.centroid(pc.cx, pc.cy);
+        pc.keyMin = 1e300;
+        pc.keyMax = -1e300;
+        for (int i = 0; i < pix.count; ++i) {
+          const double k = prim.depthKeyAt(pix.x[i], pix.y[i]);
+          pc.keyMin = std::min(pc.keyMin, k);
+          pc.keyMax = std::max(pc.keyMax, k);
+        }
+        const int si = std::clamp(int((pc.cx - col) * layout.w), 0, layout.w - 1);
+        const int sj = std::clamp(int((pc.cy - row) * layout.h), 0, layout.h - 1);
+        pc.subpixel = sj * layout.w + si;
+      }
+      emit(pc);
+    }
+  }
+}
+
+void depthRange(const PreparedScene& ps, const Primitive& prim, const PixelCoverage& pc,
+                float& zmin, float& zmax, float& zkey) {
+  double a = ps.view.depthFromKey(pc.keyMin), b = ps.view.depthFromKey(pc.keyMax);
+  if (a > b) std::swap(a, b);
+  a = std::clamp(a, double(prim.zlo), double(prim.zhi));
+  b = std::clamp(b, double(prim.zlo), double(prim.zhi));
+  const double c = std::clamp(ps.view.depthFromKey(prim.depthKeyAt(pc.cx, pc.cy)), a, b);
+  zmin = float(a);
+  zmax = float(b);
+  zkey = float(c);
+}
+
+glm::vec4 overBackground(const glm::vec4& c, const glm::vec4& bg) {
+  const float t = 1.0f - c.w;
+  return glm::vec4(glm::vec3(c) + t * glm::vec3(bg) * bg.w, c.w + t * bg.w);
+}
+
+template <class F>
+void inArena(int threads, F&& f) {
+  if (threads > 0) {
+    tbb::task_arena arena(threads);
+    arena.execute(f);
+  } else {
+    f();
+  }
+}
+
+}  // namespace
+
+RenderResult render(const Scene& scene, const RenderOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  RenderResult result;
+  RenderStats& st = result.stats;
+  result.image = ImageRGBA(options.width, options.height);
+  inArena(options.threads, [&] {
+    PreparedScene ps = prepareScene(scene, options, st);
+    const TileBins bins = binPrimitives(ps, options.tileSize, st);
+    const auto tr = std::chrono::steady_clock::now();
+    const int tilesX = bins.tilesX;
+    tbb::enumerable_thread_specific<TileABuffer> buffers(
+        [&] { return TileABuffer(options.mask, options.budget); });
+    tbb::enumerable_thread_specific<ABufferCounters> counters;
+    tbb::enumerable_thread_specific<size_t> occludedPrims(0);
+    tbb::parallel_for(0, bins.tilesX * bins.tilesY, [&](int tile) {
+      const int tx0 = (tile % tilesX) * options.tileSize, ty0 = (tile / tilesX) * options.tileSize;
+      const int tx1 = std::min(options.width, tx0 + options.tileSize);
+      const int ty1 = std::min(options.height, ty0 + options.tileSize);
+      const uint32_t b0 = bins.offsets[size_t(tile)], b1 = bins.offsets[size_t(tile) + 1];
+      if (b0 == b1) {
+        for (int y = ty0; y < ty1; ++y)
+          for (int x = tx0; x < tx1; ++x) result.image.at(x, y) = overBackground(glm::vec4(0), scene.background);
+        return;
+      }
+      TileABuffer& buf = buffers.local();
+      buf.reset(tx1 - tx0, ty1 - ty0);
+      // Front to back by nearest depth (ties by primitive order: deterministic), so that the
+      // exact occlusion test below discards most of what lies behind before it is rasterised.
+      thread_local std::vector<std::uint32_t> order;
+      order.assign(bins.items.begin() + b0, bins.items.begin() + b1);
+      std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+        const float za = ps.primitives[a].zlo, zb = ps.primitives[b].zlo;
+        return za < zb || (za == zb && a < b);
+      });
+      for (size_t oi = 0; oi < order.size(); ++oi) {
+        const Primitive& prim = ps.primitives[order[oi]];
+        {  // hierarchical occlusion: is the primitive behind everything over its bounding box?
+          const int x0 = std::max(tx0, int(prim.bbox[0])) - tx0, y0 = std::max(ty0, int(prim.bbox[1])) - ty0;
+          const int x1 = std::min(tx1 - 1, int(prim.bbox[2])) - tx0, y1 = std::min(ty1 - 1, int(prim.bbox[3])) - ty0;
+          if (prim.zlo >= buf.regionOcclusionDepth(x0, y0, x1, y1)) {
+            ++occludedPrims.local();
+            continue;
+          }
+        }
+        auto occluded = [&](int x, int y, double zmin) {
+          if (!(zmin >= buf.occlusionDepth(x - tx0, y - ty0))) return false;
+          buf.countCulled(x - tx0, y - ty0);
+          return true;
+        };
+        auto occludedRow = [&](int y, int x0, int x1, double zmin) {
+          if (!(zmin >= buf.rowOcclusionDepth(y - ty0, x0 - tx0, x1 - tx0))) return false;
+          for (int x = x0; x <= x1; ++x) buf.countCulled(x - tx0, y - ty0);
+          return true;
+        };
+        rasterizePolygon(ps, prim, tx0, ty0, tx1, ty1, options.mask, occludedRow, occluded, [&](const PixelCoverage& pc) {
+          Fragment f;
+          depthRange(ps, prim, pc, f.zmin, f.zmax, f.zkey);
+          f.area = float(pc.area);
+          f.mask = pc.mask;
+          f.opacity = prim.opacity;
+          f.tag = prim.tag;
+          f.colour = shadeFragment(ps, prim, pc.cx, pc.cy, f.zkey);
+          buf.insert(pc.x - tx0, pc.y - ty0, f, pc.subpixel);
+        });
+      }
+      for (int y = ty0; y < ty1; ++y)
+        for (int x = tx0; x < tx1; ++x)
+          result.image.at(x, y) = overBackground(buf.resolve(x - tx0, y - ty0), scene.background);
+      buf.finish(counters.local());
+    });
+    for (const ABufferCounters& c : counters) {
+      const size_t peak = c.peakBytes;
+      ABufferCounters copy = c;
+      copy.peakBytes = 0;
+      st.abuffer.add(copy);
+      st.abuffer.peakBytes += peak;  // buffers of different threads live at the same time
+    }
+    for (size_t n : occludedPrims) st.primitivesOccluded += n;
+    st.raster = secondsSince(tr);
+    st.peakBytes = ps.bytes() + bins.bytes() + st.abuffer.peakBytes;
+  });
+  st.coverageQuantisation = 1.0 / options.mask.samples();
+  st.budgetTailShare = st.abuffer.fragments ? double(st.abuffer.tail) / double(st.abuffer.fragments) : 0.0;
+  st.total = secondsSince(t0);
+  return result;
+}
+
+}  // namespace wf

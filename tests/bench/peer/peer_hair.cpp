@@ -1,0 +1,247 @@
+// Peer benchmark of issue 3: N hair-like segments over a torus at 1024x768 (hair_torus.h),
+// drawn by the WireFur A-buffer and by VTK 9.1's RenderLinesAsTubes (Mesa llvmpipe), both
+// measured against WireFur's brute-force reference (16x16 stratified samples per pixel) for
+// coverage. Every renderer runs in its own forked child so that its peak memory (ru_maxrss)
+// is its own. Prints a table and, with --json, writes the figures.
+//
+//   peer_hair [--segments N] [--frames F] [--samples S] [--threads T] [--no-vtk] [--json FILE]
+//
+// Under CI it runs with a small N as a smoke test; the full comparison is
+//   xvfb-run -a -s "-screen 0 1280x1024x24" build/peer_hair --json out/peer_hair.json
+#include "hair_torus.h"
+#include "vtk_tubes.h"
+
+#include "render/renderer.h"
+
+#include <nlohmann/json.hpp>
+
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <string>
+#include <vector>
+
+namespace {
+
+using json = nlohmann::ordered_json;
+
+struct Args {
+  size_t segments = 300000;
+  int frames = 5;
+  int samples = 16;
+  int threads = 0;
+  bool vtk = true;
+  std::string jsonPath;
+};
+
+long peakRss() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return long(u.ru_maxrss) * 1024;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : (v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]));
+}
+
+wf::Scene hairScene(const std::vector<wfbench::HairSegment>& segs) {
+  wf::Scene scene;
+  const wfbench::HairCamera hc;
+  wf::Camera cam;
+  cam.eye = hc.eye;
+  cam.target = hc.target;
+  cam.up = hc.up;
+  cam.fovYDegrees = hc.fovYDegrees;
+  cam.nearPlane = hc.nearPlane;
+  cam.farPlane = hc.farPlane;
+  scene.camera = cam;
+  scene.background = glm::vec4(0, 0, 0, 0);
+  wf::SceneWire wire;
+  wire.name = "hairs";
+  wire.style = wf::WireStyle::Plain;  // white: the image's alpha is the coverage
+  wire.thickness = wfbench::kHairWidthPixels;
+  wire.thicknessInPixels = true;
+  wire.lines.points.reserve(segs.size() * 2);
+  wire.lines.starts.reserve(segs.size() + 1);
+  wire.lines.starts.push_back(0);
+  for (const auto& s : segs) {
+    wire.lines.points.push_back(s.p0);
+    wire.lines.points.push_back(s.p1);
+    wire.lines.starts.push_back(std::uint32_t(wire.lines.points.size()));
+  }
+  scene.wires.push_back(std::move(wire));
+  return scene;
+}
+
+// Runs `work` in a child process; it writes its JSON summary and coverage to files.
+template <class F>
+bool inChild(const std::string& stem, F&& work) {
+  std::fflush(nullptr);
+  const pid_t pid = fork();
+  if (pid < 0) return false;
+  if (pid == 0) {
+    int rc = 0;
+    try {
+      json j;
+      std::vector<float> coverage;
+      work(j, coverage);
+      j["peak_rss_bytes"] = peakRss();
+      std::ofstream(stem + ".json") << j.dump();
+      std::ofstream(stem + ".cov", std::ios::binary)
+          .write(reinterpret_cast<const char*>(coverage.data()), std::streamsize(coverage.size() * sizeof(float)));
+    } catch (const std::exception& e) {
+      std::cerr << "peer_hair: " << stem << ": " << e.what() << "\n";
+      rc = 1;
+    }
+    std::fflush(nullptr);
+    _exit(rc);
+  }
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+bool readChild(const std::string& stem, json& j, std::vector<float>& coverage, size_t pixels) {
+  std::ifstream js(stem + ".json");
+  if (!js) return false;
+  js >> j;
+  coverage.assign(pixels, 0.0f);
+  std::ifstream cv(stem + ".cov", std::ios::binary);
+  cv.read(reinterpret_cast<char*>(coverage.data()), std::streamsize(pixels * sizeof(float)));
+  return bool(cv);
+}
+
+json coverageError(const std::vector<float>& a, const std::vector<float>& ref) {
+  double sq = 0, sqCovered = 0, mx = 0, sumA = 0, sumR = 0;
+  size_t covered = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    const double d = double(a[i]) - double(ref[i]);
+    sq += d * d;
+    mx = std::max(mx, std::abs(d));
+    sumA += a[i];
+    sumR += ref[i];
+    if (a[i] > 0 || ref[i] > 0) sqCovered += d * d, ++covered;
+  }
+  json j;
+  j["rms_all_pixels"] = std::sqrt(sq / double(a.size()));
+  j["rms_covered_pixels"] = covered ? std::sqrt(sqCovered / double(covered)) : 0.0;
+  j["max"] = mx;
+  j["total_coverage"] = sumA;
+  j["total_coverage_reference"] = sumR;
+  return j;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Args a;
+  for (int i = 1; i < argc; ++i) {
+    const std::string s = argv[i];
+    auto next = [&]() -> std::string {
+      if (i + 1 >= argc) {
+        std::cerr << "peer_hair: " << s << " needs a value\n";
+        std::exit(2);
+      }
+      return argv[++i];
+    };
+    if (s == "--segments") a.segments = std::stoul(next());
+    else if (s == "--frames") a.frames = std::max(1, std::stoi(next()));
+    else if (s == "--samples") a.samples = std::stoi(next());
+    else if (s == "--threads") a.threads = std::stoi(next());
+    else if (s == "--no-vtk") a.vtk = false;
+    else if (s == "--json") a.jsonPath = next();
+    else {
+      std::cerr << "peer_hair: unknown option " << s << "\n";
+      return 2;
+    }
+  }
+  const int W = wfbench::kHairImageWidth, H = wfbench::kHairImageHeight;
+  const size_t pixels = size_t(W) * H;
+  const std::string tmp = "/tmp/wirefur_peer_" + std::to_string(getpid());
+  json report;
+  report["segments"] = a.segments;
+  report["width"] = W;
+  report["height"] = H;
+  report["line_width_pixels"] = wfbench::kHairWidthPixels;
+
+  wf::RenderOptions opt;
+  opt.width = W;
+  opt.height = H;
+  opt.threads = a.threads;
+  opt.referenceSamples = a.samples;
+
+  const bool okA = inChild(tmp + "_abuffer", [&](json& j, std::vector<float>& cov) {
+    const wf::Scene scene = hairScene(wfbench::hairTorus(a.segments));
+    std::vector<double> times;
+    wf::RenderResult r;
+    for (int f = 0; f < a.frames; ++f) {
+      r = wf::render(scene, opt);
+      times.push_back(r.stats.total);
+    }
+    j["frame_seconds"] = times;
+    j["median_seconds"] = median(times);
+    j["fragments"] = r.stats.abuffer.fragments;
+    j["max_fragments_per_pixel"] = r.stats.abuffer.maxFragmentsPerPixel;
+    j["pixels_with_list"] = r.stats.abuffer.pixelsWithList;
+    j["tail_fragments"] = r.stats.abuffer.tail;
+    j["renderer_peak_bytes"] = r.stats.peakBytes;
+    j["seconds_setup"] = r.stats.setup;
+    j["seconds_raster_resolve"] = r.stats.raster;
+    cov.resize(pixels);
+    for (size_t i = 0; i < pixels; ++i) cov[i] = r.image.pixels[i].w;
+  });
+  const bool okR = inChild(tmp + "_reference", [&](json& j, std::vector<float>& cov) {
+    const wf::Scene scene = hairScene(wfbench::hairTorus(a.segments));
+    const wf::RenderResult r = wf::renderReference(scene, opt);
+    j["seconds"] = r.stats.total;
+    j["samples_per_pixel"] = a.samples * a.samples;
+    cov.resize(pixels);
+    for (size_t i = 0; i < pixels; ++i) cov[i] = r.image.pixels[i].w;
+  });
+  bool okV = false;
+  if (a.vtk)
+    okV = inChild(tmp + "_vtk", [&](json& j, std::vector<float>& cov) {
+      const auto segs = wfbench::hairTorus(a.segments);
+      const wfbench::VtkTubesResult v = wfbench::renderVtkTubes(segs, wfbench::HairCamera{}, W, H,
+                                                                wfbench::kHairWidthPixels, a.frames);
+      j["frame_seconds"] = v.frameSeconds;
+      j["median_seconds"] = v.medianSeconds;
+      j["setup_seconds"] = v.setupSeconds;
+      j["renderer"] = v.renderer;
+      cov = v.coverage;
+    });
+
+  json ja, jr, jv;
+  std::vector<float> ca, cr, cv;
+  if (!okA || !readChild(tmp + "_abuffer", ja, ca, pixels) || !okR || !readChild(tmp + "_reference", jr, cr, pixels)) {
+    std::cerr << "peer_hair: the WireFur renders failed\n";
+    return 1;
+  }
+  ja["coverage_error"] = coverageError(ca, cr);
+  report["wirefur_abuffer"] = ja;
+  report["reference"] = jr;
+  if (okV && readChild(tmp + "_vtk", jv, cv, pixels)) {
+    jv["coverage_error"] = coverageError(cv, cr);
+    report["vtk_render_lines_as_tubes"] = jv;
+    report["speedup_vs_vtk"] = jv["median_seconds"].get<double>() / ja["median_seconds"].get<double>();
+  } else if (a.vtk) {
+    report["vtk_render_lines_as_tubes"] = "failed (no display? run under xvfb-run)";
+  }
+  for (const char* s : {"_abuffer", "_reference", "_vtk"}) {
+    std::remove((tmp + s + ".json").c_str());
+    std::remove((tmp + s + ".cov").c_str());
+  }
+  std::cout << report.dump(2) << "\n";
+  if (!a.jsonPath.empty()) std::ofstream(a.jsonPath) << report.dump(2) << "\n";
+  const double rms = ja["coverage_error"]["rms_all_pixels"].get<double>();
+  return rms <= 1.0 / 64 ? 0 : 3;
+}

@@ -1,0 +1,143 @@
+#include "vtk_tubes.h"
+
+#include <vtkActor.h>
+#include <vtkCamera.h>
+#include <vtkCellArray.h>
+#include <vtkDoubleArray.h>
+#include <vtkFloatArray.h>
+#include <vtkIdTypeArray.h>
+#include <vtkNew.h>
+#include <vtkOpenGLRenderWindow.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataMapper.h>
+#include <vtkProperty.h>
+#include <vtkRenderWindow.h>
+#include <vtkRenderer.h>
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <sstream>
+#include <stdexcept>
+
+namespace wfbench {
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// ReportCapabilities() is the only portable way to get GL_RENDERER without pulling in GL headers.
+std::string rendererLine(vtkRenderWindow* window) {
+  std::istringstream caps(window->ReportCapabilities());
+  const std::string key = "OpenGL renderer string:";
+  for (std::string line; std::getline(caps, line);)
+    if (line.rfind(key, 0) == 0) return line.substr(line.find_first_not_of(' ', key.size()));
+  return "unknown";
+}
+
+}  // namespace
+
+VtkTubesResult renderVtkTubes(const std::vector<HairSegment>& segments, const HairCamera& camera,
+                              int width, int height, double lineWidthPixels, int timedFrames) {
+  if (timedFrames < 1 || width < 1 || height < 1) throw std::invalid_argument("renderVtkTubes");
+  VtkTubesResult result;
+  const auto setupStart = std::chrono::steady_clock::now();
+
+  // Double points keep the segments bit-identical to ours; VTK shifts/scales them to float VBOs.
+  const vtkIdType n = vtkIdType(segments.size());
+  vtkNew<vtkDoubleArray> xyz;
+  xyz->SetNumberOfComponents(3);
+  xyz->SetNumberOfTuples(2 * n);
+  vtkNew<vtkIdTypeArray> offsets, connectivity;
+  offsets->SetNumberOfValues(n + 1);
+  connectivity->SetNumberOfValues(2 * n);
+  double* p = xyz->GetPointer(0);
+  for (vtkIdType i = 0; i < n; ++i) {
+    const HairSegment& s = segments[size_t(i)];
+    for (int k = 0; k < 3; ++k) p[6 * i + k] = s.p0[k], p[6 * i + 3 + k] = s.p1[k];
+    offsets->SetValue(i, 2 * i);
+    connectivity->SetValue(2 * i, 2 * i);
+    connectivity->SetValue(2 * i + 1, 2 * i + 1);
+  }
+  offsets->SetValue(n, 2 * n);
+  vtkNew<vtkPoints> points;
+  points->SetData(xyz);
+  vtkNew<vtkCellArray> lines;
+  lines->SetData(offsets, connectivity);  // one 2-point line cell per segment, no copies
+  vtkNew<vtkPolyData> poly;
+  poly->SetPoints(points);
+  poly->SetLines(lines);
+
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputData(poly);
+  mapper->ScalarVisibilityOff();
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  // Unlit white: ambient 1 and nothing else, so that a covered pixel reads exactly 1.0 whatever
+  // normal the tube impostor invents. LightingOff() selects VTK's unlit shader outright; the
+  // ambient/diffuse/specular settings alone give the same result through the lit shader.
+  vtkProperty* prop = actor->GetProperty();
+  prop->SetRenderLinesAsTubes(true);  // only honoured for line width > 1 (DrawingTubes in 9.1)
+  prop->SetLineWidth(float(lineWidthPixels));
+  prop->SetColor(1, 1, 1);
+  prop->SetAmbientColor(1, 1, 1);
+  prop->SetAmbient(1);
+  prop->SetDiffuse(0);
+  prop->SetSpecular(0);
+  prop->LightingOff();
+
+  // Our own camera: a renderer-created one would be reset to the bounds on the first Render().
+  vtkNew<vtkCamera> cam;
+  cam->SetPosition(camera.eye.x, camera.eye.y, camera.eye.z);
+  cam->SetFocalPoint(camera.target.x, camera.target.y, camera.target.z);
+  cam->SetViewUp(camera.up.x, camera.up.y, camera.up.z);
+  cam->SetViewAngle(camera.fovYDegrees);  // vertical: UseHorizontalViewAngle is off by default
+  cam->SetClippingRange(camera.nearPlane, camera.farPlane);
+
+  vtkNew<vtkRenderer> renderer;
+  renderer->SetBackground(0, 0, 0);
+  renderer->AddActor(actor);
+  renderer->SetActiveCamera(cam);
+  vtkNew<vtkRenderWindow> window;
+  window->SetOffScreenRendering(1);
+  window->SetMultiSamples(0);  // VTK's default aliased look is what the benchmark measures
+  window->SetSize(width, height);
+  window->AddRenderer(renderer);
+
+  window->Render();  // warm-up: context, shader compilation, VBO upload
+  window->WaitForCompletion();
+  result.setupSeconds = secondsSince(setupStart);
+  result.renderer = rendererLine(window);
+
+  for (int f = 0; f < timedFrames; ++f) {
+    cam->Modified();  // forces a full redraw without invalidating the mapper's VBOs
+    const auto t0 = std::chrono::steady_clock::now();
+    window->Render();
+    window->WaitForCompletion();  // glFinish in vtkOpenGLRenderWindow
+    result.frameSeconds.push_back(secondsSince(t0));
+  }
+  std::vector<double> sorted = result.frameSeconds;
+  std::sort(sorted.begin(), sorted.end());
+  const size_t m = sorted.size() / 2;
+  result.medianSeconds = sorted.size() % 2 ? sorted[m] : 0.5 * (sorted[m - 1] + sorted[m]);
+
+  // GL rows run bottom-up; ours run top-down.
+  vtkNew<vtkFloatArray> rgba;
+  window->GetRGBAPixelData(0, 0, width - 1, height - 1, /*front=*/1, rgba);
+  result.coverage.resize(size_t(width) * size_t(height));
+  const float* px = rgba->GetPointer(0);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      result.coverage[size_t(height - 1 - y) * width + x] =
+          std::clamp(px[4 * (size_t(y) * width + x)], 0.0f, 1.0f);
+
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  result.peakRssBytes = long(usage.ru_maxrss) * 1024;  // Linux reports kilobytes
+  return result;
+}
+
+}  // namespace wfbench

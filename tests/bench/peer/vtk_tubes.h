@@ -1,0 +1,33 @@
+// The VTK peer of the hair benchmark (issue 3): the same segments drawn by VTK's own line-as-tube
+// impostors (vtkProperty::RenderLinesAsTubes), aliased, off-screen, unlit white on black, so that
+// the red channel of a pixel is VTK's (binary) coverage of that pixel.
+//
+// VTK components this file needs (find_package(VTK COMPONENTS ...) without a version; the target
+// also needs vtk_module_autoinit(TARGETS <t> MODULES <same list>) so that the OpenGL2 object
+// factory overrides of RenderingCore get registered):
+//   CommonCore CommonDataModel RenderingCore RenderingOpenGL2
+// InteractionStyle is NOT needed: no interactor is ever created.
+// At run time it needs an X display (under CI: xvfb-run -a -s "-screen 0 1280x1024x24" ...).
+#pragma once
+
+#include "hair_torus.h"
+
+#include <string>
+#include <vector>
+
+namespace wfbench {
+
+struct VtkTubesResult {
+  std::vector<double> frameSeconds;  // each timed frame: Render() + WaitForCompletion() (glFinish)
+  double medianSeconds = 0;
+  double setupSeconds = 0;           // vtkPolyData + pipeline + the untimed warm-up frame
+  long peakRssBytes = 0;             // getrusage ru_maxrss of the whole process after rendering
+  std::vector<float> coverage;       // width * height, row 0 = top of the image, values in [0, 1]
+  std::string renderer;              // the "OpenGL renderer string" line, e.g. "llvmpipe (LLVM ...)"
+};
+
+// Renders `segments` with `timedFrames` >= 1 timed frames after one warm-up frame.
+VtkTubesResult renderVtkTubes(const std::vector<HairSegment>& segments, const HairCamera& camera,
+                              int width, int height, double lineWidthPixels, int timedFrames);
+
+}  // namespace wfbench
