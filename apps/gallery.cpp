@@ -2,6 +2,8 @@
 
 #include "cli.h"
 #include "image_io.h"
+#include "render_command.h"
+#include "scene_file.h"
 
 #include "shading/cylinder_shading.h"
 #include "shading/environment_map.h"
@@ -14,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -29,53 +32,6 @@ struct Entry {
   double seconds = 0;
   std::string error;  // the error estimate, in words and numbers
 };
-
-struct SphereRender {
-  wf::ImageRGBA image;
-  double maxError = 0, rmsError = 0;
-};
-
-// An orthographic sphere filling the image, 4x4 samples per pixel (coverage at the rim),
-// each sample read from the reflectance sphere; the error is measured against `direct`
-// evaluated at the very same samples.
-SphereRender renderSphere(const wf::ReflectanceSphere& sphere, int size,
-                          const wf::ReflectanceSphere::Shader& direct) {
-  SphereRender r{wf::ImageRGBA(size, size), 0, 0};
-  constexpr int kSub = 4;
-  std::vector<double> rowMax(size, 0.0), rowSq(size, 0.0);
-  std::vector<size_t> rowN(size, 0);
-  tbb::parallel_for(0, size, [&](int y) {
-    for (int x = 0; x < size; ++x) {
-      glm::vec3 sum(0.0f);
-      int covered = 0;
-      for (int sy = 0; sy < kSub; ++sy)
-        for (int sx = 0; sx < kSub; ++sx) {
-          const double nx = 2.0 * (x + (sx + 0.5) / kSub) / size - 1.0;
-          const double ny = 1.0 - 2.0 * (y + (sy + 0.5) / kSub) / size;
-          if (nx * nx + ny * ny > 1.0) continue;
-          const glm::vec3 v = sphere.lookupXY(nx, ny);
-          const glm::dvec3 d = direct(wf::ReflectanceSphere::normalAt(nx, ny));
-          const glm::dvec3 e = glm::abs(glm::dvec3(v) - d);
-          const double err = std::max({e.x, e.y, e.z});
-          rowMax[y] = std::max(rowMax[y], err);
-          rowSq[y] += err * err;
-          ++rowN[y];
-          sum += v;
-          ++covered;
-        }
-      r.image.at(x, y) = glm::vec4(sum / float(kSub * kSub), covered / float(kSub * kSub));
-    }
-  });
-  double sq = 0;
-  size_t n = 0;
-  for (int y = 0; y < size; ++y) {
-    r.maxError = std::max(r.maxError, rowMax[y]);
-    sq += rowSq[y];
-    n += rowN[y];
-  }
-  r.rmsError = n ? std::sqrt(sq / n) : 0.0;
-  return r;
-}
 
 std::string sci(double v) {
   char b[32];
@@ -123,45 +79,51 @@ int runGallery(const GalleryOptions& opt) {
   std::vector<Entry> entries;
   const glm::dvec3 view(0.0, 0.0, 1.0);
 
-  // Image 1: a plastic sphere under seven lights, shaded through its reflectance sphere.
-  wf::PhongMaterial plastic;
-  plastic.diffuse = glm::dvec3(0.55, 0.10, 0.06);
-  plastic.specular = glm::dvec3(6.0);  // the paper's "very bright highlights" (§2.2)
-  plastic.exponent = 80.0;
-  const wf::LightRig rig = wf::LightRig::studioRig(7).canonical();
+  // Every scene in the scenes folder, in the order of the paper's images (then by name).
+  std::vector<std::pair<std::string, SceneFile>> scenes;
   {
-    progress.say("image 1: Phong reflectance sphere");
-    const auto t0 = std::chrono::steady_clock::now();
-    const wf::ReflectanceSphere sphere = wf::ReflectanceSphere::phong(512, plastic, rig);
-    const SphereRender r = renderSphere(sphere, opt.size, [&](const glm::dvec3& n) {
-      return wf::phongRadiance(n, view, plastic, rig);
+    std::error_code ec;
+    if (!std::filesystem::is_directory(opt.scenesDir, ec))
+      throw UsageError(opt.scenesDir + ": no such scenes folder");
+    std::vector<std::string> files;
+    for (const auto& e : std::filesystem::directory_iterator(opt.scenesDir))
+      if (e.path().extension() == ".json") files.push_back(e.path().string());
+    for (const std::string& f : files) scenes.emplace_back(f, loadSceneFile(f));  // all checked first
+    auto key = [](const SceneFile& sf) {
+      return std::atof(sf.paperImage.c_str()) + (sf.paperImage.empty() ? 1e6 : 0.0);
+    };
+    std::sort(scenes.begin(), scenes.end(), [&](const auto& a, const auto& b) {
+      return key(a.second) < key(b.second) || (key(a.second) == key(b.second) && a.first < b.first);
     });
-    const double secs = secondsSince(t0);
-    writePng(r.image, dir + "/phong_sphere.png");
-    entries.push_back({"phong_sphere.png", "1. Phong reflectance sphere, seven lights",
-                       "Williams' reflectance sphere of the isotropic Phong model (kd red, ks 6 white, n = 80) "
-                       "under seven directional lights; 512x512 table (warped indexing, docs/shading.md), bilinear lookup, "
-                       "4x4 samples per pixel.",
-                       secs, "table vs direct Phong max " + sci(r.maxError) + ", RMS " + sci(r.rmsError)});
+  }
+  json sceneStats = json::object();
+  for (auto& [file, sf] : scenes) {
+    const std::string stem = std::filesystem::path(file).stem().string();
+    progress.say("scene " + stem);
+    wf::RenderOptions ro = renderOptionsFor(sf);
+    if (opt.size > 0 && std::max(ro.width, ro.height) > opt.size) {
+      const double f = double(opt.size) / std::max(ro.width, ro.height);
+      ro.width = std::max(1, int(std::lround(ro.width * f)));
+      ro.height = std::max(1, int(std::lround(ro.height * f)));
+    }
+    const wf::RenderResult r = wf::render(sf.scene, ro);
+    writePng(r.image, dir + "/" + stem + ".png");
+    const json st = statsJson(r.stats, ro, false);
+    sceneStats[stem] = st;
+    const auto& e = st["error_estimate"];
+    std::string err = "coverage exact per fragment (hiding by " + ro.mask.name() + " masks, 1/" +
+                      std::to_string(ro.mask.samples()) + "); shading tables max " +
+                      sci(e["map_max"].get<double>() + e["sphere_max"].get<double>()) + ", orthographic view " +
+                      sci(e["orthographic_max"].get<double>()) + "; " + std::to_string(r.stats.abuffer.fragments) +
+                      " fragments, " + std::to_string(r.stats.pseudoReflectanceMaps) + " maps built";
+    std::string title = sf.title;
+    if (!sf.paperImage.empty()) title = sf.paperImage + ". " + title;
+    entries.push_back({stem + ".png", title, sf.caption, r.stats.total, err});
   }
 
-  // Image 3: a chrome ball reflecting a (procedural) mountain scene.
+  // The procedural environment the chrome scenes reflect.
   {
-    progress.say("image 3: environment reflectance sphere");
-    const auto t0 = std::chrono::steady_clock::now();
-    const wf::EnvironmentMap env = wf::EnvironmentMap::mountainScene(2048);
-    const glm::dvec3 silver(0.85, 0.86, 0.88);
-    const wf::ReflectanceSphere ball = wf::ReflectanceSphere::chrome(512, env, silver, 4);
-    const SphereRender r = renderSphere(ball, opt.size, [&](const glm::dvec3& n) {
-      return silver * glm::dvec3(env.lookup(2.0 * n.z * n - view));
-    });
-    const double secs = secondsSince(t0);
-    writePng(r.image, dir + "/environment_sphere.png");
-    entries.push_back({"environment_sphere.png", "3. Mountain scene reflectance (chrome ball)",
-                       "A silver ball reflecting a procedurally generated mountain scene (sky, sun, snow-capped "
-                       "ridge, lake, meadow): the environment reflectance sphere, 512x512 table, 4x4 supersampled texels.",
-                       secs, "table vs direct mirror lookup max " + sci(r.maxError) + ", RMS " + sci(r.rmsError) +
-                                 " (the scene's detail is finer than a texel near the rim)"});
+    const wf::EnvironmentMap env = wf::EnvironmentMap::mountainScene(1024);
     wf::ImageRGBA envImg(env.width() / 2, env.height() / 2);
     for (int y = 0; y < envImg.height; ++y)
       for (int x = 0; x < envImg.width; ++x) {
@@ -171,9 +133,16 @@ int runGallery(const GalleryOptions& opt) {
       }
     writePng(envImg, dir + "/environment.png");
     entries.push_back({"environment.png", "The environment (latitude-longitude)",
-                       "The procedural scene the chrome ball reflects; centre column straight ahead (-z), "
-                       "the viewer's back at the left and right edges.", 0.0, "exact (it is the definition)"});
+                       "The procedural scene the chrome scenes reflect (fixed to the viewer); centre column straight "
+                       "ahead (-z), the viewer's back at the left and right edges.", 0.0, "exact (it is the definition)"});
   }
+
+  // Image 1's plastic under seven lights: the material of the map pictures below.
+  wf::PhongMaterial plastic;
+  plastic.diffuse = glm::dvec3(0.55, 0.10, 0.06);
+  plastic.specular = glm::dvec3(6.0);  // the paper's "very bright highlights" (§2.2)
+  plastic.exponent = 80.0;
+  const wf::LightRig rig = wf::LightRig::studioRig(7).canonical();
 
   // The two pseudo-reflectance maps of the same plastic under the same lights, with the
   // default (warped) indexing and with the paper's (x, z) / (y, z) indexing.
@@ -230,8 +199,12 @@ int runGallery(const GalleryOptions& opt) {
   const double total = secondsSince(tStart);
   writeIndex(dir, entries, total);
   json doc = json::array();
-  for (const Entry& e : entries)
-    doc.push_back({{"file", e.file}, {"title", e.title}, {"seconds", e.seconds}, {"error_estimate", e.error}});
+  for (const Entry& e : entries) {
+    json j = {{"file", e.file}, {"title", e.title}, {"seconds", e.seconds}, {"error_estimate", e.error}};
+    const std::string stem = std::filesystem::path(e.file).stem().string();
+    if (sceneStats.contains(stem)) j["stats"] = sceneStats[stem];
+    doc.push_back(j);
+  }
   std::ofstream(dir + "/gallery.json") << doc.dump(2) << "\n";
   for (const Entry& e : entries)
     std::printf("%-24s %8.3f s  %s\n", e.file.c_str(), e.seconds, e.error.c_str());

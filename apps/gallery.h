@@ -7,8 +7,9 @@
 namespace wfapp {
 
 struct GalleryOptions {
-  std::string outDir = "out";
-  int size = 512;
+  std::string outDir = "out/gallery";
+  std::string scenesDir = WIREFUR_SOURCE_DIR "/data/scenes";
+  int size = 0;  ///< > 0: scale every scene down so that its longer side is at most this
   bool quiet = false;
 };
 

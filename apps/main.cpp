@@ -2,6 +2,7 @@
 #include "accuracy.h"
 #include "cli.h"
 #include "gallery.h"
+#include "render_command.h"
 
 #include <cstdio>
 #include <exception>
@@ -13,10 +14,16 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: wirefur <command> [options]\n"
-    "  gallery  [-o DIR] [--size N] [--quiet]        render every picture into DIR (default out/) with index.html\n"
+    "  gallery  [-o DIR] [--scenes DIR] [--size N] [--quiet]\n"
+    "                                               every scene of data/scenes (and the shading tables) into DIR\n"
+    "                                               (default out/gallery) with index.html; --size N: longer side at most N\n"
     "  accuracy [--json FILE] [--plots DIR] [--quick] [--quiet]\n"
     "                                               error against run time of every shading approximation\n"
-    "  render, view, export                          not in this version yet (they need the A-buffer)\n"
+    "  render   [INPUT] -o OUT.png [--size WxH] [--style STYLE] [--mask 4x4|8x4|8x8] [--threads N]\n"
+    "           [--stats FILE] [--budget K] [--shading maps|exact] [--reference [--samples N]]\n"
+    "           [--measure-error] [--quiet]\n"
+    "                                               INPUT: scene .json, or .vtp .vtk .stl .obj .ply; none: built-in scene\n"
+    "  view, export                                  not in this version yet\n"
     "  --help, --version\n";
 
 std::string need(const std::vector<std::string>& a, size_t& i) {
@@ -39,10 +46,11 @@ int run(const std::vector<std::string>& a) {
     for (size_t i = 1; i < a.size(); ++i) {
       if (a[i] == "-o" || a[i] == "--out") o.outDir = need(a, i);
       else if (a[i] == "--size") o.size = wfapp::parsePositiveInt("--size", need(a, i));
+      else if (a[i] == "--scenes") o.scenesDir = need(a, i);
       else if (a[i] == "--quiet") o.quiet = true;
       else throw wfapp::UsageError("gallery: unknown option '" + a[i] + "'");
     }
-    if (o.size < 16 || o.size > 8192) throw wfapp::UsageError("option --size: expected 16 ... 8192");
+    if (o.size != 0 && (o.size < 16 || o.size > 8192)) throw wfapp::UsageError("option --size: expected 16 ... 8192");
     return wfapp::runGallery(o);
   }
   if (cmd == "accuracy") {
@@ -56,8 +64,41 @@ int run(const std::vector<std::string>& a) {
     }
     return wfapp::runAccuracy(o);
   }
-  if (cmd == "render" || cmd == "view" || cmd == "export") {
-    std::cerr << "wirefur: '" << cmd << "' is not in this version yet (it needs the A-buffer renderer)\n";
+  if (cmd == "render") {
+    wfapp::RenderCommandOptions o;
+    for (size_t i = 1; i < a.size(); ++i) {
+      if (a[i] == "-o" || a[i] == "--out") o.output = need(a, i);
+      else if (a[i] == "--size") {
+        const std::string v = need(a, i);
+        const size_t x = v.find('x');
+        if (x == std::string::npos) throw wfapp::UsageError("option --size: expected WxH, got '" + v + "'");
+        o.width = wfapp::parsePositiveInt("--size", v.substr(0, x));
+        o.height = wfapp::parsePositiveInt("--size", v.substr(x + 1));
+        if (o.width > 16384 || o.height > 16384) throw wfapp::UsageError("option --size: at most 16384x16384");
+      } else if (a[i] == "--style") {
+        o.style = need(a, i);
+        if (o.style != "wire" && o.style != "wire-over-surface" && o.style != "burnished" && o.style != "fur" && o.style != "scales")
+          throw wfapp::UsageError("option --style: expected wire, wire-over-surface, burnished, fur or scales");
+      } else if (a[i] == "--mask") o.mask = need(a, i);
+      else if (a[i] == "--threads") o.threads = wfapp::parsePositiveInt("--threads", need(a, i));
+      else if (a[i] == "--stats") o.statsPath = need(a, i);
+      else if (a[i] == "--budget") o.budget = wfapp::parsePositiveInt("--budget", need(a, i));
+      else if (a[i] == "--shading") {
+        const std::string v = need(a, i);
+        if (v != "maps" && v != "exact") throw wfapp::UsageError("option --shading: expected maps or exact");
+        o.exact = v == "exact";
+      } else if (a[i] == "--reference") o.reference = true;
+      else if (a[i] == "--measure-error") o.measureError = true;
+      else if (a[i] == "--samples") o.samples = wfapp::parsePositiveInt("--samples", need(a, i));
+      else if (a[i] == "--quiet") o.quiet = true;
+      else if (!a[i].empty() && a[i][0] == '-') throw wfapp::UsageError("render: unknown option '" + a[i] + "'");
+      else if (o.input.empty()) o.input = a[i];
+      else throw wfapp::UsageError("render: more than one input ('" + o.input + "' and '" + a[i] + "')");
+    }
+    return wfapp::runRender(o);
+  }
+  if (cmd == "view" || cmd == "export") {
+    std::cerr << "wirefur: '" << cmd << "' is not in this version yet\n";
     return 1;
   }
   throw wfapp::UsageError("unknown command '" + cmd + "' (try wirefur --help)");

@@ -94,10 +94,11 @@ void TileABuffer::toTail(Pixel& p, const Fragment& f) {
   t.premultiplied += f.colour * w;
   t.weight += w;
   t.transmittance *= std::max(0.0f, 1.0f - w);
+  t.zkeyMin = std::min(t.zkeyMin, f.zkey);
   ++local_.tail;
 }
 
-void TileABuffer::occlude(Pixel& p, size_t pixelIndex, const Fragment& f) {
+void TileABuffer::occlude(size_t pixelIndex, const Fragment& f) {
   // Only fragments that hide their subpixels wholly in the resolve (opaque, and not thinner
   // than their mask says: A * N >= k) occlude; then the skip is exact, not an approximation.
   const int k = maskCount(f.mask);
@@ -215,7 +216,7 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
         depthRangesTouch(n.f, f)) {
       mergeInto(n.f, f);
       ++local_.merged;
-      occlude(p, pixelIndex, n.f);
+      occlude(pixelIndex, n.f);
       if (isSolid(n.f)) {
         const Fragment whole = n.f;
         const std::int32_t dead = *link;
@@ -228,7 +229,7 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
     }
     link = &n.next;
   }
-  occlude(p, pixelIndex, f);
+  occlude(pixelIndex, f);
   if (isSolid(f)) setSolid(p, f);
   else pushList(p, f);
 }
@@ -241,12 +242,25 @@ glm::vec4 TileABuffer::resolve(int x, int y) const {
   }
   // Gather, sort front to back (depth, then arrival: deterministic).
   thread_local std::vector<const Node*> order;
-  thread_local Node solidNode;
+  thread_local Node solidNode, tailNode;
   order.clear();
   for (std::int32_t i = p.head; i >= 0; i = nodes_[size_t(i)].next) order.push_back(&nodes_[size_t(i)]);
   if (p.hasSolid) {
     solidNode = Node{p.solid, 0xFFFFFFFFu, -1};
     order.push_back(&solidNode);
+  }
+  if (p.hasTail) {
+    // The tail composites as one whole-pixel layer, at the depth of its nearest member: behind
+    // the kept fragments (they are the nearest), in front of a solid fragment it is not behind.
+    const Tail& t = tails_[size_t(p.tail)];
+    Fragment f;
+    f.zkey = f.zmin = f.zmax = t.zkeyMin;
+    f.area = 1.0f;
+    f.opacity = 1.0f - t.transmittance;
+    f.colour = t.weight > 0 ? t.premultiplied / t.weight : glm::vec3(0.0f);
+    f.mask = layout_.full();
+    tailNode = Node{f, 0xFFFFFFFEu, -1};
+    order.push_back(&tailNode);
   }
   std::sort(order.begin(), order.end(), [](const Node* a, const Node* b) {
     return a->f.zkey < b->f.zkey || (a->f.zkey == b->f.zkey && a->seq < b->seq);
@@ -267,15 +281,6 @@ glm::vec4 TileABuffer::resolve(int x, int y) const {
     alpha += w;
     const float hide = f.opacity * std::min(1.0f, f.area * float(N) / float(k));
     for (MaskBits m = f.mask; m; m &= m - 1) T[std::countr_zero(m)] *= 1.0f - hide;
-  }
-  if (p.hasTail) {
-    const Tail& t = tails_[size_t(p.tail)];
-    float meanT = 0;
-    for (int s = 0; s < N; ++s) meanT += T[s];
-    meanT /= float(N);
-    const float ta = (1.0f - t.transmittance) * meanT;
-    if (t.weight > 0) rgb += t.premultiplied / t.weight * ta;
-    alpha += ta;
   }
   // Quantised masks can let true areas overlap where masks do not: never more than full cover.
   if (alpha > 1.0f) {

@@ -119,6 +119,7 @@ class TileABuffer {
     glm::vec3 premultiplied{0.0f};
     float weight = 0;             ///< sum of alpha * area
     float transmittance = 1;      ///< product of (1 - alpha * area)
+    float zkeyMin = INFINITY;     ///< where the tail sorts among the kept fragments
   };
   struct Pixel {
     std::int32_t head = -1;
@@ -135,7 +136,7 @@ class TileABuffer {
   void setSolid(Pixel& p, const Fragment& f);
   void pushList(Pixel& p, const Fragment& f);
   void toTail(Pixel& p, const Fragment& f);
-  void occlude(Pixel& p, size_t pixelIndex, const Fragment& f);
+  void occlude(size_t pixelIndex, const Fragment& f);
   void pruneHidden(Pixel& p, float occlusion);
   std::int32_t allocNode();
 

@@ -27,12 +27,10 @@ std::string Camera::problem() const {
   return {};
 }
 
-Camera frameBounds(const glm::dvec3& lo, const glm::dvec3& hi, double aspect,
+Camera frameSphere(const glm::dvec3& centre, double radius, double aspect,
                    Camera::Projection projection, const glm::dvec3& direction) {
   Camera c;
   c.projection = projection;
-  const glm::dvec3 centre = 0.5 * (lo + hi);
-  double radius = 0.5 * glm::length(hi - lo);
   if (!(radius > 0) || !std::isfinite(radius)) radius = std::max(1e-300, std::abs(centre.x) * 1e-9 + 1.0);
   const glm::dvec3 dir = glm::normalize(direction);
   c.target = centre;
@@ -40,9 +38,9 @@ Camera frameBounds(const glm::dvec3& lo, const glm::dvec3& hi, double aspect,
   c.fovYDegrees = 30.0;
   const double halfFov = glm::radians(c.fovYDegrees) / 2;
   const double fit = std::min(1.0, aspect);  // the smaller image side holds the sphere
-  const double dist = radius / std::sin(std::atan(std::tan(halfFov) * fit)) * 1.05;
+  const double dist = radius / std::sin(std::atan(std::tan(halfFov) * fit)) * 1.08;
   c.eye = centre + dir * dist;
-  c.orthoHeight = 2.1 * radius / fit;
+  c.orthoHeight = 2.16 * radius / fit;
   c.nearPlane = std::max(dist - 1.5 * radius, dist * 1e-4);
   c.farPlane = dist + 1.5 * radius;
   return c;

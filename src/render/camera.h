@@ -27,9 +27,9 @@ struct Camera {
   std::string problem() const;
 };
 
-/// A camera that frames the box [lo, hi] seen from `direction` (from the target towards the
-/// eye), with the bounding sphere filling the smaller image side. Works for any scale.
-Camera frameBounds(const glm::dvec3& lo, const glm::dvec3& hi, double aspect,
+/// A camera that frames the sphere (centre, radius) seen from `direction` (from the target
+/// towards the eye), the sphere filling the smaller image side. Works for any scale.
+Camera frameSphere(const glm::dvec3& centre, double radius, double aspect,
                    Camera::Projection projection = Camera::Projection::Perspective,
                    const glm::dvec3& direction = glm::dvec3(0.55, -0.75, 0.45));
 

@@ -32,6 +32,26 @@ bool Scene::bounds(glm::dvec3& lo, glm::dvec3& hi) const {
   return any;
 }
 
+bool Scene::boundingSphere(glm::dvec3& centre, double& radius) const {
+  glm::dvec3 lo, hi;
+  if (!bounds(lo, hi)) return false;
+  centre = 0.5 * lo + 0.5 * hi;
+  double r2 = 0;
+  auto add = [&](const glm::dvec3& p) {
+    const glm::dvec3 d = p - centre;
+    const double q = glm::dot(d, d);
+    if (std::isfinite(q)) r2 = std::max(r2, q);
+  };
+  for (const SceneSurface& s : surfaces)
+    for (const glm::uvec3& t : s.mesh.triangles)
+      for (int k = 0; k < 3; ++k)
+        if (t[k] < s.mesh.positions.size()) add(s.mesh.positions[t[k]]);
+  for (const SceneWire& w : wires)
+    for (const glm::dvec3& p : w.lines.points) add(p);
+  radius = std::sqrt(r2);
+  return true;
+}
+
 size_t PreparedScene::bytes() const {
   size_t b = primitives.capacity() * sizeof(Primitive) + vertices.capacity() * sizeof(glm::dvec2) +
              triangles.capacity() * sizeof(TriangleAttributes) +
@@ -85,18 +105,18 @@ const EnvironmentMap& defaultEnvironment() {
 // ---- camera, lights, shaders -------------------------------------------------------------
 
 Camera chooseCamera(const Scene& scene, const RenderOptions& o) {
-  glm::dvec3 lo, hi;
-  const bool hasBounds = scene.bounds(lo, hi);
+  glm::dvec3 centre;
+  double sphereRadius = 0;
+  const bool hasBounds = scene.boundingSphere(centre, sphereRadius);
   Camera c = scene.camera ? *scene.camera
-                          : (hasBounds ? frameBounds(lo, hi, double(o.width) / o.height)
+                          : (hasBounds ? frameSphere(centre, sphereRadius, double(o.width) / o.height)
                                        : Camera{});
   if (c.nearPlane > 0 && c.farPlane > 0) return c;
   // Near and far from the bounding sphere, as tight as the scene allows.
   const glm::dvec3 dir = glm::normalize(c.target - c.eye);
   double dmin = 1e-3, dmax = 1e3;
   if (hasBounds) {
-    const glm::dvec3 centre = 0.5 * (lo + hi);
-    const double radius = std::max(0.5 * glm::length(hi - lo), 1e-300);
+    const double radius = std::max(sphereRadius, 1e-300);
     const double along = glm::dot(centre - c.eye, dir);
     dmax = along + radius * 1.01;
     dmin = std::max(along - radius * 1.01, dmax * 1e-6);
@@ -574,7 +594,8 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
   ps.path = o.shading;
   const Camera camera = chooseCamera(scene, o);
   ps.view = ViewTransform::make(camera, o.width, o.height);
-  ps.eyeLights = scene.lights.transformed(ps.view.eyeFromWorld).canonical();
+  ps.eyeLights = scene.lightsFollowCamera ? scene.lights.canonical()
+                                          : scene.lights.transformed(ps.view.eyeFromWorld).canonical();
 
   std::vector<int> surfaceShader, wireShader;
   const auto tm = Clock::now();
@@ -720,10 +741,10 @@ glm::vec3 shadeFragment(const PreparedScene& ps, const Primitive& prim, double x
         return slot.colour * c;
       case ShaderSlot::Kind::WireDepthCued: {
         // The paper's baseline (§3): lines dimmer as they recede, full at the nearest wire
-        // depth, 15% at the farthest.
+        // depth, 10% at the farthest.
         const double range = ps.cueFar - ps.cueNear;
         const double t = range > 0 ? std::clamp((depth - ps.cueNear) / range, 0.0, 1.0) : 0.0;
-        return slot.colour * c * float(1.0 - 0.85 * t);
+        return slot.colour * c * float(1.0 - 0.9 * t);
       }
       default: {
         glm::dvec3 T = glm::mix(sa.t0, sa.t1, s);

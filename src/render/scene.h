@@ -72,7 +72,8 @@ struct SceneWire {
 
 struct Scene {
   std::optional<Camera> camera;    ///< framed from the bounds when absent
-  LightRig lights;                 ///< world space
+  LightRig lights;                 ///< world space (eye space when lightsFollowCamera)
+  bool lightsFollowCamera = false; ///< lights fixed to the viewer (studio set-ups, paper images)
   std::vector<Material> materials{Material{}};
   std::vector<SceneSurface> surfaces;
   std::vector<SceneWire> wires;
@@ -80,6 +81,9 @@ struct Scene {
   std::shared_ptr<const EnvironmentMap> environment;  ///< chrome materials reflect this
   /// Bounds of all finite geometry; false when there is none.
   bool bounds(glm::dvec3& lo, glm::dvec3& hi) const;
+  /// A sphere holding all finite geometry (centre of the bounds, radius to the farthest point);
+  /// false when there is none.
+  bool boundingSphere(glm::dvec3& centre, double& radius) const;
 };
 
 }  // namespace wf

@@ -1,0 +1,190 @@
+#include "render_command.h"
+
+#include "cli.h"
+#include "image_io.h"
+#include "mesh_io.h"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+namespace wfapp {
+
+using json = nlohmann::ordered_json;
+
+long peakRssBytes() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return long(u.ru_maxrss) * 1024;
+}
+
+namespace {
+bool isCadFile(const std::string& path) {
+  std::string e = std::filesystem::path(path).extension().string();
+  for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return e == ".step" || e == ".stp" || e == ".iges" || e == ".igs" || e == ".brep" || e == ".fcstd";
+}
+}  // namespace
+
+SceneFile loadInput(const std::string& input, const std::string& style) {
+  if (input.empty()) return defaultScene();
+  if (isCadFile(input))
+    throw UsageError(input + ": CAD input (STEP, IGES, BREP, FreeCAD) is not in this version yet");
+  if (isGeometryFile(input)) return sceneForGeometryFile(input, style.empty() ? "wire-over-surface" : style);
+  std::string e = std::filesystem::path(input).extension().string();
+  if (e == ".json") {
+    if (!style.empty()) throw UsageError("--style applies to mesh and CAD files, not to scene files");
+    return loadSceneFile(input);
+  }
+  throw UsageError(input + ": unknown input type (expected a scene .json, or .vtp .vtk .stl .obj .ply)");
+}
+
+wf::RenderOptions renderOptionsFor(const SceneFile& sf) {
+  wf::RenderOptions o;
+  o.width = sf.width;
+  o.height = sf.height;
+  o.mask = sf.mask;
+  o.budget = sf.budget;
+  return o;
+}
+
+json statsJson(const wf::RenderStats& st, const wf::RenderOptions& o, bool reference) {
+  json j;
+  j["renderer"] = reference ? "reference" : "abuffer";
+  j["seconds"] = {{"total", st.total},     {"setup", st.setup},   {"maps", st.maps},
+                  {"binning", st.binning}, {"raster_resolve", st.raster}};
+  j["segments"] = st.segments;
+  j["triangles"] = st.triangles;
+  j["fragments"] = st.abuffer.fragments;
+  j["max_fragments_per_pixel"] = st.abuffer.maxFragmentsPerPixel;
+  j["peak_bytes"] = st.peakBytes;
+  json e;
+  e["coverage_quantisation"] = st.coverageQuantisation;
+  e["map_max"] = st.mapError;
+  e["sphere_max"] = st.sphereError;
+  e["orthographic_max"] = st.orthographicError;
+  e["budget_tail_share"] = st.budgetTailShare;
+  e["shading_bound"] = st.mapError + st.sphereError + st.orthographicError;
+  e["notes"] =
+      "coverage: exact area per fragment; masks (1/N per subpixel) decide hiding where fragments "
+      "overlap. map/sphere: max |table - exact| over 192 test directions; orthographic: largest "
+      "change of the exact shading between the view axis and the image-corner ray. Radiance units.";
+  j["error_estimate"] = e;
+  j["options"] = {{"size", {o.width, o.height}},
+                  {"mask", o.mask.name()},
+                  {"budget", o.budget},
+                  {"shading", o.shading == wf::ShadingPath::Maps ? "maps" : "exact"},
+                  {"threads", o.threads},
+                  {"tile_size", o.tileSize},
+                  {"map_resolution", o.map.resolution},
+                  {"map_samples", o.map.samples}};
+  if (reference) j["options"]["reference_samples"] = o.referenceSamples * o.referenceSamples;
+  j["left_out"] = {{"pseudo_reflectance_maps_built", st.pseudoReflectanceMaps},
+                   {"reflectance_spheres_built", st.reflectanceSpheres},
+                   {"tiles", st.tiles},
+                   {"tiles_empty", st.tilesEmpty},
+                   {"covered_pixels", st.abuffer.coveredPixels},
+                   {"pixels_with_list", st.abuffer.pixelsWithList},
+                   {"pixels_solid_without_list", st.abuffer.pixelsSolidOnly},
+                   {"fragments_culled", st.abuffer.culled},
+                   {"fragments_merged", st.abuffer.merged},
+                   {"primitives_occluded_per_tile", st.primitivesOccluded}};
+  j["budget"] = {{"k", o.budget},
+                 {"pixels_over_budget", st.abuffer.pixelsOverBudget},
+                 {"tail_fragments", st.abuffer.tail},
+                 {"max_list_length", st.abuffer.maxListLength}};
+  j["input"] = {{"primitives", st.primitives},
+                {"rejected_non_finite", st.rejectedNonFinite},
+                {"dropped_zero_length", st.droppedZeroLength},
+                {"clipped_away", st.clippedAway},
+                {"end_on_discs", st.endOnDiscs}};
+  j["warnings"] = st.warnings;
+  return j;
+}
+
+ImageError imageError(const wf::ImageRGBA& a, const wf::ImageRGBA& ref) {
+  ImageError e;
+  if (a.pixels.size() != ref.pixels.size() || a.pixels.empty()) return e;
+  double sq = 0, sqA = 0;
+  for (size_t i = 0; i < a.pixels.size(); ++i) {
+    for (int c = 0; c < 4; ++c) {
+      const double d = double(a.pixels[i][c]) - double(ref.pixels[i][c]);
+      sq += d * d;
+      e.max = std::max(e.max, std::abs(d));
+      if (c == 3) sqA += d * d, e.coverageMax = std::max(e.coverageMax, std::abs(d));
+    }
+  }
+  e.rms = std::sqrt(sq / (4.0 * double(a.pixels.size())));
+  e.coverageRms = std::sqrt(sqA / double(a.pixels.size()));
+  return e;
+}
+
+int runRender(const RenderCommandOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (o.output.empty()) throw UsageError("render: -o OUT.png is required");
+  {
+    std::string e = std::filesystem::path(o.output).extension().string();
+    for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (e != ".png") throw UsageError(o.output + ": the output must be a .png file");
+  }
+  const Progress progress(o.quiet);
+  SceneFile sf = loadInput(o.input, o.style);
+  const double readSeconds = secondsSince(t0);
+  wf::RenderOptions ro = renderOptionsFor(sf);
+  if (o.width > 0) ro.width = o.width, ro.height = o.height;
+  if (!o.mask.empty() && !wf::MaskLayout::parse(o.mask, ro.mask))
+    throw UsageError("option --mask: expected 4x4, 8x4 or 8x8, got '" + o.mask + "'");
+  if (o.budget > 0) ro.budget = o.budget;
+  ro.threads = o.threads;
+  ro.shading = (o.exact || o.reference) ? wf::ShadingPath::Exact : wf::ShadingPath::Maps;
+  ro.referenceSamples = o.samples;
+  if (const std::string p = ro.problem(); !p.empty()) throw UsageError("render: " + p);
+  // Make sure the outputs can be written before spending time on the render.
+  for (const std::string& f : {o.output, o.statsPath}) {
+    if (f.empty()) continue;
+    const std::filesystem::path parent = std::filesystem::path(f).parent_path();
+    if (!parent.empty() && !std::filesystem::is_directory(parent))
+      throw UsageError(f + ": the folder " + parent.string() + " does not exist");
+  }
+  progress.say("rendering " + (o.input.empty() ? std::string("the built-in scene") : o.input) + " at " +
+               std::to_string(ro.width) + "x" + std::to_string(ro.height) + (o.reference ? " (reference)" : ""));
+  const wf::RenderResult r = o.reference ? wf::renderReference(sf.scene, ro) : wf::render(sf.scene, ro);
+  for (const std::string& w : r.stats.warnings) std::cerr << "wirefur: warning: " << (o.input.empty() ? "built-in scene" : o.input) << ": " << w << "\n";
+  json stats = statsJson(r.stats, ro, o.reference);
+  if (o.measureError && !o.reference) {
+    progress.say("rendering the brute-force reference for the error measurement");
+    wf::RenderOptions rr = ro;
+    rr.shading = wf::ShadingPath::Exact;
+    const wf::RenderResult ref = wf::renderReference(sf.scene, rr);
+    const ImageError e = imageError(r.image, ref.image);
+    stats["error_estimate"]["measured_against_reference"] = {{"reference_samples", rr.referenceSamples * rr.referenceSamples},
+                                                             {"rgba_rms", e.rms},
+                                                             {"rgba_max", e.max},
+                                                             {"coverage_rms", e.coverageRms},
+                                                             {"coverage_max", e.coverageMax},
+                                                             {"reference_seconds", ref.stats.total}};
+  }
+  const auto tw = std::chrono::steady_clock::now();
+  writePng(r.image, o.output);
+  stats["seconds"]["read_input"] = readSeconds;
+  stats["seconds"]["write_png"] = secondsSince(tw);
+  stats["peak_rss_bytes"] = peakRssBytes();
+  if (!o.statsPath.empty()) {
+    const std::string tmp = o.statsPath + ".tmp";
+    {
+      std::ofstream out(tmp);
+      out << stats.dump(2) << "\n";
+      if (!out) throw std::runtime_error(o.statsPath + ": cannot write");
+    }
+    std::filesystem::rename(tmp, o.statsPath);
+  }
+  progress.say("wrote " + o.output + " in " + std::to_string(r.stats.total) + " s (render)");
+  return 0;
+}
+
+}  // namespace wfapp

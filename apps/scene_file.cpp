@@ -1,0 +1,487 @@
+#include "scene_file.h"
+
+#include "cli.h"
+#include "mesh_io.h"
+
+#include "geometry/parametric_sources.h"
+
+#include <nlohmann/json.hpp>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace wfapp {
+
+namespace {
+
+using json = nlohmann::json;
+
+// Reads values out of the document, naming the JSON pointer of anything wrong.
+struct Reader {
+  std::string file;
+
+  [[noreturn]] void fail(const std::string& ptr, const std::string& what) const {
+    throw UsageError(file + ": " + (ptr.empty() ? std::string("/") : ptr) + ": " + what);
+  }
+  static std::string at(const std::string& ptr, const std::string& key) {
+    std::string k;
+    for (char c : key) k += c == '~' ? "~0" : (c == '/' ? "~1" : std::string(1, c));
+    return ptr + "/" + k;
+  }
+  static std::string at(const std::string& ptr, size_t i) { return ptr + "/" + std::to_string(i); }
+
+  void keys(const json& j, const std::string& ptr, const std::set<std::string>& allowed) const {
+    if (!j.is_object()) fail(ptr, "expected an object");
+    for (auto it = j.begin(); it != j.end(); ++it)
+      if (!allowed.count(it.key())) {
+        std::string list;
+        for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
+        fail(at(ptr, it.key()), "unknown key (expected one of: " + list + ")");
+      }
+  }
+  double number(const json& j, const std::string& ptr, double lo, double hi) const {
+    if (!j.is_number()) fail(ptr, "expected a number");
+    const double v = j.get<double>();
+    if (!std::isfinite(v) || v < lo || v > hi) {
+      std::ostringstream s;
+      s << "expected a number in [" << lo << ", " << hi << "], got " << j.dump();
+      fail(ptr, s.str());
+    }
+    return v;
+  }
+  int integer(const json& j, const std::string& ptr, int lo, int hi) const {
+    if (!j.is_number_integer()) fail(ptr, "expected an integer");
+    const long long v = j.get<long long>();
+    if (v < lo || v > hi) fail(ptr, "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return int(v);
+  }
+  std::string string(const json& j, const std::string& ptr) const {
+    if (!j.is_string()) fail(ptr, "expected a string");
+    return j.get<std::string>();
+  }
+  std::string choice(const json& j, const std::string& ptr, const std::set<std::string>& options) const {
+    const std::string s = string(j, ptr);
+    if (!options.count(s)) {
+      std::string list;
+      for (const std::string& o : options) list += (list.empty() ? "" : ", ") + o;
+      fail(ptr, "'" + s + "' is not one of: " + list);
+    }
+    return s;
+  }
+  glm::dvec3 vec3(const json& j, const std::string& ptr, double bound = 1e12) const {
+    if (!j.is_array() || j.size() != 3) fail(ptr, "expected [x, y, z]");
+    return {number(j[0], at(ptr, 0), -bound, bound), number(j[1], at(ptr, 1), -bound, bound),
+            number(j[2], at(ptr, 2), -bound, bound)};
+  }
+  /// A colour: [r, g, b] or one grey value, linear, >= 0.
+  glm::dvec3 colour(const json& j, const std::string& ptr) const {
+    if (j.is_number()) return glm::dvec3(number(j, ptr, 0, 1e6));
+    if (!j.is_array() || j.size() != 3) fail(ptr, "expected a colour [r, g, b] or a number");
+    return {number(j[0], at(ptr, 0), 0, 1e6), number(j[1], at(ptr, 1), 0, 1e6), number(j[2], at(ptr, 2), 0, 1e6)};
+  }
+  bool boolean(const json& j, const std::string& ptr) const {
+    if (!j.is_boolean()) fail(ptr, "expected true or false");
+    return j.get<bool>();
+  }
+};
+
+std::string readText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw UsageError(path + ": cannot open");
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+json parse(const std::string& path, const std::string& text) {
+  try {
+    return json::parse(text, nullptr, true, /*ignore_comments=*/true);
+  } catch (const json::parse_error& e) {
+    // Turn the byte offset into line:column for the one-line message.
+    size_t line = 1, col = 1;
+    for (size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
+      if (text[i] == '\n') ++line, col = 1;
+      else ++col;
+    }
+    std::string what = e.what();
+    const size_t p = what.find("parse error");
+    if (p != std::string::npos) what = what.substr(p);
+    throw UsageError(path + ":" + std::to_string(line) + ":" + std::to_string(col) + ": invalid JSON: " + what);
+  }
+}
+
+glm::dmat4 readTransform(const Reader& r, const json& j, const std::string& ptr) {
+  r.keys(j, ptr, {"scale", "rotate", "translate"});
+  glm::dmat4 M(1.0);
+  if (j.contains("translate")) M = glm::translate(M, r.vec3(j["translate"], Reader::at(ptr, "translate")));
+  if (j.contains("rotate")) {
+    const json& rot = j["rotate"];
+    const std::string rp = Reader::at(ptr, "rotate");
+    auto one = [&](const json& x, const std::string& p) {
+      r.keys(x, p, {"axis", "degrees"});
+      if (!x.contains("axis") || !x.contains("degrees")) r.fail(p, "a rotation needs axis and degrees");
+      const glm::dvec3 axis = r.vec3(x["axis"], Reader::at(p, "axis"));
+      if (!(glm::length(axis) > 0)) r.fail(Reader::at(p, "axis"), "axis must not be zero");
+      M = glm::rotate(M, glm::radians(r.number(x["degrees"], Reader::at(p, "degrees"), -1e6, 1e6)), glm::normalize(axis));
+    };
+    if (rot.is_array())
+      for (size_t i = 0; i < rot.size(); ++i) one(rot[i], Reader::at(rp, i));
+    else one(rot, rp);
+  }
+  if (j.contains("scale")) {
+    const std::string sp = Reader::at(ptr, "scale");
+    const glm::dvec3 s = j["scale"].is_number() ? glm::dvec3(r.number(j["scale"], sp, 1e-12, 1e12)) : r.vec3(j["scale"], sp);
+    if (!(std::abs(s.x * s.y * s.z) > 0)) r.fail(sp, "scale must not be zero");
+    M = glm::scale(M, s);
+  }
+  return M;
+}
+
+wf::ParametricSource readSource(const Reader& r, const json& j, const std::string& ptr) {
+  r.keys(j, ptr, {"type", "radius", "major", "minor", "profile", "size", "resolution"});
+  if (!j.contains("type")) r.fail(ptr, "a source needs a type");
+  wf::ParametricSource s;
+  const std::string type = r.choice(j["type"], Reader::at(ptr, "type"), {"sphere", "torus", "lathe", "plane", "box"});
+  s.type = type == "sphere"  ? wf::ParametricSource::Type::Sphere
+           : type == "torus" ? wf::ParametricSource::Type::Torus
+           : type == "lathe" ? wf::ParametricSource::Type::Lathe
+           : type == "plane" ? wf::ParametricSource::Type::Plane
+                             : wf::ParametricSource::Type::Box;
+  if (j.contains("radius")) s.radius = r.number(j["radius"], Reader::at(ptr, "radius"), 1e-12, 1e12);
+  if (j.contains("major")) s.major = r.number(j["major"], Reader::at(ptr, "major"), 1e-12, 1e12);
+  if (j.contains("minor")) s.minor = r.number(j["minor"], Reader::at(ptr, "minor"), 1e-12, 1e12);
+  if (j.contains("size")) {
+    const std::string sp = Reader::at(ptr, "size");
+    if (j["size"].is_array() && j["size"].size() == 2)
+      s.size = glm::dvec3(r.number(j["size"][0], Reader::at(sp, 0), 1e-12, 1e12), r.number(j["size"][1], Reader::at(sp, 1), 1e-12, 1e12), 1.0);
+    else s.size = r.vec3(j["size"], sp);
+  }
+  if (j.contains("profile")) {
+    const std::string pp = Reader::at(ptr, "profile");
+    if (!j["profile"].is_array()) r.fail(pp, "expected [[radius, height], ...]");
+    for (size_t i = 0; i < j["profile"].size(); ++i) {
+      const json& p = j["profile"][i];
+      const std::string ip = Reader::at(pp, i);
+      if (!p.is_array() || p.size() != 2) r.fail(ip, "expected [radius, height]");
+      s.profile.emplace_back(r.number(p[0], Reader::at(ip, 0), 0, 1e12), r.number(p[1], Reader::at(ip, 1), -1e12, 1e12));
+    }
+  }
+  if (j.contains("resolution")) {
+    const std::string rp = Reader::at(ptr, "resolution");
+    if (!j["resolution"].is_array() || j["resolution"].size() != 2) r.fail(rp, "expected [u, v]");
+    s.resolutionU = r.integer(j["resolution"][0], Reader::at(rp, 0), 3, 4096);
+    s.resolutionV = r.integer(j["resolution"][1], Reader::at(rp, 1), 2, 4096);
+  }
+  const std::string problem = s.problem();
+  if (!problem.empty()) r.fail(ptr, problem);
+  return s;
+}
+
+void readLights(const Reader& r, const json& j, const std::string& ptr, wf::Scene& scene) {
+  r.keys(j, ptr, {"preset", "count", "ambient", "directional", "space"});
+  if (j.contains("preset")) {
+    r.choice(j["preset"], Reader::at(ptr, "preset"), {"studio"});
+    const int count = j.contains("count") ? r.integer(j["count"], Reader::at(ptr, "count"), 1, 7) : 3;
+    scene.lights = wf::LightRig::studioRig(count);
+    scene.lightsFollowCamera = true;
+  }
+  if (j.contains("space"))
+    scene.lightsFollowCamera = r.choice(j["space"], Reader::at(ptr, "space"), {"world", "eye"}) == "eye";
+  if (j.contains("ambient")) scene.lights.ambient = r.colour(j["ambient"], Reader::at(ptr, "ambient"));
+  if (j.contains("directional")) {
+    const std::string dp = Reader::at(ptr, "directional");
+    if (!j["directional"].is_array()) r.fail(dp, "expected a list of lights");
+    for (size_t i = 0; i < j["directional"].size(); ++i) {
+      const json& l = j["directional"][i];
+      const std::string lp = Reader::at(dp, i);
+      r.keys(l, lp, {"direction", "intensity"});
+      if (!l.contains("direction")) r.fail(lp, "a light needs a direction (towards the light)");
+      wf::DirectionalLight light;
+      light.direction = r.vec3(l["direction"], Reader::at(lp, "direction"));
+      if (!(glm::length(light.direction) > 0)) r.fail(Reader::at(lp, "direction"), "direction must not be zero");
+      light.direction = glm::normalize(light.direction);
+      if (l.contains("intensity")) light.intensity = r.colour(l["intensity"], Reader::at(lp, "intensity"));
+      scene.lights.lights.push_back(light);
+    }
+  }
+}
+
+void readMaterials(const Reader& r, const json& j, const std::string& ptr, wf::Scene& scene,
+                   std::map<std::string, int>& index) {
+  if (!j.is_object()) r.fail(ptr, "expected an object of named materials");
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    const std::string mp = Reader::at(ptr, it.key());
+    const json& m = it.value();
+    r.keys(m, mp, {"kind", "diffuse", "specular", "exponent", "opacity", "reflectance"});
+    wf::Material mat;
+    mat.name = it.key();
+    if (m.contains("kind"))
+      mat.kind = r.choice(m["kind"], Reader::at(mp, "kind"), {"phong", "chrome"}) == "chrome" ? wf::Material::Kind::Chrome
+                                                                                              : wf::Material::Kind::Phong;
+    if (m.contains("diffuse")) mat.phong.diffuse = r.colour(m["diffuse"], Reader::at(mp, "diffuse"));
+    if (m.contains("specular")) mat.phong.specular = r.colour(m["specular"], Reader::at(mp, "specular"));
+    if (m.contains("exponent")) mat.phong.exponent = r.number(m["exponent"], Reader::at(mp, "exponent"), 0, wf::kMaxPhongExponent);
+    if (m.contains("opacity")) mat.opacity = float(r.number(m["opacity"], Reader::at(mp, "opacity"), 0, 1));
+    if (m.contains("reflectance")) mat.chromeReflectance = r.colour(m["reflectance"], Reader::at(mp, "reflectance"));
+    index[mat.name] = int(scene.materials.size());
+    scene.materials.push_back(mat);
+  }
+}
+
+int materialRef(const Reader& r, const json& j, const std::string& ptr, const std::map<std::string, int>& index) {
+  const std::string name = r.string(j, ptr);
+  auto it = index.find(name);
+  if (it == index.end()) r.fail(ptr, "no material named '" + name + "' in /materials");
+  return it->second;
+}
+
+struct WireSpec {
+  std::string from;  // isolines, edges, lines
+  int linesU = 16, linesV = 8;
+  wf::SceneWire wire;
+};
+
+WireSpec readWire(const Reader& r, const json& j, const std::string& ptr, const std::map<std::string, int>& materials) {
+  r.keys(j, ptr, {"from", "lines", "style", "material", "thickness", "units", "colour", "opacity"});
+  WireSpec w;
+  if (j.contains("from")) w.from = r.choice(j["from"], Reader::at(ptr, "from"), {"isolines", "edges", "lines"});
+  if (j.contains("lines")) {
+    const std::string lp = Reader::at(ptr, "lines");
+    if (!j["lines"].is_array() || j["lines"].size() != 2) r.fail(lp, "expected [lines along u, lines along v]");
+    w.linesU = r.integer(j["lines"][0], Reader::at(lp, 0), 0, 4096);
+    w.linesV = r.integer(j["lines"][1], Reader::at(lp, 1), 0, 4096);
+  }
+  if (j.contains("style")) {
+    const std::string s = r.choice(j["style"], Reader::at(ptr, "style"), {"shaded", "plain", "depth-cued"});
+    w.wire.style = s == "shaded" ? wf::WireStyle::Shaded : s == "plain" ? wf::WireStyle::Plain : wf::WireStyle::DepthCued;
+  }
+  if (j.contains("material")) w.wire.material = materialRef(r, j["material"], Reader::at(ptr, "material"), materials);
+  if (j.contains("thickness")) w.wire.thickness = r.number(j["thickness"], Reader::at(ptr, "thickness"), 1e-12, 1e12);
+  if (j.contains("units")) w.wire.thicknessInPixels = r.choice(j["units"], Reader::at(ptr, "units"), {"world", "pixels"}) == "pixels";
+  if (w.wire.thicknessInPixels && w.wire.thickness > 1000) r.fail(Reader::at(ptr, "thickness"), "at most 1000 pixels");
+  if (j.contains("colour")) w.wire.colour = glm::vec3(r.colour(j["colour"], Reader::at(ptr, "colour")));
+  if (j.contains("opacity")) w.wire.opacity = float(r.number(j["opacity"], Reader::at(ptr, "opacity"), 0, 1));
+  return w;
+}
+
+void readObject(const Reader& r, const json& j, const std::string& ptr, const std::string& folder,
+                const std::map<std::string, int>& materials, wf::Scene& scene) {
+  r.keys(j, ptr, {"name", "source", "file", "transform", "surface", "wire"});
+  const std::string name = j.contains("name") ? r.string(j["name"], Reader::at(ptr, "name")) : ptr;
+  if (j.contains("source") == j.contains("file")) r.fail(ptr, "an object needs exactly one of source and file");
+  glm::dmat4 M(1.0);
+  if (j.contains("transform")) M = readTransform(r, j["transform"], Reader::at(ptr, "transform"));
+
+  wf::TriangleMesh mesh;
+  wf::PolylineSet fileLines;
+  wf::ParametricSource source;
+  const bool isSource = j.contains("source");
+  if (isSource) {
+    source = readSource(r, j["source"], Reader::at(ptr, "source"));
+    mesh = wf::tessellate(source);
+  } else {
+    std::string f = r.string(j["file"], Reader::at(ptr, "file"));
+    std::filesystem::path p(f);
+    if (p.is_relative()) p = std::filesystem::path(folder) / p;
+    try {
+      LoadedGeometry g = readGeometry(p.string());
+      mesh = std::move(g.mesh);
+      fileLines = std::move(g.lines);
+    } catch (const UsageError& e) {
+      r.fail(Reader::at(ptr, "file"), e.what());
+    }
+  }
+  // Surface: drawn unless "surface": false; a material by name, or the default.
+  bool drawSurface = !mesh.triangles.empty();
+  int surfaceMaterial = 0;
+  if (j.contains("surface")) {
+    const json& s = j["surface"];
+    const std::string sp = Reader::at(ptr, "surface");
+    if (s.is_boolean()) {
+      drawSurface = s.get<bool>();
+    } else {
+      r.keys(s, sp, {"material"});
+      if (s.contains("material")) surfaceMaterial = materialRef(r, s["material"], Reader::at(sp, "material"), materials);
+    }
+    if (drawSurface && mesh.triangles.empty()) r.fail(sp, "this object has no polygons to draw as a surface");
+  }
+  if (j.contains("wire")) {
+    WireSpec w = readWire(r, j["wire"], Reader::at(ptr, "wire"), materials);
+    const std::string wp = Reader::at(ptr, "wire");
+    std::string from = w.from;
+    if (from.empty()) from = isSource ? "isolines" : (fileLines.points.empty() ? "edges" : "lines");
+    if (from == "isolines") {
+      if (!isSource) r.fail(Reader::at(wp, "from"), "isolines need a parametric source (use edges or lines for files)");
+      w.wire.lines = wf::isolines(source, w.linesU, w.linesV);
+    } else if (from == "edges") {
+      if (mesh.triangles.empty()) r.fail(Reader::at(wp, "from"), "this object has no polygons, so no edges");
+      w.wire.lines = wf::meshEdges(mesh);
+    } else {
+      if (fileLines.points.empty()) r.fail(Reader::at(wp, "from"), "this object has no line cells");
+      w.wire.lines = fileLines;
+    }
+    wf::transformPolylines(w.wire.lines, M);
+    w.wire.name = name;
+    scene.wires.push_back(std::move(w.wire));
+  }
+  if (drawSurface) {
+    wf::transformMesh(mesh, M);
+    scene.surfaces.push_back({name, std::move(mesh), surfaceMaterial});
+  }
+}
+
+void readCamera(const Reader& r, const json& j, const std::string& ptr, SceneFile& sf) {
+  r.keys(j, ptr, {"projection", "eye", "target", "up", "fov", "height", "near", "far", "direction"});
+  wf::Camera c;
+  if (j.contains("projection"))
+    c.projection = r.choice(j["projection"], Reader::at(ptr, "projection"), {"perspective", "orthographic"}) == "orthographic"
+                       ? wf::Camera::Projection::Orthographic
+                       : wf::Camera::Projection::Perspective;
+  if (!j.contains("eye")) {
+    // Framed from the objects' bounds, looking along `direction` (from the target to the eye).
+    glm::dvec3 dir(0.55, -0.75, 0.45);
+    if (j.contains("direction")) dir = r.vec3(j["direction"], Reader::at(ptr, "direction"));
+    if (!(glm::length(dir) > 0)) r.fail(Reader::at(ptr, "direction"), "direction must not be zero");
+    glm::dvec3 centre(0.0);
+    double radius = 1.0;
+    if (!sf.scene.boundingSphere(centre, radius)) centre = glm::dvec3(0.0), radius = 1.0;
+    const wf::Camera framed = wf::frameSphere(centre, radius, double(sf.width) / sf.height, c.projection, dir);
+    c.eye = framed.eye;
+    c.target = framed.target;
+    c.up = framed.up;
+    c.orthoHeight = framed.orthoHeight;
+    c.fovYDegrees = framed.fovYDegrees;
+  } else {
+    c.eye = r.vec3(j["eye"], Reader::at(ptr, "eye"));
+    c.target = j.contains("target") ? r.vec3(j["target"], Reader::at(ptr, "target")) : glm::dvec3(0.0);
+    c.up = j.contains("up") ? r.vec3(j["up"], Reader::at(ptr, "up")) : glm::dvec3(0, 0, 1);
+  }
+  if (j.contains("fov")) c.fovYDegrees = r.number(j["fov"], Reader::at(ptr, "fov"), 1e-3, 179);
+  if (j.contains("height")) c.orthoHeight = r.number(j["height"], Reader::at(ptr, "height"), 1e-12, 1e12);
+  if (j.contains("near")) c.nearPlane = r.number(j["near"], Reader::at(ptr, "near"), 0, 1e15);
+  if (j.contains("far")) c.farPlane = r.number(j["far"], Reader::at(ptr, "far"), 0, 1e15);
+  const std::string problem = c.problem();
+  if (!problem.empty()) r.fail(ptr, problem);
+  sf.scene.camera = c;
+}
+
+}  // namespace
+
+SceneFile loadSceneFile(const std::string& path) {
+  const Reader r{path};
+  const json doc = parse(path, readText(path));
+  r.keys(doc, "", {"title", "caption", "paper_image", "image", "camera", "lights", "materials", "environment", "objects"});
+  SceneFile sf;
+  if (doc.contains("title")) sf.title = r.string(doc["title"], "/title");
+  if (doc.contains("caption")) sf.caption = r.string(doc["caption"], "/caption");
+  if (doc.contains("paper_image")) sf.paperImage = r.string(doc["paper_image"], "/paper_image");
+  if (doc.contains("image")) {
+    const json& im = doc["image"];
+    r.keys(im, "/image", {"size", "mask", "budget", "background"});
+    if (im.contains("size")) {
+      if (!im["size"].is_array() || im["size"].size() != 2) r.fail("/image/size", "expected [width, height]");
+      sf.width = r.integer(im["size"][0], "/image/size/0", 1, 16384);
+      sf.height = r.integer(im["size"][1], "/image/size/1", 1, 16384);
+    }
+    if (im.contains("mask") && !wf::MaskLayout::parse(r.string(im["mask"], "/image/mask"), sf.mask))
+      r.fail("/image/mask", "expected 4x4, 8x4 or 8x8");
+    if (im.contains("budget")) sf.budget = r.integer(im["budget"], "/image/budget", 1, 65535);
+    if (im.contains("background")) {
+      const json& b = im["background"];
+      if (b.is_array() && b.size() == 4) {
+        const glm::dvec3 c = r.colour(json::array({b[0], b[1], b[2]}), "/image/background");
+        sf.scene.background = glm::vec4(glm::vec3(c), float(r.number(b[3], "/image/background/3", 0, 1)));
+      } else {
+        sf.scene.background = glm::vec4(glm::vec3(r.colour(b, "/image/background")), 1.0f);
+      }
+    }
+  }
+  if (doc.contains("lights")) readLights(r, doc["lights"], "/lights", sf.scene);
+  else sf.scene.lights = wf::LightRig::studioRig(3), sf.scene.lightsFollowCamera = true;
+  if (doc.contains("environment")) r.choice(doc["environment"], "/environment", {"mountains"});
+  std::map<std::string, int> materials{{"default", 0}};
+  if (doc.contains("materials")) readMaterials(r, doc["materials"], "/materials", sf.scene, materials);
+  if (!doc.contains("objects") || !doc["objects"].is_array() || doc["objects"].empty())
+    r.fail("/objects", "expected a non-empty list of objects");
+  const std::string folder = std::filesystem::path(path).parent_path().string();
+  for (size_t i = 0; i < doc["objects"].size(); ++i)
+    readObject(r, doc["objects"][i], Reader::at("/objects", i), folder.empty() ? "." : folder, materials, sf.scene);
+  readCamera(r, doc.contains("camera") ? doc["camera"] : json::object(), "/camera", sf);
+  if (sf.title.empty()) sf.title = std::filesystem::path(path).stem().string();
+  return sf;
+}
+
+SceneFile defaultScene() {
+  SceneFile sf;
+  sf.title = "cage";
+  sf.caption = "Built-in scene: a wire-frame cage as shaded wire over a shaded torus (paper image 9b).";
+  sf.paperImage = "9b";
+  wf::Scene& s = sf.scene;
+  s.lights = wf::LightRig::studioRig(3);
+  s.lightsFollowCamera = true;
+  wf::Material body;
+  body.name = "body";
+  body.phong = {glm::dvec3(0.55, 0.25, 0.2), glm::dvec3(0.35), 30.0};
+  wf::Material wire;
+  wire.name = "wire";
+  wire.phong = {glm::dvec3(0.5, 0.5, 0.55), glm::dvec3(0.6), 40.0};
+  s.materials = {wf::Material{}, body, wire};
+  wf::ParametricSource torus;
+  torus.type = wf::ParametricSource::Type::Torus;
+  torus.major = 0.8;
+  torus.minor = 0.3;
+  torus.resolutionU = 96;
+  torus.resolutionV = 48;
+  s.surfaces.push_back({"torus", wf::tessellate(torus), 1});
+  wf::ParametricSource cage;
+  cage.type = wf::ParametricSource::Type::Sphere;
+  cage.radius = 1.4;
+  wf::SceneWire w;
+  w.name = "cage";
+  w.lines = wf::isolines(cage, 16, 7, 96);
+  w.material = 2;
+  w.thickness = 0.022;
+  s.wires.push_back(std::move(w));
+  glm::dvec3 centre;
+  double radius;
+  s.boundingSphere(centre, radius);
+  s.camera = wf::frameSphere(centre, radius, double(sf.width) / sf.height, wf::Camera::Projection::Perspective,
+                             glm::dvec3(0.55, -0.75, 0.45));
+  return sf;
+}
+
+SceneFile sceneForGeometryFile(const std::string& path, const std::string& style) {
+  if (style != "wire" && style != "wire-over-surface")
+    throw UsageError("--style " + style + ": not in this version yet (wire and wire-over-surface are; burnished, fur and scales come with the surface generators)");
+  LoadedGeometry g = readGeometry(path);
+  SceneFile sf;
+  sf.title = std::filesystem::path(path).stem().string();
+  sf.caption = path + " as " + style;
+  wf::Scene& s = sf.scene;
+  s.lights = wf::LightRig::studioRig(3);
+  s.lightsFollowCamera = true;
+  wf::Material part;
+  part.name = "part";
+  part.phong = {glm::dvec3(0.45, 0.47, 0.5), glm::dvec3(0.3), 25.0};
+  wf::Material steel;
+  steel.name = "wire";
+  steel.phong = {glm::dvec3(0.5, 0.5, 0.52), glm::dvec3(0.7), 50.0};
+  s.materials = {wf::Material{}, part, steel};
+  wf::SceneWire w;
+  w.name = "wire";
+  w.material = 2;
+  w.lines = g.lines.points.empty() ? wf::meshEdges(g.mesh) : g.lines;
+  w.thickness = 1.6;
+  w.thicknessInPixels = true;
+  s.wires.push_back(std::move(w));
+  if (style == "wire-over-surface" && !g.mesh.triangles.empty()) s.surfaces.push_back({"part", std::move(g.mesh), 1});
+  return sf;
+}
+
+}  // namespace wfapp

@@ -1,0 +1,34 @@
+// Scene files (JSON, docs/scenes.md): camera, lights, materials and objects (parametric sources
+// or mesh / polyline files) with their surfaces and wire-frames, plus the image settings.
+// Read with nlohmann-json; every problem is one line naming the file and the JSON pointer
+// (UsageError, exit status 2), found before anything is rendered or written.
+#pragma once
+
+#include "abuffer/coverage_mask.h"
+#include "render/scene.h"
+
+#include <string>
+
+namespace wfapp {
+
+struct SceneFile {
+  wf::Scene scene;
+  std::string title, caption, paperImage;  ///< for the gallery
+  int width = 640, height = 480;
+  wf::MaskLayout mask{8, 4};
+  int budget = 64;
+};
+
+/// Parses a scene file; relative file names in it are relative to the file's folder.
+SceneFile loadSceneFile(const std::string& path);
+
+/// The built-in scene `wirefur render` draws with no input: the paper's image 9b (a wire-frame
+/// cage as shaded wire over a shaded torus).
+SceneFile defaultScene();
+
+/// A scene around one mesh / polyline file, drawn in one of the contract's styles:
+/// "wire" (its edges or lines as shaded wire), "wire-over-surface" (shaded wire over the
+/// shaded surface). Throws UsageError for styles this version cannot draw.
+SceneFile sceneForGeometryFile(const std::string& path, const std::string& style);
+
+}  // namespace wfapp
