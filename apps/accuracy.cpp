@@ -2,6 +2,7 @@
 
 #include "cli.h"
 #include "plot.h"
+#include "accuracy_abuffer.h"
 
 #include "shading/cylinder_shading.h"
 #include "shading/pseudo_reflectance_map.h"
@@ -427,6 +428,10 @@ int runAccuracy(const AccuracyOptions& opt) {
   doc["orthographic_assumption"] = ortho;
   doc["reflectance_sphere"] = {{"sweep", spheres}, {"lookup_ns", sphereLookupNs}, {"direct_phong_ns", phongNs}};
 
+  std::printf("\nA-buffer (mask, budget K) against the brute-force reference (16x16 samples per pixel):\n");
+  std::vector<std::pair<std::string, PlotSpec>> abufferPlots;
+  doc["abuffer"] = abufferStudy(opt.quick, progress, abufferPlots);
+
   if (!opt.plotsDir.empty()) {
     progress.say("plots into " + opt.plotsDir);
     const std::string dir = opt.plotsDir + "/";
@@ -474,6 +479,7 @@ int runAccuracy(const AccuracyOptions& opt) {
     PlotSpec sph{"Reflectance sphere: error against build time (labels: resolution)", "build time [ms]",
                  "error vs direct Phong (linear radiance)", true, true, sphereSeries, {2e-3}};
     plotPng(sph, dir + "reflectance_sphere.png");
+    for (const auto& [file, spec] : abufferPlots) plotPng(spec, dir + file);
   }
   if (!opt.jsonPath.empty()) {
     doc["seconds_total"] = secondsSince(tStart);

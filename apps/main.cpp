@@ -4,6 +4,9 @@
 #include "gallery.h"
 #include "render_command.h"
 
+#include <vtkLogger.h>
+#include <vtkObject.h>
+
 #include <cstdio>
 #include <exception>
 #include <iostream>
@@ -107,6 +110,9 @@ int run(const std::vector<std::string>& a) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // VTK's logger would print reader warnings as extra lines on stderr; WireFur reports every
+  // problem itself, in one line (docs/cli.md).
+  vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);
   try {
     return run(std::vector<std::string>(argv + 1, argv + argc));
   } catch (const wfapp::UsageError& e) {

@@ -49,6 +49,9 @@ class ErrorCatcher : public vtkCommand {
       while (!message.empty() && (message.back() == '\n' || message.back() == ' ')) message.pop_back();
       const size_t nl = message.rfind('\n');
       if (nl != std::string::npos) message = message.substr(nl + 1);
+      // Drop VTK's "vtkSomeReader (0x...): " prefix: the reader's words are what matter.
+      const size_t tag = message.find("): ");
+      if (message.rfind("vtk", 0) == 0 && tag != std::string::npos && tag < 64) message = message.substr(tag + 3);
     }
   }
   std::string message;

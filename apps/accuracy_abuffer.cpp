@@ -1,0 +1,191 @@
+// The A-buffer part of `wirefur accuracy`: error against run time for the mask size and the
+// fragment budget K, on a line-rich scene (hairs over a torus) and a triangle scene
+// (interpenetrating, partly translucent surfaces and small triangles), each against the
+// brute-force reference at 16x16 stratified samples per pixel. Both sides shade by the same
+// tables, so the difference is the A-buffer's own: coverage, hiding and the budget tail.
+#include "accuracy_abuffer.h"
+
+#include "render_command.h"
+
+#include "geometry/parametric_sources.h"
+#include "render/renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <random>
+
+namespace wfapp {
+
+namespace {
+
+using json = nlohmann::ordered_json;
+
+wf::Scene hairScene(int hairs) {
+  wf::Scene s;
+  s.lights = wf::LightRig::studioRig(3);
+  s.lightsFollowCamera = true;
+  s.background = glm::vec4(0.0f);
+  wf::Material skin, fur;
+  skin.phong = {glm::dvec3(0.35, 0.22, 0.12), glm::dvec3(0.1), 10};
+  fur.phong = {glm::dvec3(0.62, 0.42, 0.22), glm::dvec3(0.35), 20};
+  s.materials = {wf::Material{}, skin, fur};
+  wf::ParametricSource torus;
+  torus.type = wf::ParametricSource::Type::Torus;
+  torus.major = 1.0;
+  torus.minor = 0.4;
+  s.surfaces.push_back({"torus", wf::tessellate(torus), 1});
+  wf::SceneWire w;
+  w.name = "hair";
+  w.material = 2;
+  w.thickness = 0.01;
+  std::mt19937_64 rng(15);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  const double pi2 = 2 * std::numbers::pi;
+  while (int(w.lines.polylineCount()) < hairs) {
+    const double u = pi2 * U(rng), v = pi2 * U(rng);
+    if (U(rng) * 1.4 > 1.0 + 0.4 * std::cos(v)) continue;
+    const glm::dvec3 n(std::cos(v) * std::cos(u), std::cos(v) * std::sin(u), std::sin(v));
+    const glm::dvec3 root = glm::dvec3(std::cos(u), std::sin(u), 0.0) + 0.4 * n;
+    const glm::dvec3 d = glm::normalize(n + 0.45 * glm::dvec3(U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.5) * 2.0);
+    w.lines.add({root, root + (0.14 + 0.08 * U(rng)) * d});
+  }
+  s.wires.push_back(std::move(w));
+  s.camera = wf::frameSphere(glm::dvec3(0.0), 1.45, 4.0 / 3.0);
+  return s;
+}
+
+wf::Scene triangleScene() {
+  wf::Scene s;
+  s.lights = wf::LightRig::studioRig(3);
+  s.lightsFollowCamera = true;
+  s.background = glm::vec4(0.0f);
+  wf::Material a, b, glass;
+  a.phong = {glm::dvec3(0.6, 0.3, 0.2), glm::dvec3(0.3), 30};
+  b.phong = {glm::dvec3(0.2, 0.4, 0.6), glm::dvec3(0.3), 30};
+  glass.phong = {glm::dvec3(0.5), glm::dvec3(0.5), 60};
+  glass.opacity = 0.5f;
+  s.materials = {wf::Material{}, a, b, glass};
+  wf::ParametricSource torus;
+  torus.type = wf::ParametricSource::Type::Torus;
+  torus.major = 0.8;
+  torus.minor = 0.3;
+  s.surfaces.push_back({"torus", wf::tessellate(torus), 1});
+  wf::TriangleMesh t2 = wf::tessellate(torus);
+  wf::transformMesh(t2, glm::dmat4(glm::dvec4(1, 0, 0, 0), glm::dvec4(0, 0, 1, 0), glm::dvec4(0, -1, 0, 0),
+                                   glm::dvec4(0.8, 0, 0, 1)));  // linked ring: interpenetrates
+  s.surfaces.push_back({"ring", std::move(t2), 2});
+  wf::ParametricSource ball;
+  ball.type = wf::ParametricSource::Type::Sphere;
+  ball.radius = 0.6;
+  wf::TriangleMesh g = wf::tessellate(ball);
+  wf::transformMesh(g, glm::dmat4(glm::dvec4(1, 0, 0, 0), glm::dvec4(0, 1, 0, 0), glm::dvec4(0, 0, 1, 0),
+                                  glm::dvec4(-0.6, -0.4, 0.3, 1)));
+  s.surfaces.push_back({"glass", std::move(g), 3});
+  // Small random triangles: many partly covered pixels.
+  wf::TriangleMesh confetti;
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<double> U(-1.4, 1.4), E(-0.06, 0.06);
+  for (int i = 0; i < 3000; ++i) {
+    const glm::dvec3 c(U(rng), U(rng), U(rng) * 0.6);
+    const uint32_t base = uint32_t(confetti.positions.size());
+    for (int k = 0; k < 3; ++k) confetti.positions.push_back(c + glm::dvec3(E(rng), E(rng), E(rng)));
+    confetti.triangles.emplace_back(base, base + 1, base + 2);
+  }
+  s.surfaces.push_back({"confetti", std::move(confetti), 1});
+  s.camera = wf::frameSphere(glm::dvec3(0.0), 1.6, 4.0 / 3.0);
+  return s;
+}
+
+double medianSeconds(int reps, const wf::Scene& s, const wf::RenderOptions& o, wf::RenderResult& last) {
+  std::vector<double> t;
+  for (int i = 0; i < reps; ++i) {
+    last = wf::render(s, o);
+    t.push_back(last.stats.total);
+  }
+  std::sort(t.begin(), t.end());
+  return t[t.size() / 2];
+}
+
+}  // namespace
+
+json abufferStudy(bool quick, const Progress& progress, std::vector<std::pair<std::string, PlotSpec>>& plots) {
+  json out;
+  const int W = quick ? 160 : 320, H = quick ? 120 : 240;
+  struct Case {
+    std::string name;
+    wf::Scene scene;
+  };
+  std::vector<Case> cases;
+  cases.push_back({"lines", hairScene(quick ? 1500 : 6000)});
+  cases.push_back({"triangles", triangleScene()});
+  const std::vector<wf::MaskLayout> masks{{4, 4}, {8, 4}, {8, 8}};
+  const std::vector<int> budgets = quick ? std::vector<int>{2, 8, 64} : std::vector<int>{1, 2, 4, 8, 16, 64};
+  const int reps = quick ? 1 : 3;
+  for (Case& c : cases) {
+    progress.say("A-buffer study, " + c.name + " scene: reference at 16x16 samples");
+    wf::RenderOptions base;
+    base.width = W;
+    base.height = H;
+    base.referenceSamples = 16;
+    const wf::RenderResult ref = wf::renderReference(c.scene, base);
+    wf::RenderOptions other = base;
+    other.referenceSeed = 2;
+    const wf::RenderResult ref2 = wf::renderReference(c.scene, other);
+    const ImageError noise = imageError(ref2.image, ref.image);
+    json cj;
+    cj["size"] = {W, H};
+    cj["reference_seconds"] = ref.stats.total;
+    // Two references with different jitter differ by sqrt(2) times the noise of one.
+    cj["reference_noise_rms"] = noise.rms / std::sqrt(2.0);
+    cj["reference_noise_coverage_rms"] = noise.coverageRms / std::sqrt(2.0);
+    json points = json::array();
+    PlotSpec spec{"A-buffer error against render time, " + c.name + " scene " + std::to_string(W) + "x" +
+                      std::to_string(H) + " (labels: budget K)",
+                  "render time [ms]", "RGBA error vs 16x16 reference", true, true, {}, {1.0 / 64}};
+    for (const wf::MaskLayout& m : masks) {
+      PlotSeries rms{"RMS, mask " + m.name(), {}, {}, {}, "linespoints"};
+      PlotSeries mx{"max, mask " + m.name(), {}, {}, {}, "linespoints dt 2"};
+      for (int k : budgets) {
+        wf::RenderOptions o = base;
+        o.mask = m;
+        o.budget = k;
+        wf::RenderResult r;
+        const double secs = medianSeconds(reps, c.scene, o, r);
+        const ImageError e = imageError(r.image, ref.image);
+        points.push_back({{"mask", m.name()},
+                          {"budget", k},
+                          {"seconds", secs},
+                          {"rgba_rms", e.rms},
+                          {"rgba_max", e.max},
+                          {"coverage_rms", e.coverageRms},
+                          {"coverage_max", e.coverageMax},
+                          {"fragments", r.stats.abuffer.fragments},
+                          {"tail_fragments", r.stats.abuffer.tail},
+                          {"pixels_over_budget", r.stats.abuffer.pixelsOverBudget},
+                          {"max_fragments_per_pixel", r.stats.abuffer.maxFragmentsPerPixel}});
+        rms.x.push_back(secs * 1e3);
+        rms.y.push_back(std::max(e.rms, 1e-7));
+        rms.labels.push_back(std::to_string(k));
+        mx.x.push_back(secs * 1e3);
+        mx.y.push_back(std::max(e.max, 1e-7));
+        std::printf("  %-9s mask %s K %3d: %7.2f ms  RGBA rms %.2e max %.2e  coverage rms %.2e  tail %llu\n",
+                    c.name.c_str(), m.name().c_str(), k, secs * 1e3, e.rms, e.max, e.coverageRms,
+                    (unsigned long long)r.stats.abuffer.tail);
+      }
+      spec.series.push_back(rms);
+      spec.series.push_back(mx);
+    }
+    spec.series.push_back({"reference noise (RMS)", {spec.series[0].x.front(), spec.series[0].x.back()},
+                           {cj["reference_noise_rms"].get<double>(), cj["reference_noise_rms"].get<double>()}, {}, "lines dt 3"});
+    std::printf("  %-9s reference %.2f s, its own noise RMS %.2e (coverage %.2e)\n", c.name.c_str(), ref.stats.total,
+                cj["reference_noise_rms"].get<double>(), cj["reference_noise_coverage_rms"].get<double>());
+    cj["sweep"] = points;
+    out[c.name] = cj;
+    plots.emplace_back("abuffer_" + c.name + ".png", spec);
+  }
+  return out;
+}
+
+}  // namespace wfapp

@@ -1,0 +1,20 @@
+// The A-buffer knobs of `wirefur accuracy` (mask size, fragment budget K) against the
+// brute-force reference; see accuracy_abuffer.cpp.
+#pragma once
+
+#include "cli.h"
+#include "plot.h"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace wfapp {
+
+/// Runs the study; returns its JSON and appends (file name, plot) pairs to `plots`.
+nlohmann::ordered_json abufferStudy(bool quick, const Progress& progress,
+                                    std::vector<std::pair<std::string, PlotSpec>>& plots);
+
+}  // namespace wfapp

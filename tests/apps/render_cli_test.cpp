@@ -1,0 +1,209 @@
+// `wirefur render` as users and scripts call it (docs/cli.md): the stats keys of DESIGN.md,
+// one-line errors naming the file and the JSON pointer with exit status 2 and nothing written,
+// determinism across thread counts, and the reference path.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+struct Result {
+  int status;
+  std::string err;
+};
+
+Result run(const std::string& args) {
+  const fs::path errFile = fs::temp_directory_path() / ("wirefur-render-err-" + std::to_string(::getpid()));
+  const std::string cmd = std::string("'") + WIREFUR_EXE + "' " + args + " >/dev/null 2>'" + errFile.string() + "'";
+  const int raw = std::system(cmd.c_str());
+  std::ifstream f(errFile);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  fs::remove(errFile);
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, ss.str()};
+}
+
+fs::path dir() {
+  static const fs::path d = [] {
+    const fs::path p = fs::temp_directory_path() / ("wirefur-render-" + std::to_string(::getpid()));
+    fs::remove_all(p);
+    fs::create_directories(p);
+    return p;
+  }();
+  return d;
+}
+
+std::string write(const std::string& name, const std::string& text) {
+  const fs::path p = dir() / name;
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+int lines(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+
+const std::string kScenes = std::string(WIREFUR_SOURCE_DIR) + "/data/scenes/";
+
+}  // namespace
+
+TEST(RenderCli, BuiltInSceneWritesPngAndTheContractsStatsKeys) {
+  const fs::path png = dir() / "default.png", stats = dir() / "default.json";
+  const Result r = run("render -o '" + png.string() + "' --size 160x120 --stats '" + stats.string() + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(fs::exists(png));
+  const json s = json::parse(slurp(stats));
+  // DESIGN.md: seconds (total and per stage), segments, triangles, fragments,
+  // max_fragments_per_pixel, peak_bytes, error_estimate.
+  for (const char* k : {"seconds", "segments", "triangles", "fragments", "max_fragments_per_pixel", "peak_bytes", "error_estimate"})
+    EXPECT_TRUE(s.contains(k)) << k;
+  for (const char* k : {"total", "setup", "maps", "binning", "raster_resolve"}) EXPECT_TRUE(s["seconds"].contains(k)) << k;
+  EXPECT_GT(s["segments"].get<int>(), 1000);   // the cage: 23 isolines of 96 segments
+  EXPECT_GT(s["triangles"].get<int>(), 1000);  // the torus: 96 x 48 x 2
+  // One material drawn as shaded wire: exactly one pseudo-reflectance map.
+  EXPECT_EQ(s["left_out"]["pseudo_reflectance_maps_built"].get<int>(), 1);
+  EXPECT_DOUBLE_EQ(s["error_estimate"]["coverage_quantisation"].get<double>(), 1.0 / 32);  // 8x4 default
+}
+
+TEST(RenderCli, PlainWireSceneBuildsNoMap) {
+  const fs::path stats = dir() / "plain.json";
+  const Result r = run("render '" + kScenes + "cage_plain.json' -o '" + (dir() / "plain.png").string() +
+                       "' --size 160x120 --stats '" + stats.string() + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json s = json::parse(slurp(stats));
+  // Plain wire needs no pseudo-reflectance map (it is not shaded as a cylinder).
+  EXPECT_EQ(s["left_out"]["pseudo_reflectance_maps_built"].get<int>(), 0);
+}
+
+TEST(RenderCli, SameImageForAnyThreadCount) {
+  const std::string scene = kScenes + "hair_torus.json";
+  const fs::path a = dir() / "t1.png", b = dir() / "t2.png", c = dir() / "t16.png";
+  ASSERT_EQ(run("render '" + scene + "' -o '" + a.string() + "' --size 240x180 --threads 1").status, 0);
+  ASSERT_EQ(run("render '" + scene + "' -o '" + b.string() + "' --size 240x180 --threads 2").status, 0);
+  ASSERT_EQ(run("render '" + scene + "' -o '" + c.string() + "' --size 240x180 --threads 16").status, 0);
+  EXPECT_EQ(slurp(a), slurp(b));
+  EXPECT_EQ(slurp(a), slurp(c));
+}
+
+TEST(RenderCli, MeasuredErrorAgainstTheReferenceIsSmall) {
+  const fs::path stats = dir() / "measured.json";
+  const Result r = run("render '" + kScenes + "cage_plain.json' -o '" + (dir() / "m.png").string() +
+                       "' --size 120x90 --measure-error --samples 8 --stats '" + stats.string() + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json s = json::parse(slurp(stats));
+  const json& m = s["error_estimate"]["measured_against_reference"];
+  // Plain wire and Phong surfaces, A-buffer vs 8x8 stratified reference: coverage error well
+  // under the issue's 1/64 RMS target (exact areas; masks only decide hiding).
+  EXPECT_LT(m["coverage_rms"].get<double>(), 1.0 / 64);
+  EXPECT_GT(m["reference_seconds"].get<double>(), 0.0);
+}
+
+TEST(RenderCli, ReferenceRenderRuns) {
+  const fs::path png = dir() / "ref.png";
+  const Result r = run("render -o '" + png.string() + "' --size 64x48 --reference --samples 4");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(fs::exists(png));
+}
+
+// Bad input: one line naming the file and the place, exit status 2, and no output file.
+TEST(RenderCli, BadScenesNameFileAndPointerAndWriteNothing) {
+  struct Case {
+    std::string name, text, expect;
+  };
+  const std::vector<Case> cases = {
+      {"syntax.json", "{\n  \"objects\": [\n    {\"source\": }\n  ]\n}\n", "syntax.json:3:"},
+      {"unknown.json", R"({"objects": [{"source": {"type": "torus", "radius": 1, "colour": 2}}]})", "/objects/0/source/colour"},
+      {"badtype.json", R"({"objects": [{"source": {"type": "teapot"}}]})", "/objects/0/source/type"},
+      {"range.json", R"({"image": {"size": [0, 10]}, "objects": [{"source": {"type": "sphere"}}]})", "/image/size/0"},
+      {"mask.json", R"({"image": {"mask": "5x5"}, "objects": [{"source": {"type": "sphere"}}]})", "/image/mask"},
+      {"material.json", R"({"objects": [{"source": {"type": "sphere"}, "surface": {"material": "gold"}}]})",
+       "/objects/0/surface/material"},
+      {"file.json", R"({"objects": [{"file": "no-such-file.vtp"}]})", "/objects/0/file"},
+      {"empty.json", R"({"objects": []})", "/objects"},
+      {"camera.json", R"({"camera": {"eye": [0,0,1], "target": [0,0,1]}, "objects": [{"source": {"type": "sphere"}}]})", "/camera"},
+  };
+  for (const Case& c : cases) {
+    const std::string scene = write(c.name, c.text);
+    const fs::path png = dir() / (c.name + ".png");
+    const Result r = run("render '" + scene + "' -o '" + png.string() + "'");
+    EXPECT_EQ(r.status, 2) << c.name << ": " << r.err;
+    EXPECT_EQ(lines(r.err), 1) << c.name << ": " << r.err;
+    EXPECT_NE(r.err.find(c.name), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(c.expect), std::string::npos) << "expected '" << c.expect << "' in: " << r.err;
+    EXPECT_FALSE(fs::exists(png)) << c.name;
+  }
+}
+
+TEST(RenderCli, BadOptionsAreExitTwo) {
+  const fs::path png = dir() / "opt.png";
+  for (const std::string& args : {std::string("render --mask 5x5 -o ") + png.string(), std::string("render --size 12 -o ") + png.string(),
+                                  std::string("render"), std::string("render x.step -o ") + png.string(),
+                                  std::string("render --style fluffy -o ") + png.string()}) {
+    const Result r = run(args);
+    EXPECT_EQ(r.status, 2) << args << ": " << r.err;
+    EXPECT_EQ(lines(r.err), 1) << args << ": " << r.err;
+  }
+  EXPECT_FALSE(fs::exists(png));
+}
+
+// NaN / Inf vertices (a binary STL, where they survive the reader): the bad triangles and the
+// wire segments touching them are skipped with one warning line per object naming the file,
+// and the rest renders.
+TEST(RenderCli, NonFiniteVerticesAreSkippedWithAWarning) {
+  std::string stl(80, '\0');
+  auto u32 = [&](uint32_t v) { stl.append(reinterpret_cast<const char*>(&v), 4); };
+  auto f32 = [&](float v) { stl.append(reinterpret_cast<const char*>(&v), 4); };
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  const float tris[3][9] = {{0, 0, 0, 1, 0, 0, 0, 1, 0}, {nan, 0, 0, 1, 1, 0, 0, 1, 1}, {2, 0, 0, 3, inf, 0, 2, 1, 0}};
+  u32(4);
+  for (int t = 0; t < 4; ++t) {
+    for (int k = 0; k < 3; ++k) f32(k == 2 ? 1.0f : 0.0f);  // facet normal
+    for (int k = 0; k < 9; ++k) f32(t < 3 ? tris[t][k] : float(k % 3 == 0 ? 4 + k / 3 : (k % 3 == 1 ? (k / 3 == 1) : 0)));
+    stl.append(2, '\0');
+  }
+  const std::string file = write("nan.stl", stl);
+  const fs::path png = dir() / "nan.png", stats = dir() / "nan.json";
+  const Result r = run("render '" + file + "' -o '" + png.string() + "' --size 64x64 --stats '" + stats.string() + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(fs::exists(png));
+  EXPECT_EQ(lines(r.err), 2) << r.err;  // one for the surface, one for its wire-frame
+  EXPECT_NE(r.err.find("non-finite"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("nan.stl"), std::string::npos) << r.err;
+  const json s = json::parse(slurp(stats));
+  EXPECT_EQ(s["triangles"].get<int>(), 2);  // the two finite triangles are drawn
+  EXPECT_GE(s["input"]["rejected_non_finite"].get<int>(), 2);
+}
+
+// A text file the reader cannot parse is bad input: one line, exit 2, nothing written.
+TEST(RenderCli, UnreadableMeshFileIsExitTwo) {
+  const std::string vtk = write("broken.vtk",
+                                "# vtk DataFile Version 3.0\nbroken\nASCII\nDATASET POLYDATA\nPOINTS 2 float\n"
+                                "0 0 0\nnan 1 0\nLINES 1 3\n2 0 1\n");
+  const fs::path png = dir() / "broken.png";
+  const Result r = run("render '" + vtk + "' --style wire -o '" + png.string() + "'");
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("broken.vtk"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(png));
+}
