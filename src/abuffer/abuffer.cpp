@@ -59,13 +59,15 @@ void TileABuffer::reset(int w, int h) {
   occlusion_.assign(size_t(w) * size_t(h), INFINITY);
   bw_ = (w + 3) / 4;
   blockOcclusion_.assign(size_t(bw_) * size_t((h + 3) / 4), INFINITY);
-  subpixelDepth_.assign(size_t(w) * size_t(h) * size_t(layout_.samples()), INFINITY);
+  subpixelDepth_.clear();
+  solids_.clear();
 }
 
 std::size_t TileABuffer::bytes() const {
   return pixels_.capacity() * sizeof(Pixel) + nodes_.capacity() * sizeof(Node) +
          freeNodes_.capacity() * sizeof(std::int32_t) + tails_.capacity() * sizeof(Tail) +
-         (subpixelDepth_.capacity() + occlusion_.capacity() + blockOcclusion_.capacity()) * sizeof(float);
+         (subpixelDepth_.capacity() + occlusion_.capacity() + blockOcclusion_.capacity()) * sizeof(float) +
+         solids_.capacity() * sizeof(Fragment);
 }
 
 bool TileABuffer::isSolid(const Fragment& f) const {
@@ -98,13 +100,17 @@ void TileABuffer::toTail(Pixel& p, const Fragment& f) {
   ++local_.tail;
 }
 
-void TileABuffer::occlude(size_t pixelIndex, const Fragment& f) {
+void TileABuffer::occlude(Pixel& p, size_t pixelIndex, const Fragment& f) {
   // Only fragments that hide their subpixels wholly in the resolve (opaque, and not thinner
   // than their mask says: A * N >= k) occlude; then the skip is exact, not an approximation.
   const int k = maskCount(f.mask);
   if (f.opacity < 1.0f || f.standInMask || f.area * float(layout_.samples()) < float(k)) return;
   const int n = layout_.samples();
-  float* z = &subpixelDepth_[pixelIndex * size_t(n)];
+  if (p.depths < 0) {
+    p.depths = std::int32_t(subpixelDepth_.size() / size_t(n));
+    subpixelDepth_.resize(subpixelDepth_.size() + size_t(n), INFINITY);
+  }
+  float* z = &subpixelDepth_[size_t(p.depths) * size_t(n)];
   for (MaskBits m = f.mask; m; m &= m - 1) {
     float& d = z[std::countr_zero(m)];
     d = std::min(d, f.zmax);
@@ -163,24 +169,27 @@ void TileABuffer::pushList(Pixel& p, const Fragment& f) {
 
 void TileABuffer::setSolid(Pixel& p, const Fragment& f) {
   if (p.hasSolid) {
-    if (!(f.zkey < p.solid.zkey)) {
-      if (f.zmin < p.solid.zmax) pushList(p, f);
+    Fragment& cur = solids_[size_t(p.solid)];
+    if (!(f.zkey < cur.zkey)) {
+      if (f.zmin < cur.zmax) pushList(p, f);
       else ++local_.culled;
       return;
     }
-    const Fragment old = p.solid;
-    p.solid = f;
+    const Fragment old = cur;
+    cur = f;
     if (old.zmin < f.zmax) pushList(p, old);  // interpenetrates the new solid: keep it
     else ++local_.culled;
   } else {
-    p.solid = f;
+    p.solid = std::int32_t(solids_.size());
+    solids_.push_back(f);
     p.hasSolid = true;
   }
+  const float solidZmax = solids_[size_t(p.solid)].zmax;
   // Drop list entries wholly behind the new solid fragment.
   std::int32_t* link = &p.head;
   while (*link >= 0) {
     Node& n = nodes_[size_t(*link)];
-    if (n.f.zmin >= p.solid.zmax) {
+    if (n.f.zmin >= solidZmax) {
       const std::int32_t dead = *link;
       *link = n.next;
       freeNodes_.push_back(dead);
@@ -199,7 +208,7 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
   if (!(f.area > 0.0f)) return;
   f.area = std::min(f.area, 1.0f);
   f.opacity = std::clamp(f.opacity, 0.0f, 1.0f);
-  if (f.zmin >= occlusion_[size_t(y) * size_t(w_) + size_t(x)] || (p.hasSolid && f.zmin >= p.solid.zmax)) {
+  if (f.zmin >= occlusion_[size_t(y) * size_t(w_) + size_t(x)] || (p.hasSolid && f.zmin >= solids_[size_t(p.solid)].zmax)) {
     ++local_.culled;
     return;
   }
@@ -216,7 +225,7 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
         depthRangesTouch(n.f, f)) {
       mergeInto(n.f, f);
       ++local_.merged;
-      occlude(pixelIndex, n.f);
+      occlude(p, pixelIndex, n.f);
       if (isSolid(n.f)) {
         const Fragment whole = n.f;
         const std::int32_t dead = *link;
@@ -229,7 +238,7 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
     }
     link = &n.next;
   }
-  occlude(pixelIndex, f);
+  occlude(p, pixelIndex, f);
   if (isSolid(f)) setSolid(p, f);
   else pushList(p, f);
 }
@@ -237,7 +246,7 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
 glm::vec4 TileABuffer::resolve(int x, int y) const {
   const Pixel& p = pixels_[size_t(y) * size_t(w_) + size_t(x)];
   if (p.length == 0 && !p.hasTail) {
-    if (p.hasSolid) return glm::vec4(p.solid.colour, 1.0f);
+    if (p.hasSolid) return glm::vec4(solids_[size_t(p.solid)].colour, 1.0f);
     return glm::vec4(0.0f);
   }
   // Gather, sort front to back (depth, then arrival: deterministic).
@@ -246,7 +255,7 @@ glm::vec4 TileABuffer::resolve(int x, int y) const {
   order.clear();
   for (std::int32_t i = p.head; i >= 0; i = nodes_[size_t(i)].next) order.push_back(&nodes_[size_t(i)]);
   if (p.hasSolid) {
-    solidNode = Node{p.solid, 0xFFFFFFFFu, -1};
+    solidNode = Node{solids_[size_t(p.solid)], 0xFFFFFFFFu, -1};
     order.push_back(&solidNode);
   }
   if (p.hasTail) {

@@ -129,14 +129,15 @@ class TileABuffer {
     std::uint32_t offered = 0;
     std::uint32_t seq = 0;
     std::int32_t tail = -1;
-    Fragment solid;
+    std::int32_t solid = -1;      ///< index into solids_ (kept out of Pixel: most have none)
+    std::int32_t depths = -1;     ///< first of this pixel's N entries in subpixelDepth_, once it has an occluder
   };
 
   bool isSolid(const Fragment& f) const;
   void setSolid(Pixel& p, const Fragment& f);
   void pushList(Pixel& p, const Fragment& f);
   void toTail(Pixel& p, const Fragment& f);
-  void occlude(size_t pixelIndex, const Fragment& f);
+  void occlude(Pixel& p, size_t pixelIndex, const Fragment& f);
   void pruneHidden(Pixel& p, float occlusion);
   std::int32_t allocNode();
 
@@ -150,7 +151,8 @@ class TileABuffer {
   std::vector<float> occlusion_;      ///< per pixel: see occlusionDepth
   std::vector<float> blockOcclusion_; ///< per 4x4 block: the largest occlusion_ in it
   int bw_ = 0;
-  std::vector<float> subpixelDepth_;  ///< per subpixel: nearest zmax of an opaque fragment over it
+  std::vector<float> subpixelDepth_;  ///< per occluded pixel, per subpixel: nearest zmax of an opaque fragment over it
+  std::vector<Fragment> solids_;
   std::size_t peakBytes_ = 0;
   ABufferCounters local_;
 };

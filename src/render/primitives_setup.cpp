@@ -271,10 +271,13 @@ bool finishPolygon(const ScreenPolygon& poly, const ViewTransform& view, Primiti
   x1 = std::min(x1, double(view.width));
   y1 = std::min(y1, double(view.height));
   if (!(x1 > x0) || !(y1 > y0) || poly.count < 3 || !(poly.area() > 0)) return false;
-  prim.bbox[0] = float(x0);
-  prim.bbox[1] = float(y0);
-  prim.bbox[2] = float(x1);
-  prim.bbox[3] = float(y1);
+  // Rounded outwards: a box shrunk by float rounding would drop a row of thin coverage.
+  auto down = [](double v) { float f = float(v); return double(f) > v ? std::nextafter(f, -INFINITY) : f; };
+  auto up = [](double v) { float f = float(v); return double(f) < v ? std::nextafter(f, INFINITY) : f; };
+  prim.bbox[0] = down(x0);
+  prim.bbox[1] = down(y0);
+  prim.bbox[2] = up(x1);
+  prim.bbox[3] = up(y1);
   prim.firstVertex = std::uint32_t(out.verts.size());
   prim.vertexCount = std::uint16_t(poly.count);
   for (int i = 0; i < poly.count; ++i) out.verts.emplace_back(poly.x[i], poly.y[i]);

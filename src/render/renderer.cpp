@@ -35,8 +35,14 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 }
 
 // Rasterises one convex screen polygon into the pixels of one tile: for every pixel it touches,
-// the exact covered area (the polygon clipped to the pixel), the coverage mask from its edges,
-// its depth range and the centroid of the covered part. Pixels wholly inside skip the clipping.
+// the exact covered area, the coverage mask from its edges and the depth range over the pixel.
+//
+// Area without clipping: for a closed contour, the integral of min(x, X) dy is the area of the
+// polygon left of the line x = X (for a convex polygon each horizontal line meets the contour
+// twice, and min() traces the clipped contour). Restricted to the row's band of y, each edge
+// contributes a closed form, and a pixel's area is the difference of that integral at its two
+// sides: the areas of the pixels of a row telescope to the band's area exactly, so adjacent
+// pixels neither lose nor double any of it.
 template <class OccludedRow, class Occluded, class Emit>
 void rasterizePolygon(const PreparedScene& ps, const Primitive& prim, int tx0, int ty0, int tx1,
                       int ty1, const MaskLayout& layout, OccludedRow&& occludedRow, Occluded&& occluded,
@@ -50,80 +56,83 @@ void rasterizePolygon(const PreparedScene& ps, const Primitive& prim, int tx0, i
   EdgeFunction edges[ScreenPolygon::kMaxVertices];
   const int edgeCount = polygonEdges(poly, edges);
   if (edgeCount < 3) return;
+  const double orient = poly.signedArea() > 0 ? 1.0 : -1.0;
   const int row0 = std::max(ty0, int(std::floor(prim.bbox[1])));
   const int row1 = std::min(ty1 - 1, int(std::ceil(prim.bbox[3])) - 1);
-  const double fullArea = 1.0;
-  ScreenPolygon half, band, pixHalf, pix;
+  struct SubEdge {
+    double xa, ya, xb, yb;  // the edge's part inside the band, in contour order
+  };
+  SubEdge sub[ScreenPolygon::kMaxVertices];
+  // Integral over one sub-edge of min(x, X) dy, oriented.
+  auto leftOf = [](const SubEdge& e, double X) {
+    const double dy = e.yb - e.ya;
+    const double lo = std::min(e.xa, e.xb), hi = std::max(e.xa, e.xb);
+    if (X >= hi) return 0.5 * (e.xa + e.xb) * dy;
+    if (X <= lo) return X * dy;
+    const double s = (X - e.xa) / (e.xb - e.xa);  // where the edge crosses x = X
+    const double mean = e.xa < e.xb ? s * 0.5 * (e.xa + X) + (1.0 - s) * X : s * X + (1.0 - s) * 0.5 * (X + e.xb);
+    return mean * dy;
+  };
   for (int row = row0; row <= row1; ++row) {
-    clipAxis(poly, half, false, row, true);
-    clipAxis(half, band, false, row + 1.0, false);
-    if (band.count < 3) continue;
-    std::int64_t spanLo[8], spanHi[8];  // the polygon's sample runs on this row's sample rows
-    bool spansDone = false;
-    double xmin = band.x[0], xmax = band.x[0];
-    double topL = 1e300, topR = -1e300, botL = 1e300, botR = -1e300;
-    for (int i = 0; i < band.count; ++i) {
-      xmin = std::min(xmin, band.x[i]);
-      xmax = std::max(xmax, band.x[i]);
-      if (band.y[i] == row) topL = std::min(topL, band.x[i]), topR = std::max(topR, band.x[i]);
-      if (band.y[i] == row + 1.0) botL = std::min(botL, band.x[i]), botR = std::max(botR, band.x[i]);
+    const double y0 = row, y1 = row + 1.0;
+    int ns = 0;
+    double xmin = 1e300, xmax = -1e300;
+    for (int i = 0; i < poly.count; ++i) {
+      const int j = i + 1 == poly.count ? 0 : i + 1;
+      double xa = poly.x[i], ya = poly.y[i], xb = poly.x[j], yb = poly.y[j];
+      const double lo = std::min(ya, yb), hi = std::max(ya, yb);
+      if (hi <= y0 || lo >= y1 || ya == yb) continue;
+      // Clip the edge to the band (its x at the band's lines, from the same formula both ways).
+      auto xAt = [&](double y) { return xa + (xb - xa) * ((y - ya) / (yb - ya)); };
+      const double ca = std::clamp(ya, y0, y1), cb = std::clamp(yb, y0, y1);
+      const double xca = ca == ya ? xa : xAt(ca), xcb = cb == yb ? xb : xAt(cb);
+      sub[ns++] = {xca, ca, xcb, cb};
+      xmin = std::min({xmin, xca, xcb});
+      xmax = std::max({xmax, xca, xcb});
     }
-    // Pixels in [innerL, innerR) are wholly inside (convex polygon: its left boundary is
-    // convex and its right one concave over the band, so their extremes are at the band's ends).
-    int innerL = 1, innerR = 0;
-    if (topL <= topR && botL <= botR) {
-      const double l = std::ceil(std::max(topL, botL)), r = std::floor(std::min(topR, botR));
-      if (r - l >= 1 && l > -1e9 && r < 1e9) innerL = int(l), innerR = int(r);
-    }
+    if (ns < 2) continue;
     const int c0 = std::max(tx0, int(floorToInt(xmin)));
     const int c1 = std::min(tx1 - 1, int(ceilToInt(xmax)) - 1);
     if (c0 > c1 || occludedRow(row, c0, c1, prim.zlo)) continue;
+    std::int64_t spanLo[8], spanHi[8];  // the polygon's sample runs on this row's sample rows
+    for (int j = 0; j < layout.h; ++j)
+      sampleRowSpan(edges, edgeCount, layout, row + layout.sampleY(j), spanLo[j], spanHi[j]);
+    double left = 0;  // area of the band left of x = c0
+    for (int k = 0; k < ns; ++k) left += leftOf(sub[k], c0);
+    left *= orient;
     for (int col = c0; col <= c1; ++col) {
-      // Cheap tests first: the primitive's nearest depth, then its nearest depth over the
-      // whole pixel square, against the pixel's occlusion depth.
+      double right = 0;
+      for (int k = 0; k < ns; ++k) right += leftOf(sub[k], col + 1.0);
+      right *= orient;
+      const double area = std::clamp(right - left, 0.0, 1.0);
+      left = right;
+      if (!(area > 1e-12)) continue;
       if (occluded(col, row, prim.zlo)) continue;
-      if (prim.zlo < prim.zhi) {
-        const double k00 = prim.depthKeyAt(col, row), k11 = prim.depthKeyAt(col + 1, row + 1);
-        const double k10 = prim.depthKeyAt(col + 1, row), k01 = prim.depthKeyAt(col, row + 1);
-        const double near = ps.view.perspective ? std::max({k00, k10, k01, k11}) : std::min({k00, k10, k01, k11});
-        const double d = std::max(double(prim.zlo), ps.view.depthFromKey(near));
-        if (occluded(col, row, d)) continue;
-      }
       PixelCoverage pc;
       pc.x = col;
       pc.y = row;
-      if (col >= innerL && col < innerR) {
-        pc.area = fullArea;
-        pc.mask = layout.full();
-        pc.cx = col + 0.5;
-        pc.cy = row + 0.5;
-        const double k00 = prim.depthKeyAt(col, row), k10 = prim.depthKeyAt(col + 1, row);
-        const double k01 = prim.depthKeyAt(col, row + 1), k11 = prim.depthKeyAt(col + 1, row + 1);
-        pc.keyMin = std::min({k00, k10, k01, k11});
-        pc.keyMax = std::max({k00, k10, k01, k11});
-        pc.subpixel = layout.samples() / 2;
-      } else {
-        clipAxis(band, pixHalf, true, col, true);
-        clipAxis(pixHalf, pix, true, col + 1.0, false);
-        if (pix.count < 3) continue;
-        pc.area = pix.area();
-        if (!(pc.area > 0.0)) continue;
-        if (!spansDone) {
-          for (int j = 0; j < layout.h; ++j)
-            sampleRowSpan(edges, edgeCount, layout, row + layout.sampleY(j), spanLo[j], spanHi[j]);
-          spansDone = true;
-        }
-        pc.mask = 0;
-        for (int j = 0; j < layout.h; ++j)
-          pc.mask |= spanRowBits(spanLo[j], spanHi[j], std::int64_t(col) * layout.w, layout) << (j * layout.w);
-        pix.centroid(pc.cx, pc.cy);
-        pc.keyMin = 1e300;
-        pc.keyMax = -1e300;
-        for (int i = 0; i < pix.count; ++i) {
-          const double k = prim.depthKeyAt(pix.x[i], pix.y[i]);
-          pc.keyMin = std::min(pc.keyMin, k);
-          pc.keyMax = std::max(pc.keyMax, k);
-        }
+      // Depth over the pixel square (the plane at its corners), clamped to the primitive's.
+      const double k00 = prim.depthKeyAt(col, row), k11 = prim.depthKeyAt(col + 1, row + 1);
+      const double k10 = prim.depthKeyAt(col + 1, row), k01 = prim.depthKeyAt(col, row + 1);
+      pc.keyMin = std::min({k00, k10, k01, k11});
+      pc.keyMax = std::max({k00, k10, k01, k11});
+      if (prim.zlo < prim.zhi) {
+        const double near = ps.view.perspective ? pc.keyMax : pc.keyMin;
+        if (occluded(col, row, std::max(double(prim.zlo), ps.view.depthFromKey(near)))) continue;
+      }
+      pc.area = area;
+      pc.mask = 0;
+      for (int j = 0; j < layout.h; ++j)
+        pc.mask |= spanRowBits(spanLo[j], spanHi[j], std::int64_t(col) * layout.w, layout) << (j * layout.w);
+      pc.cx = col + 0.5;
+      pc.cy = row + 0.5;
+      pc.subpixel = layout.samples() / 2;
+      if (pc.mask == 0) {
+        // Thinner than the sample spacing here: the stand-in subpixel and the shading point are
+        // the centroid of the covered part (the rare slow path: clip to the pixel).
+        ScreenPolygon cell;
+        clipRect(poly, cell, col, row, col + 1.0, row + 1.0);
+        if (cell.count >= 3) cell.centroid(pc.cx, pc.cy);
         const int si = std::clamp(int((pc.cx - col) * layout.w), 0, layout.w - 1);
         const int sj = std::clamp(int((pc.cy - row) * layout.h), 0, layout.h - 1);
         pc.subpixel = sj * layout.w + si;

@@ -1,0 +1,363 @@
+// Tests of the tile A-buffer (abuffer.h) on one pixel or a few: what resolve() returns against
+// the compositing written out by hand from abuffer.h's resolve rule,
+//   w = opacity * area * mean_{s in M} T[s],  T[s] *= 1 - opacity * min(1, area * N / k),
+// and what the counters say about merging, solid pixels, culling and the budget tail.
+#include "abuffer/abuffer.h"
+
+#include <gtest/gtest.h>
+
+#include "test_support.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <random>
+#include <vector>
+
+namespace wf {
+namespace {
+
+const MaskLayout kL{8, 4};                         // Carpenter's 8x4: 32 samples
+constexpr MaskBits kFull = 0xFFFFFFFFull;          // all 32 samples
+constexpr MaskBits kLeftHalf = 0x0F0F0F0Full;      // columns 0-3 of every row
+constexpr MaskBits kRightHalf = 0xF0F0F0F0ull;     // columns 4-7 of every row
+const glm::vec3 kRed(1, 0, 0), kGreen(0, 1, 0), kBlue(0, 0, 1);
+
+Fragment frag(float z, float area, float opacity, glm::vec3 colour, MaskBits mask, std::uint32_t tag) {
+  Fragment f;
+  f.zmin = f.zmax = f.zkey = z;
+  f.area = area;
+  f.opacity = opacity;
+  f.colour = colour;
+  f.mask = mask;
+  f.tag = tag;
+  return f;
+}
+
+void expectRGBA(const glm::vec4& got, const glm::vec4& want, float tol, const char* what) {
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(got[i], want[i], tol) << what << " channel " << i;
+}
+
+TEST(TileABuffer, SingleFragmentAddsColourTimesAreaTimesOpacity) {
+  TileABuffer buf(kL, 64);
+  buf.reset(1, 1);
+  // 4 samples in the mask but area 0.3: the exact area, not the mask, sets the contribution.
+  const glm::vec3 c(1.0f, 0.5f, 0.25f);
+  buf.insert(0, 0, frag(2.0f, 0.3f, 0.6f, c, 0xF, 1), 0);
+  // Premultiplied colour * 0.3 * 0.6 = colour * 0.18, alpha 0.18 (float rounding only).
+  expectRGBA(buf.resolve(0, 0), glm::vec4(c * 0.18f, 0.18f), 1e-7f, "single");
+}
+
+TEST(TileABuffer, EmptyMaskStillContributesItsExactArea) {
+  // A sliver that hits no sample: area 0.01, mask 0 -> it gets a stand-in subpixel and adds
+  // exactly its area (alpha 0.01), so thin lines fade instead of vanishing.
+  TileABuffer buf(kL, 64);
+  buf.reset(1, 1);
+  buf.insert(0, 0, frag(1.0f, 0.01f, 1.0f, kGreen, 0, 1), 17);
+  expectRGBA(buf.resolve(0, 0), glm::vec4(0, 0.01f, 0, 0.01f), 1e-8f, "sliver");
+  // Many such slivers side by side (one object, disjoint stand-ins or not) sum their areas:
+  // 10 pieces of 0.01 of different objects at different sample positions -> alpha 0.1 (each
+  // dims only the share it covers of its stand-in subpixel, so they do not hide each other).
+  TileABuffer b2(kL, 64);
+  b2.reset(1, 1);
+  for (int i = 0; i < 10; ++i) b2.insert(0, 0, frag(1.0f + i, 0.01f, 1.0f, kGreen, 0, 100 + i), 3 * i);
+  EXPECT_NEAR(b2.resolve(0, 0).w, 0.1f, 1e-6f);
+}
+
+TEST(TileABuffer, NearerOpaqueFragmentWinsInEitherOrder) {
+  for (int order = 0; order < 2; ++order) {
+    TileABuffer buf(kL, 64);
+    buf.reset(1, 1);
+    const Fragment red = frag(1.0f, 1.0f, 1.0f, kRed, kFull, 1), green = frag(2.0f, 1.0f, 1.0f, kGreen, kFull, 2);
+    if (order == 0) {
+      buf.insert(0, 0, red, 0);
+      buf.insert(0, 0, green, 0);
+    } else {
+      buf.insert(0, 0, green, 0);
+      buf.insert(0, 0, red, 0);
+    }
+    // Full opaque red at z = 1 hides green at z = 2 wholly: exactly red, alpha 1.
+    expectRGBA(buf.resolve(0, 0), glm::vec4(1, 0, 0, 1), 0.0f, order ? "green first" : "red first");
+    ABufferCounters c;
+    buf.finish(c);
+    EXPECT_EQ(c.culled, 1u);  // the hidden one is dropped, whichever came first
+    EXPECT_EQ(c.pixelsWithList, 0u);
+    EXPECT_EQ(c.pixelsSolidOnly, 1u);
+  }
+}
+
+TEST(TileABuffer, PartialMaskInFrontShowsHalfOfWhatIsBehind) {
+  // Opaque red over the left half (16 of 32 samples, area 0.5) at z = 1, full green at z = 2:
+  // red adds 0.5 and hides its samples; green adds area 1 * (16 / 32 samples unhidden) = 0.5.
+  for (int order = 0; order < 2; ++order) {
+    TileABuffer buf(kL, 64);
+    buf.reset(1, 1);
+    const Fragment red = frag(1.0f, 0.5f, 1.0f, kRed, kLeftHalf, 1), green = frag(2.0f, 1.0f, 1.0f, kGreen, kFull, 2);
+    buf.insert(0, 0, order ? green : red, 0);
+    buf.insert(0, 0, order ? red : green, 0);
+    expectRGBA(buf.resolve(0, 0), glm::vec4(0.5f, 0.5f, 0, 1), 1e-7f, "half over full");
+  }
+}
+
+TEST(TileABuffer, PiecesOfOneObjectMergeAndBecomeSolid) {
+  // Same tag, disjoint masks (left / right halves), touching depths: one merged fragment with
+  // area 1 and a full mask, which is opaque and so becomes the pixel's solid fragment.
+  TileABuffer buf(kL, 64);
+  buf.reset(1, 1);
+  buf.insert(0, 0, frag(1.0f, 0.5f, 1.0f, kRed, kLeftHalf, 7), 0);
+  buf.insert(0, 0, frag(1.0f, 0.5f, 1.0f, kBlue, kRightHalf, 7), 0);
+  // Area-weighted mean colour (0.5 red + 0.5 blue), full coverage.
+  expectRGBA(buf.resolve(0, 0), glm::vec4(0.5f, 0, 0.5f, 1), 1e-7f, "merged");
+  ABufferCounters c;
+  buf.finish(c);
+  EXPECT_EQ(c.merged, 1u);
+  EXPECT_EQ(c.pixelsWithList, 0u);  // solid: no list kept
+  EXPECT_EQ(c.pixelsSolidOnly, 1u);
+  EXPECT_EQ(c.fragments, 2u);
+}
+
+TEST(TileABuffer, DifferentObjectsDoNotMerge) {
+  // Same geometry, different tags: two list entries, no merge; they still add up to alpha 1
+  // because their masks are disjoint (each sees T = 1 on its own samples).
+  TileABuffer buf(kL, 64);
+  buf.reset(1, 1);
+  buf.insert(0, 0, frag(1.0f, 0.5f, 1.0f, kRed, kLeftHalf, 7), 0);
+  buf.insert(0, 0, frag(1.0f, 0.5f, 1.0f, kBlue, kRightHalf, 8), 0);
+  expectRGBA(buf.resolve(0, 0), glm::vec4(0.5f, 0, 0.5f, 1), 1e-7f, "unmerged");
+  ABufferCounters c;
+  buf.finish(c);
+  EXPECT_EQ(c.merged, 0u);
+  EXPECT_EQ(c.pixelsWithList, 1u);
+  EXPECT_EQ(c.pixelsSolidOnly, 0u);
+  EXPECT_EQ(c.maxListLength, 2u);
+}
+
+TEST(TileABuffer, SameObjectDoesNotMergeAcrossADepthGapOrOverlappingMasks) {
+  // Touching depth is required: same tag, disjoint masks, z = 1 and z = 5 -> two entries.
+  {
+    TileABuffer buf(kL, 64);
+    buf.reset(1, 1);
+    buf.insert(0, 0, frag(1.0f, 0.5f, 1.0f, kRed, kLeftHalf, 7), 0);
+    buf.insert(0, 0, frag(5.0f, 0.5f, 1.0f, kBlue, kRightHalf, 7), 0);
+    ABufferCounters c;
+    buf.finish(c);
+    EXPECT_EQ(c.merged, 0u);
+  }
+  // Overlapping masks (a fold of the same surface) are not merged either.
+  {
+    TileABuffer buf(kL, 64);
+    buf.reset(1, 1);
+    buf.insert(0, 0, frag(1.0f, 0.5f, 1.0f, kRed, kLeftHalf, 7), 0);
+    buf.insert(0, 0, frag(1.0f, 0.5f, 1.0f, kBlue, kLeftHalf | 0x10, 7), 0);
+    ABufferCounters c;
+    buf.finish(c);
+    EXPECT_EQ(c.merged, 0u);
+  }
+}
+
+TEST(TileABuffer, SolidPixelKeepsNoListAndCullsWhatIsBehind) {
+  TileABuffer buf(kL, 64);
+  buf.reset(2, 1);
+  buf.insert(0, 0, frag(1.0f, 1.0f, 1.0f, kRed, kFull, 1), 0);
+  // Behind the solid red: a full one, a partial one and a translucent one: all culled.
+  buf.insert(0, 0, frag(3.0f, 1.0f, 1.0f, kGreen, kFull, 2), 0);
+  buf.insert(0, 0, frag(2.0f, 0.25f, 1.0f, kGreen, 0xFF, 3), 0);
+  buf.insert(0, 0, frag(4.0f, 1.0f, 0.5f, kBlue, kFull, 4), 0);
+  // The red is all that is seen; pixel (1, 0) received nothing and stays transparent.
+  expectRGBA(buf.resolve(0, 0), glm::vec4(1, 0, 0, 1), 0.0f, "solid");
+  expectRGBA(buf.resolve(1, 0), glm::vec4(0), 0.0f, "empty");
+  // The occlusion depth is the solid's depth.
+  EXPECT_EQ(buf.occlusionDepth(0, 0), 1.0f);
+  EXPECT_EQ(buf.occlusionDepth(1, 0), INFINITY);
+  ABufferCounters c;
+  buf.finish(c);
+  EXPECT_EQ(c.pixelsWithList, 0u);
+  EXPECT_EQ(c.pixelsSolidOnly, 1u);
+  EXPECT_EQ(c.culled, 3u);
+  EXPECT_EQ(c.coveredPixels, 1u);
+  EXPECT_EQ(c.fragments, 4u);
+}
+
+TEST(TileABuffer, TranslucentLayersCompositeFrontToBackInEitherOrder) {
+  // Red (0.5) at z = 1 in front of blue (0.5) at z = 2: 0.5 red + (1 - 0.5) * 0.5 blue,
+  // alpha 1 - 0.5 * 0.5 = 0.75, whatever the insertion order.
+  for (int order = 0; order < 2; ++order) {
+    TileABuffer buf(kL, 64);
+    buf.reset(1, 1);
+    const Fragment red = frag(1.0f, 1.0f, 0.5f, kRed, kFull, 1), blue = frag(2.0f, 1.0f, 0.5f, kBlue, kFull, 2);
+    buf.insert(0, 0, order ? blue : red, 0);
+    buf.insert(0, 0, order ? red : blue, 0);
+    expectRGBA(buf.resolve(0, 0), glm::vec4(0.5f, 0, 0.25f, 0.75f), 1e-7f, order ? "blue first" : "red first");
+  }
+}
+
+TEST(TileABuffer, BudgetKeepsTheNearestAndBlendsTheRestIntoTheTail) {
+  // K = 4, ten full-coverage layers of opacity 0.1 at distinct depths, inserted in three
+  // orders. Six go to the tail. Alpha: the list gives 1 - 0.9^4, the tail (1 - 0.9^6) behind
+  // the list's 0.9^4: 1 - 0.9^10 in all (float rounding over ~20 operations: 1e-5).
+  const float depths[10] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10};
+  // The four nearest carry red = 1, 0.5, 0.25, 0.125 and nothing else; the six in the tail are
+  // blue, so red and blue separate the exact part from the tail.
+  auto colourOf = [](int i) { return i < 4 ? glm::vec3(std::ldexp(1.0f, -i), 0, 0) : kBlue; };
+  std::vector<std::vector<int>> orders = {{0, 1, 2, 3, 4, 5, 6, 7, 8, 9}, {9, 8, 7, 6, 5, 4, 3, 2, 1, 0}, {5, 0, 9, 3, 7, 1, 8, 2, 6, 4}};
+  for (const auto& ord : orders) {
+    TileABuffer buf(kL, 4);
+    buf.reset(1, 1);
+    for (int i : ord) buf.insert(0, 0, frag(depths[i], 1.0f, 0.1f, colourOf(i), kFull, 10 + i), 0);
+    const glm::vec4 got = buf.resolve(0, 0);
+    EXPECT_NEAR(got.w, 1.0 - std::pow(0.9, 10), 1e-5);
+    // Exact part: layer i (i < 4) adds red_i * 0.1 * 0.9^i.
+    double red = 0;
+    for (int i = 0; i < 4; ++i) red += std::ldexp(1.0, -i) * 0.1 * std::pow(0.9, i);
+    EXPECT_NEAR(got.x, red, 1e-6);
+    EXPECT_NEAR(got.y, 0.0, 1e-7);
+    // Tail: blue * (1 - 0.9^6), seen through the list's 0.9^4.
+    EXPECT_NEAR(got.z, (1 - std::pow(0.9, 6)) * std::pow(0.9, 4), 1e-5);
+    ABufferCounters c;
+    buf.finish(c);
+    EXPECT_EQ(c.tail, 6u);
+    EXPECT_EQ(c.pixelsOverBudget, 1u);
+    EXPECT_EQ(c.pixelsWithList, 1u);
+    EXPECT_EQ(c.maxListLength, 4u);
+    EXPECT_EQ(c.fragments, 10u);
+  }
+}
+
+TEST(TileABuffer, BudgetTailInFrontOfASolidFragmentStillShows) {
+  // Regression test: against 523d985 resolve() composited the tail after *everything*,
+  // including the solid fragment, so a tail of fragments lying in front of the solid was
+  // hidden by it and vanished (blue 0, green 0.656 here) instead of being blended, e.g. hairs
+  // beyond the budget over a skin surface. Fixed in cc8649c ("tail composites at its depth").
+  // Every tail fragment here passed the "not behind the solid" test on insertion.
+  //
+  // K = 4; opaque full green at z = 20 (the solid); ten 0.1-opacity full layers at z = 1 ... 10:
+  // red (the four nearest, kept exactly) and blue (the six in the tail). Front to back:
+  // red adds 0.1 (1 + 0.9 + 0.9^2 + 0.9^3), the tail (1 - 0.9^6) * 0.9^4 blue, the solid
+  // 0.9^10 green; alpha 1. The tail's compositing is exact here (all layers cover the pixel).
+  for (int solidFirst = 0; solidFirst < 2; ++solidFirst) {
+    TileABuffer buf(kL, 4);
+    buf.reset(1, 1);
+    if (solidFirst) buf.insert(0, 0, frag(20.0f, 1.0f, 1.0f, kGreen, kFull, 1), 0);
+    for (int i = 9; i >= 0; --i) buf.insert(0, 0, frag(1.0f + i, 1.0f, 0.1f, i < 4 ? kRed : kBlue, kFull, 10 + i), 0);
+    if (!solidFirst) buf.insert(0, 0, frag(20.0f, 1.0f, 1.0f, kGreen, kFull, 1), 0);
+    const glm::vec4 got = buf.resolve(0, 0);
+    double red = 0;
+    for (int i = 0; i < 4; ++i) red += 0.1 * std::pow(0.9, i);
+    EXPECT_NEAR(got.w, 1.0, 1e-6);
+    EXPECT_NEAR(got.x, red, 1e-5) << "solid first: " << solidFirst;
+    EXPECT_NEAR(got.z, (1 - std::pow(0.9, 6)) * std::pow(0.9, 4), 1e-5) << "tail lost behind the solid? solid first: " << solidFirst;
+    EXPECT_NEAR(got.y, std::pow(0.9, 10), 1e-5) << "solid first: " << solidFirst;
+    ABufferCounters c;
+    buf.finish(c);
+    EXPECT_EQ(c.tail, 6u);
+  }
+}
+
+// Front-to-back composite of full-coverage layers in double: the exact answer.
+glm::dvec4 exactComposite(std::vector<Fragment> fs) {
+  std::stable_sort(fs.begin(), fs.end(), [](const Fragment& a, const Fragment& b) { return a.zkey < b.zkey; });
+  double T = 1;
+  glm::dvec3 rgb(0);
+  for (const Fragment& f : fs) {
+    const double a = double(f.opacity) * double(f.area);
+    rgb += glm::dvec3(f.colour) * (a * T);
+    T *= 1 - a;
+  }
+  return glm::dvec4(rgb, 1 - T);
+}
+
+std::vector<Fragment> randomLayers(int n, float maxOpacity, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<float> U(0.0f, 1.0f);
+  std::vector<Fragment> fs;
+  for (int i = 0; i < n; ++i)
+    fs.push_back(frag(1.0f + 1000.0f * U(rng), 1.0f, maxOpacity * U(rng), glm::vec3(U(rng), U(rng), U(rng)), kFull,
+                      std::uint32_t(i + 1)));
+  return fs;
+}
+
+TEST(TileABuffer, ThousandsOfLayersMatchTheExactComposite) {
+  // 5000 full-coverage layers, budget 65535 (all kept exactly). Tolerance: every layer adds at
+  // most ~4 float roundings (relative 2^-24 each) to the running transmittance and colour, and
+  // T <= 1, so |error| <= 4 * n * 2^-24 = 1.2e-3 in the worst case.
+  const int n = 5000;
+  const double tol = 4.0 * n * std::ldexp(1.0, -24);
+  // Small opacities (every layer matters: T(5000) ~ exp(-5)) and opacities in [0, 1].
+  for (float maxOpacity : {0.002f, 1.0f}) {
+    const std::vector<Fragment> fs = randomLayers(n, maxOpacity, 77);
+    TileABuffer buf(kL, 65535);
+    buf.reset(1, 1);
+    for (const Fragment& f : fs) buf.insert(0, 0, f, 0);
+    const glm::vec4 got = buf.resolve(0, 0);
+    const glm::dvec4 want = exactComposite(fs);
+    for (int i = 0; i < 4; ++i) EXPECT_NEAR(got[i], want[i], tol) << "max opacity " << maxOpacity << " channel " << i;
+    ABufferCounters c;
+    buf.finish(c);
+    EXPECT_EQ(c.tail, 0u);
+    EXPECT_EQ(c.maxListLength, 5000u);
+    EXPECT_EQ(c.maxFragmentsPerPixel, 5000u);
+  }
+}
+
+TEST(TileABuffer, ThousandsOfLayersUnderASmallBudgetStayFiniteAndBounded) {
+  // 5000 random fragments (random masks, some empty, random areas and opacities) into budget
+  // 8: finite, alpha in [0, 1], premultiplied colour in [0, alpha] (colours are in [0, 1]).
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<float> U(0.0f, 1.0f);
+  TileABuffer buf(kL, 8);
+  buf.reset(1, 1);
+  for (int i = 0; i < 5000; ++i) {
+    Fragment f = frag(1.0f + 100.0f * U(rng), U(rng), U(rng), glm::vec3(U(rng), U(rng), U(rng)),
+                      (MaskBits(rng()) & kFull) & (i % 3 == 0 ? 0 : kFull), std::uint32_t(i % 50));
+    f.zmax = f.zmin + 0.01f * U(rng);
+    f.zkey = 0.5f * (f.zmin + f.zmax);
+    buf.insert(0, 0, f, int(rng() % 32));
+  }
+  const glm::vec4 got = buf.resolve(0, 0);
+  EXPECT_TRUE(std::isfinite(got.x) && std::isfinite(got.y) && std::isfinite(got.z) && std::isfinite(got.w));
+  EXPECT_GE(got.w, 0.0f);
+  EXPECT_LE(got.w, 1.0f);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_GE(got[i], 0.0f);
+    EXPECT_LE(got[i], got.w * (1 + 1e-5f));
+  }
+  ABufferCounters c;
+  buf.finish(c);
+  EXPECT_LE(c.maxListLength, 8u);
+  EXPECT_GT(c.tail, 0u);
+
+  // Full-coverage layers under budget 8: the tail is order-independent but its alpha is still
+  // exact, 1 - prod(1 - a_i) (list: 1 - P_list; tail: (1 - P_tail) * P_list), float tolerance
+  // as in the exact test above.
+  const std::vector<Fragment> fs = randomLayers(5000, 0.002f, 78);
+  TileABuffer small(kL, 8);
+  small.reset(1, 1);
+  for (const Fragment& f : fs) small.insert(0, 0, f, 0);
+  EXPECT_NEAR(small.resolve(0, 0).w, exactComposite(fs).w, 4.0 * 5000 * std::ldexp(1.0, -24));
+  ABufferCounters c2;
+  small.finish(c2);
+  EXPECT_EQ(c2.tail, 5000u - 8u);
+}
+
+TEST(TileABuffer, ResetClearsEverything) {
+  // After reset the same buffer resolves a fresh single fragment exactly as a new one would.
+  TileABuffer buf(kL, 4);
+  buf.reset(3, 2);
+  for (int i = 0; i < 20; ++i) buf.insert(1, 1, frag(1.0f + i, 1.0f, 0.3f, kRed, kFull, 1 + i), 0);
+  buf.insert(2, 0, frag(1.0f, 1.0f, 1.0f, kGreen, kFull, 99), 0);
+  ABufferCounters junk;
+  buf.finish(junk);
+  buf.reset(3, 2);
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 3; ++x) expectRGBA(buf.resolve(x, y), glm::vec4(0), 0.0f, "after reset");
+  EXPECT_EQ(buf.occlusionDepth(2, 0), INFINITY);
+  buf.insert(1, 1, frag(1.0f, 0.25f, 1.0f, kBlue, 0xFF, 1), 0);
+  expectRGBA(buf.resolve(1, 1), glm::vec4(0, 0, 0.25f, 0.25f), 1e-7f, "fresh");
+  ABufferCounters c;
+  buf.finish(c);
+  EXPECT_EQ(c.fragments, 1u);  // the counters of the previous tile went to `junk`
+  EXPECT_EQ(c.tail, 0u);
+}
+
+}  // namespace
+}  // namespace wf
