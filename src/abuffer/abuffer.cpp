@@ -107,14 +107,17 @@ void TileABuffer::occlude(Pixel& p, size_t pixelIndex, const Fragment& f) {
   if (f.opacity < 1.0f || f.standInMask || f.area * float(layout_.samples()) < float(k)) return;
   const int n = layout_.samples();
   if (p.depths < 0) {
+    p.open = std::uint8_t(n);
     p.depths = std::int32_t(subpixelDepth_.size() / size_t(n));
     subpixelDepth_.resize(subpixelDepth_.size() + size_t(n), INFINITY);
   }
   float* z = &subpixelDepth_[size_t(p.depths) * size_t(n)];
   for (MaskBits m = f.mask; m; m &= m - 1) {
     float& d = z[std::countr_zero(m)];
+    if (d == INFINITY) --p.open;
     d = std::min(d, f.zmax);
   }
+  if (p.open > 0) return;  // some subpixel is still uncovered: the pixel is not occluded yet
   float occ = 0.0f;
   for (int s = 0; s < n; ++s) occ = std::max(occ, z[s]);
   if (!(occ < occlusion_[pixelIndex])) return;
@@ -219,7 +222,7 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
   }
   // Merge with a recent piece of the same object.
   std::int32_t* link = &p.head;
-  for (int look = 0; *link >= 0 && look < kMergeLookBack; ++look) {
+  for (int look = 0; f.mayMerge && *link >= 0 && look < kMergeLookBack; ++look) {
     Node& n = nodes_[size_t(*link)];
     if (n.f.tag == f.tag && ((n.f.mask & f.mask) == 0 || n.f.standInMask || f.standInMask) &&
         depthRangesTouch(n.f, f)) {
@@ -275,7 +278,9 @@ glm::vec4 TileABuffer::resolve(int x, int y) const {
     return a->f.zkey < b->f.zkey || (a->f.zkey == b->f.zkey && a->seq < b->seq);
   });
   const int N = layout_.samples();
-  float T[64];
+  // Per-subpixel transmittance, updated branch-free over all N lanes (vectorises; cheaper than
+  // walking the mask's bits when masks hold many).
+  alignas(32) float T[64];
   std::fill(T, T + N, 1.0f);
   glm::vec3 rgb(0.0f);
   float alpha = 0.0f;
@@ -283,13 +288,15 @@ glm::vec4 TileABuffer::resolve(int x, int y) const {
     const Fragment& f = n->f;
     const int k = maskCount(f.mask);
     if (k == 0) continue;
+    alignas(32) float in[64];
+    for (int s = 0; s < N; ++s) in[s] = float((f.mask >> s) & 1u);
     float sumT = 0;
-    for (MaskBits m = f.mask; m; m &= m - 1) sumT += T[std::countr_zero(m)];
+    for (int s = 0; s < N; ++s) sumT += T[s] * in[s];
     const float w = f.opacity * f.area * (sumT / float(k));
     rgb += f.colour * w;
     alpha += w;
     const float hide = f.opacity * std::min(1.0f, f.area * float(N) / float(k));
-    for (MaskBits m = f.mask; m; m &= m - 1) T[std::countr_zero(m)] *= 1.0f - hide;
+    for (int s = 0; s < N; ++s) T[s] *= 1.0f - hide * in[s];
   }
   // Quantised masks can let true areas overlap where masks do not: never more than full cover.
   if (alpha > 1.0f) {

@@ -48,6 +48,7 @@ struct Fragment {
   MaskBits mask = 0;         ///< subpixel samples covered
   std::uint32_t tag = 0;     ///< object id: pieces with the same tag may merge
   bool standInMask = false;  ///< mask is the centroid's subpixel, not a sampled mask
+  bool mayMerge = true;      ///< false for an object of one piece (a one-segment hair): skips the merge search
 };
 
 struct ABufferCounters {
@@ -131,6 +132,7 @@ class TileABuffer {
     std::int32_t tail = -1;
     std::int32_t solid = -1;      ///< index into solids_ (kept out of Pixel: most have none)
     std::int32_t depths = -1;     ///< first of this pixel's N entries in subpixelDepth_, once it has an occluder
+    std::uint8_t open = 64;       ///< subpixels no occluder covers yet
   };
 
   bool isSolid(const Fragment& f) const;

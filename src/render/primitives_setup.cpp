@@ -4,6 +4,7 @@
 #include "shading/cylinder_shading.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <chrono>
@@ -55,7 +56,7 @@ bool Scene::boundingSphere(glm::dvec3& centre, double& radius) const {
 size_t PreparedScene::bytes() const {
   size_t b = primitives.capacity() * sizeof(Primitive) + vertices.capacity() * sizeof(glm::dvec2) +
              triangles.capacity() * sizeof(TriangleAttributes) +
-             segments.capacity() * sizeof(SegmentAttributes);
+             segments.capacity() * sizeof(SegmentAttributes) + depthOrder.capacity() * sizeof(std::uint32_t);
   for (const ShaderSlot& s : shaders) {
     if (s.map) b += s.map->bytes();
     if (s.sphere) b += s.sphere->texels().size() * sizeof(glm::vec3);
@@ -548,6 +549,7 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint16_
       prim.zlo = float(std::min(s.d0, s.d1));
       prim.zhi = float(std::max(s.d0, s.d1));
       prim.tag = tag;
+      prim.mayMerge = nseg > 1;  // a one-segment polyline (a straight hair) has nothing to merge with
       prim.opacity = wire.opacity;
       prim.isSegment = true;
       prim.attribute = std::uint32_t(out.segs.size());
@@ -686,6 +688,16 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
                           (wire ? " segments" : " triangles") +
                           " with non-finite (NaN/Inf) or missing vertices skipped");
   }
+  // Front to back by nearest depth (ties by set-up order: a strict order, so deterministic):
+  // binPrimitives fills the tiles in this order, so tiles rasterise near primitives first and
+  // the exact occlusion test discards most of what lies behind before it is rasterised.
+  {
+    std::vector<std::pair<float, std::uint32_t>> keys(ps.primitives.size());
+    tbb::parallel_for(size_t(0), keys.size(), [&](size_t i) { keys[i] = {ps.primitives[i].zlo, std::uint32_t(i)}; });
+    tbb::parallel_sort(keys.begin(), keys.end());
+    ps.depthOrder.resize(keys.size());
+    for (size_t i = 0; i < keys.size(); ++i) ps.depthOrder[i] = keys[i].second;
+  }
   st.primitives = ps.primitives.size();
   st.setup = secondsSince(t0) - mapSeconds;
   return ps;
@@ -704,7 +716,7 @@ TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& st) {
     tx1 = std::clamp((int(std::ceil(p.bbox[2])) - 1) / tileSize, 0, bins.tilesX - 1);
     ty1 = std::clamp((int(std::ceil(p.bbox[3])) - 1) / tileSize, 0, bins.tilesY - 1);
   };
-  for (const Primitive& p : ps.primitives) {
+  for (const Primitive& p : ps.primitives) {  // counting: any order
     int a, b, c, d;
     range(p, a, b, c, d);
     for (int ty = b; ty <= d; ++ty)
@@ -713,7 +725,7 @@ TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& st) {
   for (size_t t = 0; t < tiles; ++t) bins.offsets[t + 1] += bins.offsets[t];
   bins.items.resize(bins.offsets[tiles]);
   std::vector<std::uint32_t> fill(bins.offsets.begin(), bins.offsets.end() - 1);
-  for (size_t i = 0; i < ps.primitives.size(); ++i) {
+  for (const std::uint32_t i : ps.depthOrder) {  // filling: front to back
     int a, b, c, d;
     range(ps.primitives[i], a, b, c, d);
     for (int ty = b; ty <= d; ++ty)

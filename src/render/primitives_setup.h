@@ -32,6 +32,7 @@ struct Primitive {
   std::uint16_t vertexCount = 0;
   bool isSegment = false;
   bool constantColour = false;  ///< `colour` holds the shading of every fragment
+  bool mayMerge = true;         ///< false when the primitive is its object's only piece
   std::uint32_t tag = 0;
   std::uint32_t attribute = 0;  ///< index into triangles or segments of PreparedScene
   float opacity = 1.0f;
@@ -79,6 +80,7 @@ struct PreparedScene {
   std::vector<glm::dvec2> vertices;
   std::vector<TriangleAttributes> triangles;
   std::vector<SegmentAttributes> segments;
+  std::vector<std::uint32_t> depthOrder;  ///< primitive indices, nearest first
   double cueNear = 0, cueFar = 1;  ///< depth range of the wires (depth cueing)
   size_t bytes() const;
 };
@@ -95,7 +97,7 @@ struct PixelCoverage {
 struct TileBins {
   int tilesX = 0, tilesY = 0;
   std::vector<std::uint32_t> offsets;  ///< tile t: items[offsets[t], offsets[t+1])
-  std::vector<std::uint32_t> items;    ///< primitive indices, in primitive order
+  std::vector<std::uint32_t> items;    ///< primitive indices, nearest first (PreparedScene::depthOrder)
   size_t bytes() const { return (offsets.capacity() + items.capacity()) * sizeof(std::uint32_t); }
 };
 

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <climits>
 #include <cmath>
 
 namespace wf {
@@ -97,17 +98,22 @@ void rasterizePolygon(const PreparedScene& ps, const Primitive& prim, int tx0, i
     std::int64_t spanLo[8], spanHi[8];  // the polygon's sample runs on this row's sample rows
     for (int j = 0; j < layout.h; ++j)
       sampleRowSpan(edges, edgeCount, layout, row + layout.sampleY(j), spanLo[j], spanHi[j]);
-    double left = 0;  // area of the band left of x = c0
-    for (int k = 0; k < ns; ++k) left += leftOf(sub[k], c0);
-    left *= orient;
+    double left = 0;      // area of the band left of x = leftAt
+    int leftAt = INT_MIN;
     for (int col = c0; col <= c1; ++col) {
+      if (occluded(col, row, prim.zlo)) continue;  // before any arithmetic: most are hidden
+      if (leftAt != col) {
+        left = 0;
+        for (int k = 0; k < ns; ++k) left += leftOf(sub[k], col);
+        left *= orient;
+      }
       double right = 0;
       for (int k = 0; k < ns; ++k) right += leftOf(sub[k], col + 1.0);
       right *= orient;
       const double area = std::clamp(right - left, 0.0, 1.0);
       left = right;
+      leftAt = col + 1;
       if (!(area > 1e-12)) continue;
-      if (occluded(col, row, prim.zlo)) continue;
       PixelCoverage pc;
       pc.x = col;
       pc.y = row;
@@ -197,16 +203,13 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
       }
       TileABuffer& buf = buffers.local();
       buf.reset(tx1 - tx0, ty1 - ty0);
-      // Front to back by nearest depth (ties by primitive order: deterministic), so that the
-      // exact occlusion test below discards most of what lies behind before it is rasterised.
-      thread_local std::vector<std::uint32_t> order;
-      order.assign(bins.items.begin() + b0, bins.items.begin() + b1);
-      std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-        const float za = ps.primitives[a].zlo, zb = ps.primitives[b].zlo;
-        return za < zb || (za == zb && a < b);
-      });
-      for (size_t oi = 0; oi < order.size(); ++oi) {
-        const Primitive& prim = ps.primitives[order[oi]];
+      // Primitives arrive front to back (binPrimitives fills the bins in depth order).
+      for (uint32_t oi = b0; oi < b1; ++oi) {
+        // A tile's primitives are scattered through memory: fetch ahead (the loop is bound by
+        // memory latency, not arithmetic, on dense scenes).
+        if (oi + 8 < b1) __builtin_prefetch(&ps.primitives[bins.items[oi + 8]]);
+        if (oi + 4 < b1) __builtin_prefetch(&ps.vertices[ps.primitives[bins.items[oi + 4]].firstVertex]);
+        const Primitive& prim = ps.primitives[bins.items[oi]];
         {  // hierarchical occlusion: is the primitive behind everything over its bounding box?
           const int x0 = std::max(tx0, int(prim.bbox[0])) - tx0, y0 = std::max(ty0, int(prim.bbox[1])) - ty0;
           const int x1 = std::min(tx1 - 1, int(prim.bbox[2])) - tx0, y1 = std::min(ty1 - 1, int(prim.bbox[3])) - ty0;
@@ -232,6 +235,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
           f.mask = pc.mask;
           f.opacity = prim.opacity;
           f.tag = prim.tag;
+          f.mayMerge = prim.mayMerge;
           f.colour = shadeFragment(ps, prim, pc.cx, pc.cy, f.zkey);
           buf.insert(pc.x - tx0, pc.y - ty0, f, pc.subpixel);
         });
