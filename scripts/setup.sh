@@ -12,6 +12,7 @@ packages=(
   nlohmann-json3-dev                # JSON reports and scene files
   gnuplot-nox                       # error-against-time plots (wirefur accuracy)
   libgtest-dev libbenchmark-dev     # tests and benchmarks
+  xvfb xauth libgl1-mesa-dri        # OpenGL without a display (Mesa llvmpipe): the VTK peer benchmark
 )
 
 missing=()
