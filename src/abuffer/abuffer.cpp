@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace wf {
 
@@ -10,6 +11,16 @@ namespace {
 // arrive one after another (consecutive segments, neighbouring triangles), so a short look-back
 // finds them without making insertion O(list length).
 constexpr int kMergeLookBack = 8;
+// The eight bits of a byte as eight 0/1 floats (the resolve's mask expansion).
+struct ByteLanes {
+  float v[256][8];
+  constexpr ByteLanes() : v{} {
+    for (int b = 0; b < 256; ++b)
+      for (int i = 0; i < 8; ++i) v[b][i] = float((b >> i) & 1);
+  }
+};
+constexpr ByteLanes kByteLaneTable{};
+const auto& kByteLanes = kByteLaneTable.v;
 // Solid means the whole pixel: the exact area may fall short of 1 by rounding only.
 constexpr float kSolidArea = 1.0f - 1e-5f;
 
@@ -60,6 +71,7 @@ void TileABuffer::reset(int w, int h) {
   bw_ = (w + 3) / 4;
   blockOcclusion_.assign(size_t(bw_) * size_t((h + 3) / 4), INFINITY);
   subpixelDepth_.clear();
+  subpixelDepth_.reserve(size_t(w) * size_t(h) * size_t(layout_.samples()));  // no regrowth while filling
   solids_.clear();
 }
 
@@ -278,8 +290,8 @@ glm::vec4 TileABuffer::resolve(int x, int y) const {
     return a->f.zkey < b->f.zkey || (a->f.zkey == b->f.zkey && a->seq < b->seq);
   });
   const int N = layout_.samples();
-  // Per-subpixel transmittance, updated branch-free over all N lanes (vectorises; cheaper than
-  // walking the mask's bits when masks hold many).
+  // Per-subpixel transmittance. Masks with few bits walk their bits; fuller ones update all N
+  // lanes branch-free (vectorised), the mask expanded to 0/1 lanes a byte at a time.
   alignas(32) float T[64];
   std::fill(T, T + N, 1.0f);
   glm::vec3 rgb(0.0f);
@@ -288,15 +300,20 @@ glm::vec4 TileABuffer::resolve(int x, int y) const {
     const Fragment& f = n->f;
     const int k = maskCount(f.mask);
     if (k == 0) continue;
-    alignas(32) float in[64];
-    for (int s = 0; s < N; ++s) in[s] = float((f.mask >> s) & 1u);
+    const float hide = f.opacity * std::min(1.0f, f.area * float(N) / float(k));
     float sumT = 0;
-    for (int s = 0; s < N; ++s) sumT += T[s] * in[s];
+    if (k <= 8) {
+      for (MaskBits m = f.mask; m; m &= m - 1) sumT += T[std::countr_zero(m)];
+      for (MaskBits m = f.mask; m; m &= m - 1) T[std::countr_zero(m)] *= 1.0f - hide;
+    } else {
+      alignas(32) float in[64];
+      for (int b = 0; b < N; b += 8) std::memcpy(in + b, kByteLanes[(f.mask >> b) & 0xFF], sizeof(float) * 8);
+      for (int s = 0; s < N; ++s) sumT += T[s] * in[s];
+      for (int s = 0; s < N; ++s) T[s] *= 1.0f - hide * in[s];
+    }
     const float w = f.opacity * f.area * (sumT / float(k));
     rgb += f.colour * w;
     alpha += w;
-    const float hide = f.opacity * std::min(1.0f, f.area * float(N) / float(k));
-    for (int s = 0; s < N; ++s) T[s] *= 1.0f - hide * in[s];
   }
   // Quantised masks can let true areas overlap where masks do not: never more than full cover.
   if (alpha > 1.0f) {

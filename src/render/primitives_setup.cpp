@@ -139,7 +139,8 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
   auto material = [&](int i) -> const Material& {
     return scene.materials[size_t(std::clamp(i, 0, int(scene.materials.size()) - 1))];
   };
-  const EnvironmentMap& env = scene.environment ? *scene.environment : defaultEnvironment();
+  // The environment is made only when a chrome material needs it.
+  auto env = [&]() -> const EnvironmentMap& { return scene.environment ? *scene.environment : defaultEnvironment(); };
   for (const SceneSurface& s : scene.surfaces) {
     if (s.mesh.triangles.empty()) {
       surfaceShader.push_back(0);
@@ -160,7 +161,7 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
               ReflectanceSphere::phong(o.sphereResolution, slot.phong, ps.eyeLights));
         else
           slot.sphere = std::make_shared<ReflectanceSphere>(
-              ReflectanceSphere::chrome(o.sphereResolution, env, slot.chromeReflectance));
+              ReflectanceSphere::chrome(o.sphereResolution, env(), slot.chromeReflectance));
         sphereOf[mi] = slot.sphere;
         ++st.reflectanceSpheres;
       }
@@ -217,7 +218,7 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
     for (const glm::dvec3& d : dirs) {
       const glm::dvec3 n(d.x, d.y, std::abs(d.z));
       const glm::dvec3 exact = mat.kind == Material::Kind::Chrome
-                                   ? chromeRadiance(env, mat.chromeReflectance, n, axis)
+                                   ? chromeRadiance(env(), mat.chromeReflectance, n, axis)
                                    : phongRadiance(n, axis, m, ps.eyeLights);
       st.sphereError = std::max(st.sphereError, maxComponentDiff(glm::dvec3(sphere->lookup(n)), exact));
       if (ang > 0 && mat.kind == Material::Kind::Phong && glm::dot(n, corner) > 0)
