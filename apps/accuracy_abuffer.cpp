@@ -177,6 +177,29 @@ json abufferStudy(bool quick, const Progress& progress, std::vector<std::pair<st
       spec.series.push_back(rms);
       spec.series.push_back(mx);
     }
+    // Occlusion culling's epsilon (mask 8x4, K 64): error bounded by epsilon against time.
+    {
+      PlotSeries eps{"RMS, occlusion epsilon (labels), 8x4, K 64", {}, {}, {}, "linespoints dt 4"};
+      json ej = json::array();
+      for (double e : {0.0, 1e-4, 1e-3, 1e-2}) {
+        wf::RenderOptions o = base;
+        o.occlusionEpsilon = e;
+        wf::RenderResult r;
+        const double secs = medianSeconds(reps, c.scene, o, r);
+        const ImageError err = imageError(r.image, ref.image);
+        ej.push_back({{"occlusion_epsilon", e}, {"seconds", secs}, {"rgba_rms", err.rms}, {"rgba_max", err.max},
+                      {"fragments", r.stats.abuffer.fragments}, {"culled", r.stats.abuffer.culled}});
+        eps.x.push_back(secs * 1e3);
+        eps.y.push_back(std::max(err.rms, 1e-7));
+        char label[16];
+        std::snprintf(label, sizeof label, "%g", e);
+        eps.labels.push_back(label);
+        std::printf("  %-9s epsilon %-6g: %7.2f ms  RGBA rms %.2e max %.2e  fragments %llu\n", c.name.c_str(), e,
+                    secs * 1e3, err.rms, err.max, (unsigned long long)r.stats.abuffer.fragments);
+      }
+      spec.series.push_back(eps);
+      cj["occlusion_epsilon_sweep"] = ej;
+    }
     spec.series.push_back({"reference noise (RMS)", {spec.series[0].x.front(), spec.series[0].x.back()},
                            {cj["reference_noise_rms"].get<double>(), cj["reference_noise_rms"].get<double>()}, {}, "lines dt 3"});
     std::printf("  %-9s reference %.2f s, its own noise RMS %.2e (coverage %.2e)\n", c.name.c_str(), ref.stats.total,

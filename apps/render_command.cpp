@@ -69,15 +69,17 @@ json statsJson(const wf::RenderStats& st, const wf::RenderOptions& o, bool refer
   e["sphere_max"] = st.sphereError;
   e["orthographic_max"] = st.orthographicError;
   e["budget_tail_share"] = st.budgetTailShare;
+  e["occlusion_epsilon"] = st.occlusionEpsilon;
   e["shading_bound"] = st.mapError + st.sphereError + st.orthographicError;
   e["notes"] =
       "coverage: exact area per fragment; masks (1/N per subpixel) decide hiding where fragments "
-      "overlap. map/sphere: max |table - exact| over 192 test directions; orthographic: largest "
+      "overlap. occlusion_epsilon: bound per pixel of what occlusion culling leaves out. map/sphere: max |table - exact| over 192 test directions; orthographic: largest "
       "change of the exact shading between the view axis and the image-corner ray. Radiance units.";
   j["error_estimate"] = e;
   j["options"] = {{"size", {o.width, o.height}},
                   {"mask", o.mask.name()},
                   {"budget", o.budget},
+                  {"occlusion_epsilon", o.occlusionEpsilon},
                   {"shading", o.shading == wf::ShadingPath::Maps ? "maps" : "exact"},
                   {"threads", o.threads},
                   {"tile_size", o.tileSize},

@@ -57,8 +57,9 @@ void ABufferCounters::add(const ABufferCounters& o) {
   peakBytes = std::max(peakBytes, o.peakBytes);
 }
 
-TileABuffer::TileABuffer(const MaskLayout& layout, int budget)
-    : layout_(layout), budget_(std::clamp(budget, 1, 65535)) {}
+TileABuffer::TileABuffer(const MaskLayout& layout, int budget, float occlusionEpsilon)
+    : layout_(layout), budget_(std::clamp(budget, 1, 65535)),
+      epsilon_(std::isfinite(occlusionEpsilon) ? std::clamp(occlusionEpsilon, 0.0f, 0.5f) : 0.0f) {}
 
 void TileABuffer::reset(int w, int h) {
   w_ = w;
@@ -71,7 +72,7 @@ void TileABuffer::reset(int w, int h) {
   bw_ = (w + 3) / 4;
   blockOcclusion_.assign(size_t(bw_) * size_t((h + 3) / 4), INFINITY);
   subpixelDepth_.clear();
-  subpixelDepth_.reserve(size_t(w) * size_t(h) * size_t(layout_.samples()));  // no regrowth while filling
+  subpixelDepth_.reserve(2 * size_t(w) * size_t(h) * size_t(layout_.samples()));  // no regrowth while filling
   solids_.clear();
 }
 
@@ -113,22 +114,45 @@ void TileABuffer::toTail(Pixel& p, const Fragment& f) {
 }
 
 void TileABuffer::occlude(Pixel& p, size_t pixelIndex, const Fragment& f) {
-  // Only fragments that hide their subpixels wholly in the resolve (opaque, and not thinner
-  // than their mask says: A * N >= k) occlude; then the skip is exact, not an approximation.
+  // Each subpixel tracks the transmittance T the fragments so far leave over it (the resolve's
+  // own factors 1 - alpha * min(1, A N / k)) and the depth D behind which they all lie. Once
+  // T <= epsilon the subpixel is settled: whatever lies behind D adds at most epsilon of its
+  // colour there. With epsilon = 0 only fragments that hide wholly settle a subpixel and the skip
+  // is exact; a fragment that alone hides a subpixel settles it at its own depth.
   const int k = maskCount(f.mask);
-  if (f.opacity < 1.0f || f.standInMask || f.area * float(layout_.samples()) < float(k)) return;
   const int n = layout_.samples();
+  const float hide = f.opacity * std::min(1.0f, f.area * float(n) / float(std::max(k, 1)));
+  if (!(hide > 0.0f) || k == 0) return;
   if (p.depths < 0) {
     p.open = std::uint8_t(n);
-    p.depths = std::int32_t(subpixelDepth_.size() / size_t(n));
-    subpixelDepth_.resize(subpixelDepth_.size() + size_t(n), INFINITY);
+    p.depths = std::int32_t(subpixelDepth_.size() / size_t(2 * n));
+    subpixelDepth_.resize(subpixelDepth_.size() + size_t(n), 0.0f);   // D
+    subpixelDepth_.resize(subpixelDepth_.size() + size_t(n), 1.0f);   // T
   }
-  float* z = &subpixelDepth_[size_t(p.depths) * size_t(n)];
+  float* D = &subpixelDepth_[size_t(p.depths) * size_t(2 * n)];
+  float* T = D + n;
+  bool changed = false;
   for (MaskBits m = f.mask; m; m &= m - 1) {
-    float& d = z[std::countr_zero(m)];
-    if (d == INFINITY) --p.open;
-    d = std::min(d, f.zmax);
+    const int s = std::countr_zero(m);
+    const bool settled = T[s] <= epsilon_;
+    if (hide >= 1.0f) {
+      if (!settled) {
+        --p.open;
+        D[s] = f.zmax;
+        changed = true;
+      } else if (f.zmax < D[s]) {
+        D[s] = f.zmax;
+        changed = true;
+      }
+      T[s] = 0.0f;
+    } else if (!settled) {
+      T[s] *= 1.0f - hide;
+      D[s] = std::max(D[s], f.zmax);
+      if (T[s] <= epsilon_) --p.open, changed = true;
+    }
   }
+  if (!changed) return;
+  const float* z = D;
   if (p.open > 0) return;  // some subpixel is still uncovered: the pixel is not occluded yet
   float occ = 0.0f;
   for (int s = 0; s < n; ++s) occ = std::max(occ, z[s]);
@@ -240,21 +264,24 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
         depthRangesTouch(n.f, f)) {
       mergeInto(n.f, f);
       ++local_.merged;
-      occlude(p, pixelIndex, n.f);
       if (isSolid(n.f)) {
         const Fragment whole = n.f;
         const std::int32_t dead = *link;
         *link = n.next;
         freeNodes_.push_back(dead);
         --p.length;
+        occlude(p, pixelIndex, whole);
         setSolid(p, whole);
       }
       return;
     }
     link = &n.next;
   }
-  occlude(p, pixelIndex, f);
-  if (isSolid(f)) setSolid(p, f);
+  // Occlusion counts what the resolve will do with this very fragment: a piece that may still
+  // merge with another (and change its hiding) counts only once it covers the whole pixel.
+  const bool solid = isSolid(f);
+  if (solid || !f.mayMerge) occlude(p, pixelIndex, f);
+  if (solid) setSolid(p, f);
   else pushList(p, f);
 }
 

@@ -68,7 +68,9 @@ struct ABufferCounters {
 
 class TileABuffer {
  public:
-  TileABuffer(const MaskLayout& layout, int budget);
+  /// `occlusionEpsilon`: a subpixel counts as hidden once the fragments in front leave at most
+  /// this transmittance (0: only wholly hiding fragments count, and culling is exact).
+  TileABuffer(const MaskLayout& layout, int budget, float occlusionEpsilon = 0.0f);
   /// Empties the buffer for a tile of w x h pixels (keeps its memory).
   void reset(int w, int h);
   /// Adds a fragment to pixel (x, y) of the tile. `centroidSubpixel` is the sample index used as
@@ -131,8 +133,8 @@ class TileABuffer {
     std::uint32_t seq = 0;
     std::int32_t tail = -1;
     std::int32_t solid = -1;      ///< index into solids_ (kept out of Pixel: most have none)
-    std::int32_t depths = -1;     ///< first of this pixel's N entries in subpixelDepth_, once it has an occluder
-    std::uint8_t open = 64;       ///< subpixels no occluder covers yet
+    std::int32_t depths = -1;     ///< this pixel's record (2N floats) in subpixelDepth_, once it has an occluder
+    std::uint8_t open = 64;       ///< subpixels not yet settled (see occlude)
   };
 
   bool isSolid(const Fragment& f) const;
@@ -145,6 +147,7 @@ class TileABuffer {
 
   MaskLayout layout_;
   int budget_;
+  float epsilon_ = 0.0f;
   int w_ = 0, h_ = 0;
   std::vector<Pixel> pixels_;
   std::vector<Node> nodes_;
@@ -153,7 +156,7 @@ class TileABuffer {
   std::vector<float> occlusion_;      ///< per pixel: see occlusionDepth
   std::vector<float> blockOcclusion_; ///< per 4x4 block: the largest occlusion_ in it
   int bw_ = 0;
-  std::vector<float> subpixelDepth_;  ///< per occluded pixel, per subpixel: nearest zmax of an opaque fragment over it
+  std::vector<float> subpixelDepth_;  ///< per pixel with occluders: N depths D then N transmittances T (see occlude)
   std::vector<Fragment> solids_;
   std::size_t peakBytes_ = 0;
   ABufferCounters local_;

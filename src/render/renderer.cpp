@@ -20,6 +20,7 @@ std::string RenderOptions::problem() const {
     return "image size must be 1 ... 16384 on each side";
   if (!mask.valid()) return "mask must be 4x4, 8x4 or 8x8";
   if (budget < 1 || budget > 65535) return "budget must be 1 ... 65535";
+  if (!(occlusionEpsilon >= 0.0 && occlusionEpsilon <= 0.1)) return "occlusion epsilon must be 0 ... 0.1";
   if (tileSize < 8 || tileSize > 256) return "tile size must be 8 ... 256";
   if (threads < 0 || threads > 1024) return "threads must be 0 ... 1024";
   if (referenceSamples < 1 || referenceSamples > 64) return "reference samples must be 1 ... 64";
@@ -188,7 +189,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
     const auto tr = std::chrono::steady_clock::now();
     const int tilesX = bins.tilesX;
     tbb::enumerable_thread_specific<TileABuffer> buffers(
-        [&] { return TileABuffer(options.mask, options.budget); });
+        [&] { return TileABuffer(options.mask, options.budget, float(options.occlusionEpsilon)); });
     tbb::enumerable_thread_specific<ABufferCounters> counters;
     tbb::enumerable_thread_specific<size_t> occludedPrims(0);
     tbb::parallel_for(0, bins.tilesX * bins.tilesY, [&](int tile) {
@@ -257,6 +258,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
     st.peakBytes = ps.bytes() + bins.bytes() + st.abuffer.peakBytes;
   });
   st.coverageQuantisation = 1.0 / options.mask.samples();
+  st.occlusionEpsilon = options.occlusionEpsilon;
   st.budgetTailShare = st.abuffer.fragments ? double(st.abuffer.tail) / double(st.abuffer.fragments) : 0.0;
   st.total = secondsSince(t0);
   return result;

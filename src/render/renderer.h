@@ -28,6 +28,10 @@ struct RenderOptions {
   int width = 640, height = 480;
   MaskLayout mask{8, 4};
   int budget = 64;          ///< fragments kept exactly per pixel (K); the rest blend into a tail
+  /// Fragments behind subpixels whose transmittance is already <= this are skipped before
+  /// rasterisation (error <= epsilon per pixel; 0: exact, only wholly hidden ones are skipped).
+  /// Default 1e-4: below one 8-bit sRGB step even at black (sRGB's slope there is 12.92).
+  double occlusionEpsilon = 1e-4;
   int tileSize = 32;
   int threads = 0;          ///< 0: all cores
   ShadingPath shading = ShadingPath::Maps;
@@ -61,6 +65,7 @@ struct RenderStats {
   double sphereError = 0;           ///< max |sphere - Phong| over a test set
   double orthographicError = 0;     ///< max change of exact shading from the axis to the corner ray
   double budgetTailShare = 0;       ///< share of fragments blended into tails
+  double occlusionEpsilon = 0;      ///< bound of the error of occlusion culling per pixel
   std::vector<std::string> warnings;
 };
 
