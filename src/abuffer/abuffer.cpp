@@ -123,6 +123,8 @@ void TileABuffer::occlude(Pixel& p, size_t pixelIndex, const Fragment& f) {
   const int n = layout_.samples();
   const float hide = f.opacity * std::min(1.0f, f.area * float(n) / float(std::max(k, 1)));
   if (!(hide > 0.0f) || k == 0) return;
+  // A settled pixel changes only when a wholly hiding fragment comes nearer than its depth.
+  if (p.open == 0 && p.depths >= 0 && (hide < 1.0f || !(f.zmax < occlusion_[pixelIndex]))) return;
   if (p.depths < 0) {
     p.open = std::uint8_t(n);
     p.depths = std::int32_t(subpixelDepth_.size() / size_t(2 * n));

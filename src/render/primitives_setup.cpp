@@ -56,7 +56,7 @@ bool Scene::boundingSphere(glm::dvec3& centre, double& radius) const {
 size_t PreparedScene::bytes() const {
   size_t b = primitives.capacity() * sizeof(Primitive) + vertices.capacity() * sizeof(glm::dvec2) +
              triangles.capacity() * sizeof(TriangleAttributes) +
-             segments.capacity() * sizeof(SegmentAttributes) + depthOrder.capacity() * sizeof(std::uint32_t);
+             segments.capacity() * sizeof(SegmentAttributes);
   for (const ShaderSlot& s : shaders) {
     if (s.map) b += s.map->bytes();
     if (s.sphere) b += s.sphere->texels().size() * sizeof(glm::vec3);
@@ -689,16 +689,6 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
                           (wire ? " segments" : " triangles") +
                           " with non-finite (NaN/Inf) or missing vertices skipped");
   }
-  // Front to back by nearest depth (ties by set-up order: a strict order, so deterministic):
-  // binPrimitives fills the tiles in this order, so tiles rasterise near primitives first and
-  // the exact occlusion test discards most of what lies behind before it is rasterised.
-  {
-    std::vector<std::pair<float, std::uint32_t>> keys(ps.primitives.size());
-    tbb::parallel_for(size_t(0), keys.size(), [&](size_t i) { keys[i] = {ps.primitives[i].zlo, std::uint32_t(i)}; });
-    tbb::parallel_sort(keys.begin(), keys.end());
-    ps.depthOrder.resize(keys.size());
-    for (size_t i = 0; i < keys.size(); ++i) ps.depthOrder[i] = keys[i].second;
-  }
   st.primitives = ps.primitives.size();
   st.setup = secondsSince(t0) - mapSeconds;
   return ps;
@@ -717,7 +707,7 @@ TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& st) {
     tx1 = std::clamp((int(std::ceil(p.bbox[2])) - 1) / tileSize, 0, bins.tilesX - 1);
     ty1 = std::clamp((int(std::ceil(p.bbox[3])) - 1) / tileSize, 0, bins.tilesY - 1);
   };
-  for (const Primitive& p : ps.primitives) {  // counting: any order
+  for (const Primitive& p : ps.primitives) {
     int a, b, c, d;
     range(p, a, b, c, d);
     for (int ty = b; ty <= d; ++ty)
@@ -726,11 +716,12 @@ TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& st) {
   for (size_t t = 0; t < tiles; ++t) bins.offsets[t + 1] += bins.offsets[t];
   bins.items.resize(bins.offsets[tiles]);
   std::vector<std::uint32_t> fill(bins.offsets.begin(), bins.offsets.end() - 1);
-  for (const std::uint32_t i : ps.depthOrder) {  // filling: front to back
+  for (size_t i = 0; i < ps.primitives.size(); ++i) {
+    const Primitive& p = ps.primitives[i];
     int a, b, c, d;
-    range(ps.primitives[i], a, b, c, d);
+    range(p, a, b, c, d);
     for (int ty = b; ty <= d; ++ty)
-      for (int tx = a; tx <= c; ++tx) bins.items[fill[size_t(ty) * bins.tilesX + tx]++] = std::uint32_t(i);
+      for (int tx = a; tx <= c; ++tx) bins.items[fill[size_t(ty) * bins.tilesX + tx]++] = {p.zlo, std::uint32_t(i)};
   }
   st.tiles = tiles;
   st.tilesEmpty = 0;

@@ -80,7 +80,6 @@ struct PreparedScene {
   std::vector<glm::dvec2> vertices;
   std::vector<TriangleAttributes> triangles;
   std::vector<SegmentAttributes> segments;
-  std::vector<std::uint32_t> depthOrder;  ///< primitive indices, nearest first
   double cueNear = 0, cueFar = 1;  ///< depth range of the wires (depth cueing)
   size_t bytes() const;
 };
@@ -97,8 +96,10 @@ struct PixelCoverage {
 struct TileBins {
   int tilesX = 0, tilesY = 0;
   std::vector<std::uint32_t> offsets;  ///< tile t: items[offsets[t], offsets[t+1])
-  std::vector<std::uint32_t> items;    ///< primitive indices, nearest first (PreparedScene::depthOrder)
-  size_t bytes() const { return (offsets.capacity() + items.capacity()) * sizeof(std::uint32_t); }
+  /// (nearest depth, primitive index) in primitive order; each tile sorts its own range
+  /// front to back before rasterising.
+  std::vector<std::pair<float, std::uint32_t>> items;
+  size_t bytes() const { return offsets.capacity() * sizeof(std::uint32_t) + items.capacity() * sizeof(items[0]); }
 };
 
 /// Camera, lights, shading tables, screen primitives. Fills the setup / maps times, input

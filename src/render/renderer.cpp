@@ -204,13 +204,19 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
       }
       TileABuffer& buf = buffers.local();
       buf.reset(tx1 - tx0, ty1 - ty0);
-      // Primitives arrive front to back (binPrimitives fills the bins in depth order).
-      for (uint32_t oi = b0; oi < b1; ++oi) {
+      // Front to back by nearest depth (ties by primitive order: a strict order, so the same
+      // whatever the thread count), so that the exact occlusion test discards most of what lies
+      // behind before it is rasterised.
+      thread_local std::vector<std::pair<float, std::uint32_t>> order;
+      order.assign(bins.items.begin() + b0, bins.items.begin() + b1);
+      std::sort(order.begin(), order.end());
+      const uint32_t n = uint32_t(order.size());
+      for (uint32_t oi = 0; oi < n; ++oi) {
         // A tile's primitives are scattered through memory: fetch ahead (the loop is bound by
         // memory latency, not arithmetic, on dense scenes).
-        if (oi + 8 < b1) __builtin_prefetch(&ps.primitives[bins.items[oi + 8]]);
-        if (oi + 4 < b1) __builtin_prefetch(&ps.vertices[ps.primitives[bins.items[oi + 4]].firstVertex]);
-        const Primitive& prim = ps.primitives[bins.items[oi]];
+        if (oi + 8 < n) __builtin_prefetch(&ps.primitives[order[oi + 8].second]);
+        if (oi + 4 < n) __builtin_prefetch(&ps.vertices[ps.primitives[order[oi + 4].second].firstVertex]);
+        const Primitive& prim = ps.primitives[order[oi].second];
         {  // hierarchical occlusion: is the primitive behind everything over its bounding box?
           const int x0 = std::max(tx0, int(prim.bbox[0])) - tx0, y0 = std::max(ty0, int(prim.bbox[1])) - ty0;
           const int x1 = std::min(tx1 - 1, int(prim.bbox[2])) - tx0, y1 = std::min(ty1 - 1, int(prim.bbox[3])) - ty0;
