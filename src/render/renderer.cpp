@@ -63,6 +63,7 @@ void rasterizePolygon(const PreparedScene& ps, const Primitive& prim, int tx0, i
   const int row1 = std::min(ty1 - 1, int(std::ceil(prim.bbox[3])) - 1);
   struct SubEdge {
     double xa, ya, xb, yb;  // the edge's part inside the band, in contour order
+    double invDx;           // 1 / (xb - xa), or 0 for a vertical edge
   };
   SubEdge sub[ScreenPolygon::kMaxVertices];
   // Integral over one sub-edge of min(x, X) dy, oriented.
@@ -71,7 +72,7 @@ void rasterizePolygon(const PreparedScene& ps, const Primitive& prim, int tx0, i
     const double lo = std::min(e.xa, e.xb), hi = std::max(e.xa, e.xb);
     if (X >= hi) return 0.5 * (e.xa + e.xb) * dy;
     if (X <= lo) return X * dy;
-    const double s = (X - e.xa) / (e.xb - e.xa);  // where the edge crosses x = X
+    const double s = (X - e.xa) * e.invDx;  // where the edge crosses x = X
     const double mean = e.xa < e.xb ? s * 0.5 * (e.xa + X) + (1.0 - s) * X : s * X + (1.0 - s) * 0.5 * (X + e.xb);
     return mean * dy;
   };
@@ -88,7 +89,7 @@ void rasterizePolygon(const PreparedScene& ps, const Primitive& prim, int tx0, i
       auto xAt = [&](double y) { return xa + (xb - xa) * ((y - ya) / (yb - ya)); };
       const double ca = std::clamp(ya, y0, y1), cb = std::clamp(yb, y0, y1);
       const double xca = ca == ya ? xa : xAt(ca), xcb = cb == yb ? xb : xAt(cb);
-      sub[ns++] = {xca, ca, xcb, cb};
+      sub[ns++] = {xca, ca, xcb, cb, xcb != xca ? 1.0 / (xcb - xca) : 0.0};
       xmin = std::min({xmin, xca, xcb});
       xmax = std::max({xmax, xca, xcb});
     }
@@ -97,8 +98,7 @@ void rasterizePolygon(const PreparedScene& ps, const Primitive& prim, int tx0, i
     const int c1 = std::min(tx1 - 1, int(ceilToInt(xmax)) - 1);
     if (c0 > c1 || occludedRow(row, c0, c1, prim.zlo)) continue;
     std::int64_t spanLo[8], spanHi[8];  // the polygon's sample runs on this row's sample rows
-    for (int j = 0; j < layout.h; ++j)
-      sampleRowSpan(edges, edgeCount, layout, row + layout.sampleY(j), spanLo[j], spanHi[j]);
+    bool spansDone = false;              // computed at the row's first pixel that survives culling
     double left = 0;      // area of the band left of x = leftAt
     int leftAt = INT_MIN;
     for (int col = c0; col <= c1; ++col) {
@@ -128,6 +128,11 @@ void rasterizePolygon(const PreparedScene& ps, const Primitive& prim, int tx0, i
         if (occluded(col, row, std::max(double(prim.zlo), ps.view.depthFromKey(near)))) continue;
       }
       pc.area = area;
+      if (!spansDone) {
+        for (int j = 0; j < layout.h; ++j)
+          sampleRowSpan(edges, edgeCount, layout, row + layout.sampleY(j), spanLo[j], spanHi[j]);
+        spansDone = true;
+      }
       pc.mask = 0;
       for (int j = 0; j < layout.h; ++j)
         pc.mask |= spanRowBits(spanLo[j], spanHi[j], std::int64_t(col) * layout.w, layout) << (j * layout.w);
