@@ -730,6 +730,50 @@ TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& st) {
   return bins;
 }
 
+SurfaceSample interpolateTriangle(const PreparedScene& ps, const TriangleAttributes& ta, const glm::dvec3& P,
+                                  const glm::dvec3& V) {
+  // Barycentrics of the eye-space point P (on the triangle's plane under the fragment), clamped
+  // into the triangle: perspective-correct by construction.
+  const glm::dvec3 v = P - ta.p0;
+  const double d20 = glm::dot(v, ta.e1), d21 = glm::dot(v, ta.e2);
+  double b1 = (ta.d11 * d20 - ta.d01 * d21) * ta.invDen;
+  double b2 = (ta.d00 * d21 - ta.d01 * d20) * ta.invDen;
+  double b0 = 1.0 - b1 - b2;
+  b0 = std::max(b0, 0.0), b1 = std::max(b1, 0.0), b2 = std::max(b2, 0.0);
+  const double bs = b0 + b1 + b2;
+  if (bs > 0) b0 /= bs, b1 /= bs, b2 /= bs;
+  else b0 = 1, b1 = b2 = 0;
+  const TriangleMesh& mesh = ps.scene->surfaces[ta.surface].mesh;
+  const glm::uvec3 tri = mesh.triangles[ta.triangle];
+  const size_t nv = mesh.positions.size();
+  SurfaceSample out;
+  out.barycentric = glm::dvec3(b0, b1, b2);
+  auto mix3 = [&](const auto& a, const auto& b, const auto& c) { return b0 * a + b1 * b + b2 * c; };
+  glm::dvec3 N = mesh.normals.size() == nv
+                     ? ps.view.eyeFromWorld * mix3(mesh.normals[tri.x], mesh.normals[tri.y], mesh.normals[tri.z])
+                     : glm::cross(ta.e1, ta.e2);
+  const double nl = glm::length(N);
+  N = (nl > 0 && std::isfinite(nl)) ? N / nl : V;
+  if (glm::dot(N, V) < 0) N = -N;  // two-sided: the side facing the viewer
+  out.normal = N;
+  if (mesh.tangents.size() == nv) {
+    const glm::dvec3 T = ps.view.eyeFromWorld * mix3(mesh.tangents[tri.x], mesh.tangents[tri.y], mesh.tangents[tri.z]);
+    const double tl = glm::length(T);
+    out.tangent = (tl > 0 && std::isfinite(tl)) ? T / tl : glm::dvec3(0.0);
+  }
+  if (mesh.uvs.size() == nv) out.uv = mix3(mesh.uvs[tri.x], mesh.uvs[tri.y], mesh.uvs[tri.z]);
+  if (mesh.colours.size() == nv)
+    out.colour = mesh.colours[tri.x] * float(b0) + mesh.colours[tri.y] * float(b1) + mesh.colours[tri.z] * float(b2);
+  return out;
+}
+
+SurfaceSample interpolateSurface(const PreparedScene& ps, const Primitive& prim, double x, double y) {
+  if (prim.isSegment) return {};
+  const double depth = ps.view.depthFromKey(prim.depthKeyAt(x, y));
+  const glm::dvec3 P = ps.view.eyePoint(x, y, depth);
+  return interpolateTriangle(ps, ps.triangles[prim.attribute], P, ps.view.viewVector(P));
+}
+
 glm::vec3 shadeFragment(const PreparedScene& ps, const Primitive& prim, double x, double y,
                         double depth) {
   if (prim.constantColour) return prim.colour;
@@ -762,29 +806,9 @@ glm::vec3 shadeFragment(const PreparedScene& ps, const Primitive& prim, double x
   }
   const TriangleAttributes& ta = ps.triangles[prim.attribute];
   const ShaderSlot& slot = ps.shaders[ta.shader];
-  const glm::dvec3 v = P - ta.p0;
-  const double d20 = glm::dot(v, ta.e1), d21 = glm::dot(v, ta.e2);
-  double b1 = (ta.d11 * d20 - ta.d01 * d21) * ta.invDen;
-  double b2 = (ta.d00 * d21 - ta.d01 * d20) * ta.invDen;
-  double b0 = 1.0 - b1 - b2;
-  b0 = std::max(b0, 0.0), b1 = std::max(b1, 0.0), b2 = std::max(b2, 0.0);
-  const double bs = b0 + b1 + b2;
-  if (bs > 0) b0 /= bs, b1 /= bs, b2 /= bs;
-  else b0 = 1, b1 = b2 = 0;
-  const TriangleMesh& mesh = ps.scene->surfaces[ta.surface].mesh;
-  const glm::uvec3 tri = mesh.triangles[ta.triangle];
-  glm::dvec3 N;
-  if (mesh.normals.size() == mesh.positions.size()) {
-    N = view.eyeFromWorld * (b0 * mesh.normals[tri.x] + b1 * mesh.normals[tri.y] + b2 * mesh.normals[tri.z]);
-  } else {
-    N = glm::cross(ta.e1, ta.e2);
-  }
-  const double nl = glm::length(N);
-  N = (nl > 0 && std::isfinite(nl)) ? N / nl : V;
-  if (glm::dot(N, V) < 0) N = -N;  // two-sided: the side facing the viewer
-  glm::vec3 c(1.0f);
-  if (mesh.colours.size() == mesh.positions.size())
-    c = mesh.colours[tri.x] * float(b0) + mesh.colours[tri.y] * float(b1) + mesh.colours[tri.z] * float(b2);
+  const SurfaceSample sample = interpolateTriangle(ps, ta, P, V);
+  const glm::dvec3& N = sample.normal;
+  const glm::vec3 c = sample.colour;
   if (ps.path == ShadingPath::Maps && slot.sphere) return slot.sphere->lookup(N) * c;
   if (slot.kind == ShaderSlot::Kind::SurfaceChrome) {
     const EnvironmentMap& env = ps.scene->environment ? *ps.scene->environment : defaultEnvironment();

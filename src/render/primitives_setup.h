@@ -106,6 +106,18 @@ struct TileBins {
 /// counts, warnings and error estimates of `stats`.
 PreparedScene prepareScene(const Scene& scene, const RenderOptions& options, RenderStats& stats);
 TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& stats);
+/// What a surface fragment interpolates (perspective-correct): eye-space unit normal (turned to
+/// the viewer), eye-space unit tangent (zero when the mesh has none), (u, v), colour.
+struct SurfaceSample {
+  glm::dvec3 normal{0.0, 0.0, 1.0}, tangent{0.0};
+  glm::dvec2 uv{0.0};
+  glm::vec3 colour{1.0f};
+  glm::dvec3 barycentric{1.0, 0.0, 0.0};
+};
+SurfaceSample interpolateTriangle(const PreparedScene& ps, const TriangleAttributes& ta, const glm::dvec3& eyePoint,
+                                  const glm::dvec3& view);
+/// The same at screen point (x, y) of a triangle primitive (on its plane); default for segments.
+SurfaceSample interpolateSurface(const PreparedScene& ps, const Primitive& prim, double x, double y);
 /// Radiance of a primitive's fragment at screen point (x, y), view depth `depth`.
 glm::vec3 shadeFragment(const PreparedScene& ps, const Primitive& prim, double x, double y,
                         double depth);

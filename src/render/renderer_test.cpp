@@ -8,11 +8,13 @@
 #include "render/renderer.h"
 
 #include "abuffer/screen_polygon.h"
+#include "render/primitives_setup.h"
 
 #include <gtest/gtest.h>
 
 #include "test_support.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <numbers>
@@ -785,6 +787,62 @@ TEST(Render, MapShadingOfWiresIsWithinItsStatedErrorOfExactShading) {
                             << maps.stats.orthographicError;
     EXPECT_GT(sumAlpha(maps.image), 200.0);
   }
+}
+
+}  // namespace
+}  // namespace wf
+
+namespace wf {
+namespace {
+
+// Perspective-correct interpolation: a plane seen at a slant, (u, v) = (x, y) of the plane and a
+// tangent along +x. At any pixel the interpolated (u, v) must be that of the point where the
+// pixel's ray meets the plane (computed independently here), not the screen-linear blend.
+TEST(Render, TriangleAttributesArePerspectiveCorrect) {
+  Scene scene;
+  TriangleMesh m;
+  m.positions = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+  m.uvs = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+  m.tangents = {{1, 0, 0}, {1, 0, 0}, {1, 0, 0}, {1, 0, 0}};
+  m.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}};
+  scene.surfaces.push_back({"plane", m, 0});
+  Camera cam;
+  cam.eye = {0.3, -2.5, 1.2};  // a steep slant: screen-linear interpolation would be far off
+  cam.target = {0, 0, 0};
+  cam.up = {0, 0, 1};
+  cam.fovYDegrees = 60;
+  cam.nearPlane = 0.1;
+  cam.farPlane = 10;
+  scene.camera = cam;
+  RenderOptions o;
+  o.width = 200;
+  o.height = 150;
+  RenderStats st;
+  const PreparedScene ps = prepareScene(scene, o, st);
+  const glm::dmat3 worldFromEye = glm::transpose(ps.view.eyeFromWorld);
+  int checked = 0;
+  double worst = 0;
+  for (const Primitive& prim : ps.primitives)
+    for (int k = 0; k < 200; ++k) {
+      const double x = prim.bbox[0] + (prim.bbox[2] - prim.bbox[0]) * ((k * 37) % 100) / 100.0;
+      const double y = prim.bbox[1] + (prim.bbox[3] - prim.bbox[1]) * ((k * 61) % 100) / 100.0;
+      // The ray through (x, y) meets z = 0 at world point Q; (u, v) there is (Q.x, Q.y).
+      const glm::dvec3 dirEye((x - ps.view.cx) / ps.view.focal, -(y - ps.view.cy) / ps.view.focal, -1.0);
+      const glm::dvec3 dir = worldFromEye * dirEye;
+      const double t = -cam.eye.z / dir.z;
+      const glm::dvec3 Q = cam.eye + t * dir;
+      const SurfaceSample s = interpolateSurface(ps, prim, x, y);
+      const glm::dvec3 b = s.barycentric;
+      if (std::min({b.x, b.y, b.z}) <= 1e-9) continue;  // outside this triangle: clamped
+      worst = std::max({worst, std::abs(s.uv.x - Q.x), std::abs(s.uv.y - Q.y)});
+      // The tangent +x of the world, in eye space.
+      const glm::dvec3 T = ps.view.eyeFromWorld * glm::dvec3(1, 0, 0);
+      EXPECT_NEAR(glm::length(s.tangent - T), 0.0, 1e-12);
+      ++checked;
+    }
+  EXPECT_GT(checked, 100);
+  EXPECT_LT(worst, 1e-9) << "(u, v) must be the ray-plane intersection's";
 }
 
 }  // namespace
