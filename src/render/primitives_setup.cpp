@@ -721,7 +721,19 @@ TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& st) {
     int a, b, c, d;
     range(p, a, b, c, d);
     for (int ty = b; ty <= d; ++ty)
-      for (int tx = a; tx <= c; ++tx) bins.items[fill[size_t(ty) * bins.tilesX + tx]++] = {p.zlo, std::uint32_t(i)};
+      for (int tx = a; tx <= c; ++tx) {
+        const int ox = tx * tileSize, oy = ty * tileSize;
+        const int w = std::min(tileSize, ps.view.width - ox), h = std::min(tileSize, ps.view.height - oy);
+        TileBins::Item item;
+        item.zlo = p.zlo;
+        item.index = std::uint32_t(i);
+        item.firstVertex = p.firstVertex;
+        item.x0 = std::int16_t(std::clamp(int(p.bbox[0]) - ox, 0, w - 1));
+        item.y0 = std::int16_t(std::clamp(int(p.bbox[1]) - oy, 0, h - 1));
+        item.x1 = std::int16_t(std::clamp(int(p.bbox[2]) - ox, 0, w - 1));
+        item.y1 = std::int16_t(std::clamp(int(p.bbox[3]) - oy, 0, h - 1));
+        bins.items[fill[size_t(ty) * bins.tilesX + tx]++] = item;
+      }
   }
   st.tiles = tiles;
   st.tilesEmpty = 0;

@@ -96,10 +96,17 @@ struct PixelCoverage {
 struct TileBins {
   int tilesX = 0, tilesY = 0;
   std::vector<std::uint32_t> offsets;  ///< tile t: items[offsets[t], offsets[t+1])
-  /// (nearest depth, primitive index) in primitive order; each tile sorts its own range
-  /// front to back before rasterising.
-  std::vector<std::pair<float, std::uint32_t>> items;
-  size_t bytes() const { return offsets.capacity() * sizeof(std::uint32_t) + items.capacity() * sizeof(items[0]); }
+  /// One primitive in one tile: what the tile needs to order and cull it without touching the
+  /// primitive itself (most are culled whole on dense scenes, and primitives are scattered).
+  struct Item {
+    float zlo;                     ///< nearest depth: the tile sorts by (zlo, index)
+    std::uint32_t index;           ///< into PreparedScene::primitives
+    std::uint32_t firstVertex;     ///< its vertices (for prefetching)
+    std::int16_t x0, y0, x1, y1;   ///< pixel rectangle within the tile, inclusive
+    bool operator<(const Item& o) const { return zlo < o.zlo || (zlo == o.zlo && index < o.index); }
+  };
+  std::vector<Item> items;         ///< per tile, in primitive order
+  size_t bytes() const { return offsets.capacity() * sizeof(std::uint32_t) + items.capacity() * sizeof(Item); }
 };
 
 /// Camera, lights, shading tables, screen primitives. Fills the setup / maps times, input

@@ -80,7 +80,7 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
       std::uint32_t order = 0;
       const std::uint32_t b0 = bins.offsets[size_t(tile)], b1 = bins.offsets[size_t(tile) + 1];
       for (std::uint32_t b = b0; b < b1; ++b) {
-        const std::uint32_t pi = bins.items[b].second;
+        const std::uint32_t pi = bins.items[b].index;
         const Primitive& prim = ps.primitives[pi];
         ScreenPolygon poly;
         poly.count = prim.vertexCount;

@@ -212,24 +212,24 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
       // Front to back by nearest depth (ties by primitive order: a strict order, so the same
       // whatever the thread count), so that the exact occlusion test discards most of what lies
       // behind before it is rasterised.
-      thread_local std::vector<std::pair<float, std::uint32_t>> order;
+      thread_local std::vector<TileBins::Item> order;
       order.assign(bins.items.begin() + b0, bins.items.begin() + b1);
       std::sort(order.begin(), order.end());
       const uint32_t n = uint32_t(order.size());
       for (uint32_t oi = 0; oi < n; ++oi) {
-        // A tile's primitives are scattered through memory: fetch ahead (the loop is bound by
-        // memory latency, not arithmetic, on dense scenes).
-        if (oi + 8 < n) __builtin_prefetch(&ps.primitives[order[oi + 8].second]);
-        if (oi + 4 < n) __builtin_prefetch(&ps.vertices[ps.primitives[order[oi + 4].second].firstVertex]);
-        const Primitive& prim = ps.primitives[order[oi].second];
-        {  // hierarchical occlusion: is the primitive behind everything over its bounding box?
-          const int x0 = std::max(tx0, int(prim.bbox[0])) - tx0, y0 = std::max(ty0, int(prim.bbox[1])) - ty0;
-          const int x1 = std::min(tx1 - 1, int(prim.bbox[2])) - tx0, y1 = std::min(ty1 - 1, int(prim.bbox[3])) - ty0;
-          if (prim.zlo >= buf.regionOcclusionDepth(x0, y0, x1, y1)) {
-            ++occludedPrims.local();
-            continue;
-          }
+        const TileBins::Item& item = order[oi];
+        // Hierarchical occlusion first, from the bin item alone: is the primitive behind
+        // everything over its bounding box?
+        if (item.zlo >= buf.regionOcclusionDepth(item.x0, item.y0, item.x1, item.y1)) {
+          ++occludedPrims.local();
+          continue;
         }
+        // Survivors are scattered through memory: fetch the next one's data ahead.
+        for (uint32_t ahead = oi + 1; ahead < std::min(n, oi + 4); ++ahead) {
+          __builtin_prefetch(&ps.primitives[order[ahead].index]);
+          __builtin_prefetch(&ps.vertices[order[ahead].firstVertex]);
+        }
+        const Primitive& prim = ps.primitives[item.index];
         auto occluded = [&](int x, int y, double zmin) {
           if (!(zmin >= buf.occlusionDepth(x - tx0, y - ty0))) return false;
           buf.countCulled(x - tx0, y - ty0);
