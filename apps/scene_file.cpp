@@ -1,6 +1,7 @@
 #include "scene_file.h"
 
 #include "cli.h"
+#include "built_in_scene.h"
 #include "mesh_io.h"
 
 #include "geometry/parametric_sources.h"
@@ -373,9 +374,9 @@ void readCamera(const Reader& r, const json& j, const std::string& ptr, SceneFil
 
 }  // namespace
 
-SceneFile loadSceneFile(const std::string& path) {
+SceneFile parseScene(const std::string& path, const std::string& text, const std::string& folder) {
   const Reader r{path};
-  const json doc = parse(path, readText(path));
+  const json doc = parse(path, text);
   r.keys(doc, "", {"title", "caption", "paper_image", "image", "camera", "lights", "materials", "environment", "objects"});
   SceneFile sf;
   if (doc.contains("title")) sf.title = r.string(doc["title"], "/title");
@@ -409,51 +410,22 @@ SceneFile loadSceneFile(const std::string& path) {
   if (doc.contains("materials")) readMaterials(r, doc["materials"], "/materials", sf.scene, materials);
   if (!doc.contains("objects") || !doc["objects"].is_array() || doc["objects"].empty())
     r.fail("/objects", "expected a non-empty list of objects");
-  const std::string folder = std::filesystem::path(path).parent_path().string();
   for (size_t i = 0; i < doc["objects"].size(); ++i)
-    readObject(r, doc["objects"][i], Reader::at("/objects", i), folder.empty() ? "." : folder, materials, sf.scene);
+    readObject(r, doc["objects"][i], Reader::at("/objects", i), folder, materials, sf.scene);
   readCamera(r, doc.contains("camera") ? doc["camera"] : json::object(), "/camera", sf);
   if (sf.title.empty()) sf.title = std::filesystem::path(path).stem().string();
   return sf;
 }
 
+SceneFile loadSceneFile(const std::string& path) {
+  const std::string folder = std::filesystem::path(path).parent_path().string();
+  return parseScene(path, readText(path), folder.empty() ? "." : folder);
+}
+
 SceneFile defaultScene() {
-  SceneFile sf;
-  sf.title = "cage";
-  sf.caption = "Built-in scene: a wire-frame cage as shaded wire over a shaded torus (paper image 9b).";
-  sf.paperImage = "9b";
-  wf::Scene& s = sf.scene;
-  s.lights = wf::LightRig::studioRig(3);
-  s.lightsFollowCamera = true;
-  wf::Material body;
-  body.name = "body";
-  body.phong = {glm::dvec3(0.55, 0.25, 0.2), glm::dvec3(0.35), 30.0};
-  wf::Material wire;
-  wire.name = "wire";
-  wire.phong = {glm::dvec3(0.5, 0.5, 0.55), glm::dvec3(0.6), 40.0};
-  s.materials = {wf::Material{}, body, wire};
-  wf::ParametricSource torus;
-  torus.type = wf::ParametricSource::Type::Torus;
-  torus.major = 0.8;
-  torus.minor = 0.3;
-  torus.resolutionU = 96;
-  torus.resolutionV = 48;
-  s.surfaces.push_back({"torus", wf::tessellate(torus), 1});
-  wf::ParametricSource cage;
-  cage.type = wf::ParametricSource::Type::Sphere;
-  cage.radius = 1.4;
-  wf::SceneWire w;
-  w.name = "cage";
-  w.lines = wf::isolines(cage, 16, 7, 96);
-  w.material = 2;
-  w.thickness = 0.022;
-  s.wires.push_back(std::move(w));
-  glm::dvec3 centre;
-  double radius;
-  s.boundingSphere(centre, radius);
-  s.camera = wf::frameSphere(centre, radius, double(sf.width) / sf.height, wf::Camera::Projection::Perspective,
-                             glm::dvec3(0.55, -0.75, 0.45));
-  return sf;
+  // data/scenes/cage_shaded.json, compiled in (built_in_scene.h) so that the command works
+  // without the source tree.
+  return parseScene("built-in scene (data/scenes/cage_shaded.json)", kBuiltInSceneJson, ".");
 }
 
 SceneFile sceneForGeometryFile(const std::string& path, const std::string& style) {

@@ -21,9 +21,11 @@ struct SceneFile {
 
 /// Parses a scene file; relative file names in it are relative to the file's folder.
 SceneFile loadSceneFile(const std::string& path);
+/// Parses scene text; `name` is used in messages, `folder` resolves relative file names.
+SceneFile parseScene(const std::string& name, const std::string& text, const std::string& folder);
 
-/// The built-in scene `wirefur render` draws with no input: the paper's image 9b (a wire-frame
-/// cage as shaded wire over a shaded torus).
+/// The built-in scene `wirefur render` draws with no input: data/scenes/cage_shaded.json, the
+/// paper's image 9b (a wire-frame cage as shaded wire over a shaded torus), compiled in.
 SceneFile defaultScene();
 
 /// A scene around one mesh / polyline file, drawn in one of the contract's styles:

@@ -168,11 +168,12 @@ void TileABuffer::occlude(Pixel& p, size_t pixelIndex, const Fragment& f) {
   blockOcclusion_[size_t(by) * size_t(bw_) + size_t(bx)] = bmax;
 }
 
-void TileABuffer::pruneHidden(Pixel& p, float occlusion) {
+void TileABuffer::pruneHidden(Pixel& p, float depth) {
+  // Drops the list entries that lie wholly behind `depth`.
   std::int32_t* link = &p.head;
   while (*link >= 0) {
     Node& n = nodes_[size_t(*link)];
-    if (n.f.zmin >= occlusion) {
+    if (n.f.zmin >= depth) {
       const std::int32_t dead = *link;
       *link = n.next;
       freeNodes_.push_back(dead);
@@ -225,21 +226,7 @@ void TileABuffer::setSolid(Pixel& p, const Fragment& f) {
     solids_.push_back(f);
     p.hasSolid = true;
   }
-  const float solidZmax = solids_[size_t(p.solid)].zmax;
-  // Drop list entries wholly behind the new solid fragment.
-  std::int32_t* link = &p.head;
-  while (*link >= 0) {
-    Node& n = nodes_[size_t(*link)];
-    if (n.f.zmin >= solidZmax) {
-      const std::int32_t dead = *link;
-      *link = n.next;
-      freeNodes_.push_back(dead);
-      --p.length;
-      ++local_.culled;
-    } else {
-      link = &n.next;
-    }
-  }
+  pruneHidden(p, solids_[size_t(p.solid)].zmax);  // entries wholly behind the new solid fragment
 }
 
 void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {

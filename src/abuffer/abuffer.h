@@ -142,7 +142,7 @@ class TileABuffer {
   void pushList(Pixel& p, const Fragment& f);
   void toTail(Pixel& p, const Fragment& f);
   void occlude(Pixel& p, size_t pixelIndex, const Fragment& f);
-  void pruneHidden(Pixel& p, float occlusion);
+  void pruneHidden(Pixel& p, float depth);
   std::int32_t allocNode();
 
   MaskLayout layout_;

@@ -14,22 +14,26 @@
 
 namespace wf {
 
+template <class F>
+void Scene::forEachPoint(F&& f) const {
+  for (const SceneSurface& s : surfaces)
+    for (const glm::uvec3& t : s.mesh.triangles)
+      for (int k = 0; k < 3; ++k)
+        if (t[k] < s.mesh.positions.size()) f(s.mesh.positions[t[k]]);
+  for (const SceneWire& w : wires)
+    for (const glm::dvec3& p : w.lines.points) f(p);
+}
+
 bool Scene::bounds(glm::dvec3& lo, glm::dvec3& hi) const {
   lo = glm::dvec3(1e300);
   hi = glm::dvec3(-1e300);
   bool any = false;
-  auto add = [&](const glm::dvec3& p) {
+  forEachPoint([&](const glm::dvec3& p) {
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return;
     lo = glm::min(lo, p);
     hi = glm::max(hi, p);
     any = true;
-  };
-  for (const SceneSurface& s : surfaces)
-    for (const glm::uvec3& t : s.mesh.triangles)
-      for (int k = 0; k < 3; ++k)
-        if (t[k] < s.mesh.positions.size()) add(s.mesh.positions[t[k]]);
-  for (const SceneWire& w : wires)
-    for (const glm::dvec3& p : w.lines.points) add(p);
+  });
   return any;
 }
 
@@ -38,19 +42,23 @@ bool Scene::boundingSphere(glm::dvec3& centre, double& radius) const {
   if (!bounds(lo, hi)) return false;
   centre = 0.5 * lo + 0.5 * hi;
   double r2 = 0;
-  auto add = [&](const glm::dvec3& p) {
+  forEachPoint([&](const glm::dvec3& p) {
     const glm::dvec3 d = p - centre;
     const double q = glm::dot(d, d);
     if (std::isfinite(q)) r2 = std::max(r2, q);
-  };
-  for (const SceneSurface& s : surfaces)
-    for (const glm::uvec3& t : s.mesh.triangles)
-      for (int k = 0; k < 3; ++k)
-        if (t[k] < s.mesh.positions.size()) add(s.mesh.positions[t[k]]);
-  for (const SceneWire& w : wires)
-    for (const glm::dvec3& p : w.lines.points) add(p);
+  });
   radius = std::sqrt(r2);
   return true;
+}
+
+ScreenPolygon screenPolygonOf(const PreparedScene& ps, const Primitive& prim) {
+  ScreenPolygon poly;
+  poly.count = prim.vertexCount;
+  for (int i = 0; i < prim.vertexCount; ++i) {
+    poly.x[i] = ps.vertices[prim.firstVertex + i].x;
+    poly.y[i] = ps.vertices[prim.firstVertex + i].y;
+  }
+  return poly;
 }
 
 size_t PreparedScene::bytes() const {

@@ -13,6 +13,7 @@
 #pragma once
 
 #include "abuffer/coverage_mask.h"
+#include "abuffer/screen_polygon.h"
 #include "render/renderer.h"
 #include "shading/pseudo_reflectance_map.h"
 #include "shading/reflectance_sphere.h"
@@ -112,6 +113,8 @@ struct TileBins {
 /// Camera, lights, shading tables, screen primitives. Fills the setup / maps times, input
 /// counts, warnings and error estimates of `stats`.
 PreparedScene prepareScene(const Scene& scene, const RenderOptions& options, RenderStats& stats);
+/// The primitive's screen polygon.
+ScreenPolygon screenPolygonOf(const PreparedScene& ps, const Primitive& prim);
 TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& stats);
 /// What a surface fragment interpolates (perspective-correct): eye-space unit normal (turned to
 /// the viewer), eye-space unit tangent (zero when the mesh has none), (u, v), colour.

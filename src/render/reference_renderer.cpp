@@ -82,12 +82,7 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
       for (std::uint32_t b = b0; b < b1; ++b) {
         const std::uint32_t pi = bins.items[b].index;
         const Primitive& prim = ps.primitives[pi];
-        ScreenPolygon poly;
-        poly.count = prim.vertexCount;
-        for (int i = 0; i < poly.count; ++i) {
-          poly.x[i] = ps.vertices[prim.firstVertex + i].x;
-          poly.y[i] = ps.vertices[prim.firstVertex + i].y;
-        }
+        const ScreenPolygon poly = screenPolygonOf(ps, prim);
         EdgeFunction edges[ScreenPolygon::kMaxVertices];
         const int ne = polygonEdges(poly, edges);
         if (ne < 3) continue;

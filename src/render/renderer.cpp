@@ -49,12 +49,7 @@ template <class OccludedRow, class Occluded, class Emit>
 void rasterizePolygon(const PreparedScene& ps, const Primitive& prim, int tx0, int ty0, int tx1,
                       int ty1, const MaskLayout& layout, OccludedRow&& occludedRow, Occluded&& occluded,
                       Emit&& emit) {
-  ScreenPolygon poly;
-  poly.count = prim.vertexCount;
-  for (int i = 0; i < prim.vertexCount; ++i) {
-    poly.x[i] = ps.vertices[prim.firstVertex + i].x;
-    poly.y[i] = ps.vertices[prim.firstVertex + i].y;
-  }
+  const ScreenPolygon poly = screenPolygonOf(ps, prim);
   EdgeFunction edges[ScreenPolygon::kMaxVertices];
   const int edgeCount = polygonEdges(poly, edges);
   if (edgeCount < 3) return;

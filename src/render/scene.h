@@ -84,6 +84,11 @@ struct Scene {
   /// A sphere holding all finite geometry (centre of the bounds, radius to the farthest point);
   /// false when there is none.
   bool boundingSphere(glm::dvec3& centre, double& radius) const;
+
+ private:
+  /// Calls f on every vertex a triangle or polyline uses.
+  template <class F>
+  void forEachPoint(F&& f) const;
 };
 
 }  // namespace wf

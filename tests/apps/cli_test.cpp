@@ -1,5 +1,7 @@
 // The wirefur command as users and scripts call it: exit codes, one-line errors, the files it
 // promises, and the numbers in its reports against what the shading core must reach.
+#include "cli_support.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -18,22 +20,9 @@ using json = nlohmann::json;
 
 namespace {
 
-struct Result {
-  int status;
-  std::string err;
-};
-
-// Runs wirefur with arguments, stderr captured, stdout discarded.
-Result run(const std::string& args) {
-  const fs::path errFile = fs::temp_directory_path() / ("wirefur-cli-err-" + std::to_string(::getpid()));
-  const std::string cmd = std::string("'") + WIREFUR_EXE + "' " + args + " >/dev/null 2>'" + errFile.string() + "'";
-  const int raw = std::system(cmd.c_str());
-  std::ifstream f(errFile);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  fs::remove(errFile);
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, ss.str()};
-}
+using Result = wf::test::CliResult;
+Result run(const std::string& args) { return wf::test::runWirefur(args); }
+using wf::test::lineCount;
 
 fs::path freshDir(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("wirefur-cli-" + name + "-" + std::to_string(::getpid()));
@@ -48,11 +37,6 @@ bool isPng(const fs::path& p) {
   return f && std::string(sig + 1, 3) == "PNG" && fs::file_size(p) > 1000;
 }
 
-int lineCount(const std::string& s) {
-  int n = 0;
-  for (char c : s) n += c == '\n';
-  return n;
-}
 
 }  // namespace
 

@@ -1,6 +1,8 @@
 // `wirefur render` as users and scripts call it (docs/cli.md): the stats keys of DESIGN.md,
 // one-line errors naming the file and the JSON pointer with exit status 2 and nothing written,
 // determinism across thread counts, and the reference path.
+#include "cli_support.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -19,21 +21,8 @@ using json = nlohmann::json;
 
 namespace {
 
-struct Result {
-  int status;
-  std::string err;
-};
-
-Result run(const std::string& args) {
-  const fs::path errFile = fs::temp_directory_path() / ("wirefur-render-err-" + std::to_string(::getpid()));
-  const std::string cmd = std::string("'") + WIREFUR_EXE + "' " + args + " >/dev/null 2>'" + errFile.string() + "'";
-  const int raw = std::system(cmd.c_str());
-  std::ifstream f(errFile);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  fs::remove(errFile);
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, ss.str()};
-}
+using Result = wf::test::CliResult;
+Result run(const std::string& args) { return wf::test::runWirefur(args); }
 
 fs::path dir() {
   static const fs::path d = [] {
@@ -58,11 +47,7 @@ std::string slurp(const fs::path& p) {
   return s.str();
 }
 
-int lines(const std::string& s) {
-  int n = 0;
-  for (char c : s) n += c == '\n';
-  return n;
-}
+int lines(const std::string& s) { return wf::test::lineCount(s); }
 
 const std::string kScenes = std::string(WIREFUR_SOURCE_DIR) + "/data/scenes/";
 
