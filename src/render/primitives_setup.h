@@ -19,6 +19,7 @@
 #include "shading/reflectance_sphere.h"
 
 #include <glm/glm.hpp>
+#include <tbb/task_arena.h>
 
 #include <cstdint>
 #include <memory>
@@ -113,6 +114,17 @@ struct TileBins {
 /// Camera, lights, shading tables, screen primitives. Fills the setup / maps times, input
 /// counts, warnings and error estimates of `stats`.
 PreparedScene prepareScene(const Scene& scene, const RenderOptions& options, RenderStats& stats);
+/// Runs f on at most `threads` worker threads (0: all cores).
+template <class F>
+void inArena(int threads, F&& f) {
+  if (threads > 0) {
+    tbb::task_arena arena(threads);
+    arena.execute(f);
+  } else {
+    f();
+  }
+}
+
 /// The primitive's screen polygon.
 ScreenPolygon screenPolygonOf(const PreparedScene& ps, const Primitive& prim);
 TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& stats);

@@ -183,12 +183,7 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
     st.raster = std::chrono::duration<double>(std::chrono::steady_clock::now() - tr).count();
     st.peakBytes = ps.bytes() + bins.bytes() + store.size() * size_t(options.tileSize) * options.tileSize * S2 * 8;
   };
-  if (options.threads > 0) {
-    tbb::task_arena arena(options.threads);
-    arena.execute(body);
-  } else {
-    body();
-  }
+  inArena(options.threads, body);
   st.coverageQuantisation = 0.5 / S;  // stratified sampling: about half a stratum per edge
   st.total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return result;

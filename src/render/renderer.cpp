@@ -166,15 +166,6 @@ glm::vec4 overBackground(const glm::vec4& c, const glm::vec4& bg) {
   return glm::vec4(glm::vec3(c) + t * glm::vec3(bg) * bg.w, c.w + t * bg.w);
 }
 
-template <class F>
-void inArena(int threads, F&& f) {
-  if (threads > 0) {
-    tbb::task_arena arena(threads);
-    arena.execute(f);
-  } else {
-    f();
-  }
-}
 
 }  // namespace
 
