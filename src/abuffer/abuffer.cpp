@@ -69,6 +69,7 @@ void TileABuffer::reset(int w, int h) {
   freeNodes_.clear();
   tails_.clear();
   occlusion_.assign(size_t(w) * size_t(h), INFINITY);
+  offered_.assign(size_t(w) * size_t(h), 0);
   bw_ = (w + 3) / 4;
   blockOcclusion_.assign(size_t(bw_) * size_t((h + 3) / 4), INFINITY);
   subpixelDepth_.clear();
@@ -79,7 +80,7 @@ void TileABuffer::reset(int w, int h) {
 std::size_t TileABuffer::bytes() const {
   return pixels_.capacity() * sizeof(Pixel) + nodes_.capacity() * sizeof(Node) +
          freeNodes_.capacity() * sizeof(std::int32_t) + tails_.capacity() * sizeof(Tail) +
-         (subpixelDepth_.capacity() + occlusion_.capacity() + blockOcclusion_.capacity()) * sizeof(float) +
+         (subpixelDepth_.capacity() + occlusion_.capacity() + blockOcclusion_.capacity() + offered_.capacity()) * sizeof(float) +
          solids_.capacity() * sizeof(Fragment);
 }
 
@@ -93,8 +94,7 @@ std::int32_t TileABuffer::allocNode() {
     freeNodes_.pop_back();
     return i;
   }
-  nodes_.push_back(Node{});
-  peakBytes_ = std::max(peakBytes_, bytes());
+  nodes_.push_back(Node{});  // capacities never shrink: finish() reads the peak
   return std::int32_t(nodes_.size() - 1);
 }
 
@@ -231,7 +231,7 @@ void TileABuffer::setSolid(Pixel& p, const Fragment& f) {
 
 void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
   Pixel& p = pixels_[size_t(y) * size_t(w_) + size_t(x)];
-  ++p.offered;
+  ++offered_[size_t(y) * size_t(w_) + size_t(x)];
   ++local_.fragments;
   if (!(f.area > 0.0f)) return;
   f.area = std::min(f.area, 1.0f);
@@ -340,10 +340,11 @@ glm::vec4 TileABuffer::resolve(int x, int y) const {
 }
 
 void TileABuffer::finish(ABufferCounters& counters) {
-  for (const Pixel& p : pixels_) {
-    if (p.offered == 0) continue;
+  for (size_t i = 0; i < pixels_.size(); ++i) {
+    const Pixel& p = pixels_[i];
+    if (offered_[i] == 0) continue;
     ++local_.coveredPixels;
-    local_.maxFragmentsPerPixel = std::max(local_.maxFragmentsPerPixel, p.offered);
+    local_.maxFragmentsPerPixel = std::max(local_.maxFragmentsPerPixel, offered_[i]);
     if (p.length > 0 || p.hasTail) ++local_.pixelsWithList;
     else if (p.hasSolid) ++local_.pixelsSolidOnly;
     if (p.hasTail) ++local_.pixelsOverBudget;

@@ -99,10 +99,16 @@ class TileABuffer {
   }
   /// Counts a fragment skipped by the caller because of occlusionDepth().
   void countCulled(int x, int y) {
-    Pixel& p = pixels_[size_t(y) * size_t(w_) + size_t(x)];
-    ++p.offered;
+    ++offered_[size_t(y) * size_t(w_) + size_t(x)];
     ++local_.fragments;
     ++local_.culled;
+  }
+  /// Counts the fragments of pixels x0 ... x1 of row y skipped by the caller.
+  void countCulledRow(int y, int x0, int x1) {
+    std::uint32_t* o = &offered_[size_t(y) * size_t(w_)];
+    for (int x = x0; x <= x1; ++x) ++o[x];
+    local_.fragments += std::uint64_t(x1 - x0 + 1);
+    local_.culled += std::uint64_t(x1 - x0 + 1);
   }
   /// Premultiplied linear RGBA of pixel (x, y) (alpha = coverage).
   glm::vec4 resolve(int x, int y) const;
@@ -129,7 +135,6 @@ class TileABuffer {
     std::uint16_t length = 0;
     bool hasSolid = false;
     bool hasTail = false;
-    std::uint32_t offered = 0;
     std::uint32_t seq = 0;
     std::int32_t tail = -1;
     std::int32_t solid = -1;      ///< index into solids_ (kept out of Pixel: most have none)
@@ -154,6 +159,7 @@ class TileABuffer {
   std::vector<std::int32_t> freeNodes_;
   std::vector<Tail> tails_;
   std::vector<float> occlusion_;      ///< per pixel: see occlusionDepth
+  std::vector<std::uint32_t> offered_;  ///< per pixel: fragments offered (kept apart: the culling loops touch only these)
   std::vector<float> blockOcclusion_; ///< per 4x4 block: the largest occlusion_ in it
   int bw_ = 0;
   std::vector<float> subpixelDepth_;  ///< per pixel with occluders: N depths D then N transmittances T (see occlude)

@@ -54,6 +54,11 @@ void rasterizePolygon(const PreparedScene& ps, const Primitive& prim, int tx0, i
   const int edgeCount = polygonEdges(poly, edges);
   if (edgeCount < 3) return;
   const double orient = poly.signedArea() > 0 ? 1.0 : -1.0;
+  double slopes[ScreenPolygon::kMaxVertices];
+  for (int i = 0; i < poly.count; ++i) {
+    const int j = i + 1 == poly.count ? 0 : i + 1;
+    slopes[i] = poly.y[j] != poly.y[i] ? (poly.x[j] - poly.x[i]) / (poly.y[j] - poly.y[i]) : 0.0;
+  }
   const int row0 = std::max(ty0, int(std::floor(prim.bbox[1])));
   const int row1 = std::min(ty1 - 1, int(std::ceil(prim.bbox[3])) - 1);
   struct SubEdge {
@@ -81,7 +86,8 @@ void rasterizePolygon(const PreparedScene& ps, const Primitive& prim, int tx0, i
       const double lo = std::min(ya, yb), hi = std::max(ya, yb);
       if (hi <= y0 || lo >= y1 || ya == yb) continue;
       // Clip the edge to the band (its x at the band's lines, from the same formula both ways).
-      auto xAt = [&](double y) { return xa + (xb - xa) * ((y - ya) / (yb - ya)); };
+      const double slope = slopes[i];  // dx / dy of the edge, once per primitive
+      auto xAt = [&](double y) { return xa + (y - ya) * slope; };
       const double ca = std::clamp(ya, y0, y1), cb = std::clamp(yb, y0, y1);
       const double xca = ca == ya ? xa : xAt(ca), xcb = cb == yb ? xb : xAt(cb);
       sub[ns++] = {xca, ca, xcb, cb, xcb != xca ? 1.0 / (xcb - xca) : 0.0};
@@ -223,7 +229,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
         };
         auto occludedRow = [&](int y, int x0, int x1, double zmin) {
           if (!(zmin >= buf.rowOcclusionDepth(y - ty0, x0 - tx0, x1 - tx0))) return false;
-          for (int x = x0; x <= x1; ++x) buf.countCulled(x - tx0, y - ty0);
+          buf.countCulledRow(y - ty0, x0 - tx0, x1 - tx0);
           return true;
         };
         rasterizePolygon(ps, prim, tx0, ty0, tx1, ty1, options.mask, occludedRow, occluded, [&](const PixelCoverage& pc) {
