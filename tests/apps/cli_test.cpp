@@ -119,6 +119,23 @@ TEST(Cli, AccuracyQuickWritesJsonAndPlotsWithExpectedErrors) {
       EXPECT_GT(e, prev) << "fov " << o.at("fov_deg");
       prev = e;
     }
+  // The A-buffer study: both scenes, every mask; with K = 64 the RGBA error against the 16x16
+  // reference is well under 1/64 (measured 2-4e-3), and a budget of K = 2 is clearly worse
+  // (its tail blends what should be ordered). The reference's own noise is below what it measures.
+  for (const char* scene : {"lines", "triangles"}) {
+    const json& a = doc.at("abuffer").at(scene);
+    double k64 = -1, k2 = -1;
+    for (const json& p : a.at("sweep")) {
+      if (p.at("mask") != "8x4") continue;
+      if (p.at("budget") == 64) k64 = p.at("rgba_rms");
+      if (p.at("budget") == 2) k2 = p.at("rgba_rms");
+    }
+    EXPECT_GT(k64, 0.0) << scene;
+    EXPECT_LT(k64, 1.0 / 64) << scene;
+    EXPECT_GT(k2, 1.5 * k64) << scene;
+    EXPECT_LT(a.at("reference_noise_rms").get<double>(), k64) << scene;
+    EXPECT_TRUE(isPng(dir / "plots" / (std::string("abuffer_") + scene + ".png"))) << scene;
+  }
   fs::remove_all(dir);
 }
 
