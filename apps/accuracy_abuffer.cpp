@@ -110,6 +110,76 @@ double medianSeconds(int reps, const wf::Scene& s, const wf::RenderOptions& o, w
 
 }  // namespace
 
+// The view-direction tables (render/view_tables.h): the map path against the exact path at the
+// true view vector of every fragment, same A-buffer, so the difference is the shading alone:
+// tables plus the view approximation. A wire cage over a torus, fields of view 30 and 60 degrees.
+json viewGridStudy(bool quick, const Progress& progress, std::vector<std::pair<std::string, PlotSpec>>& plots) {
+  progress.say("view-direction tables: map path against exact shading");
+  json out = json::array();
+  PlotSpec spec{"Shading tables for a grid of view directions: error against time (labels: grid n)",
+                "render time incl. table builds [ms]", "RGBA error vs exact shading", true, true, {}, {2e-3}};
+  const int W = quick ? 160 : 320, H = quick ? 120 : 240;
+  for (double fov : {30.0, 60.0}) {
+    wf::Scene s;
+    s.lightsFollowCamera = true;
+    s.lights.ambient = glm::dvec3(0.05);
+    s.lights.lights = {{glm::normalize(glm::dvec3(-0.55, 0.65, 0.55)), glm::dvec3(1.0)},
+                       {glm::normalize(glm::dvec3(0.8, -0.1, 0.6)), glm::dvec3(0.35)}};
+    wf::Material clay, steel;
+    clay.phong = {glm::dvec3(0.55, 0.27, 0.2), glm::dvec3(0.3), 25};
+    steel.phong = {glm::dvec3(0.2, 0.2, 0.22), glm::dvec3(1.5), 12};
+    s.materials = {wf::Material{}, clay, steel};
+    wf::ParametricSource torus;
+    torus.type = wf::ParametricSource::Type::Torus;
+    torus.major = 0.8;
+    torus.minor = 0.3;
+    s.surfaces.push_back({"torus", wf::tessellate(torus), 1});
+    wf::ParametricSource cage;
+    cage.type = wf::ParametricSource::Type::Sphere;
+    cage.radius = 1.4;
+    wf::SceneWire w;
+    w.lines = wf::isolines(cage, 16, 7, 96);
+    w.material = 2;
+    w.thickness = 0.03;
+    s.wires.push_back(w);
+    wf::Camera cam = wf::frameSphere(glm::dvec3(0.0), 1.45, double(W) / H);
+    const double scale = std::tan(glm::radians(cam.fovYDegrees) / 2) / std::tan(glm::radians(fov) / 2);
+    cam.eye = cam.target + (cam.eye - cam.target) * scale;
+    cam.fovYDegrees = fov;
+    cam.nearPlane = cam.farPlane = 0;
+    s.camera = cam;
+    wf::RenderOptions o;
+    o.width = W;
+    o.height = H;
+    o.shading = wf::ShadingPath::Exact;
+    const wf::RenderResult exact = wf::render(s, o);
+    PlotSeries rms{"RMS, fov " + std::to_string(int(fov)) + " deg", {}, {}, {}, "linespoints"};
+    PlotSeries mx{"max, fov " + std::to_string(int(fov)) + " deg", {}, {}, {}, "linespoints dt 2"};
+    for (int n : {1, 2, 3, 5}) {
+      o.shading = wf::ShadingPath::Maps;
+      o.viewGrid = n;
+      wf::RenderResult r;
+      const double secs = medianSeconds(quick ? 1 : 3, s, o, r);
+      const ImageError e = imageError(r.image, exact.image);
+      out.push_back({{"fov_deg", fov}, {"view_grid", n}, {"seconds", secs}, {"maps_seconds", r.stats.maps},
+                     {"rgba_rms", e.rms}, {"rgba_max", e.max}, {"estimate_max", r.stats.orthographicError},
+                     {"maps_built", r.stats.pseudoReflectanceMaps}, {"spheres_built", r.stats.reflectanceSpheres}});
+      rms.x.push_back(secs * 1e3);
+      rms.y.push_back(std::max(e.rms, 1e-7));
+      rms.labels.push_back(std::to_string(n));
+      mx.x.push_back(secs * 1e3);
+      mx.y.push_back(std::max(e.max, 1e-7));
+      std::printf("  view grid %d, fov %2.0f: %7.2f ms (tables %6.2f ms)  RGBA rms %.2e max %.2e  (estimate %.2e)\n", n,
+                  fov, secs * 1e3, r.stats.maps * 1e3, e.rms, e.max, r.stats.orthographicError);
+    }
+    std::printf("  exact shading, fov %2.0f: %7.2f ms\n", fov, exact.stats.total * 1e3);
+    spec.series.push_back(rms);
+    spec.series.push_back(mx);
+  }
+  plots.emplace_back("view_grid.png", spec);
+  return out;
+}
+
 json abufferStudy(bool quick, const Progress& progress, std::vector<std::pair<std::string, PlotSpec>>& plots) {
   json out;
   const int W = quick ? 160 : 320, H = quick ? 120 : 240;
@@ -208,6 +278,7 @@ json abufferStudy(bool quick, const Progress& progress, std::vector<std::pair<st
     out[c.name] = cj;
     plots.emplace_back("abuffer_" + c.name + ".png", spec);
   }
+  out["view_grid"] = viewGridStudy(quick, progress, plots);
   return out;
 }
 

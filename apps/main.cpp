@@ -24,7 +24,7 @@ constexpr const char* kUsage =
     "                                               error against run time of every shading approximation\n"
     "  render   [INPUT] -o OUT.png [--size WxH] [--style STYLE] [--mask 4x4|8x4|8x8] [--threads N]\n"
     "           [--stats FILE] [--budget K] [--shading maps|exact] [--reference [--samples N]]\n"
-    "           [--measure-error] [--quiet]\n"
+    "           [--view-grid N] [--measure-error] [--quiet]\n"
     "                                               INPUT: scene .json, or .vtp .vtk .stl .obj .ply; none: built-in scene\n"
     "  view, export                                  not in this version yet\n"
     "  --help, --version\n";
@@ -93,6 +93,10 @@ int run(const std::vector<std::string>& a) {
       } else if (a[i] == "--reference") o.reference = true;
       else if (a[i] == "--measure-error") o.measureError = true;
       else if (a[i] == "--samples") o.samples = wfapp::parsePositiveInt("--samples", need(a, i));
+      else if (a[i] == "--view-grid") {
+        o.viewGrid = wfapp::parsePositiveInt("--view-grid", need(a, i));
+        if (o.viewGrid > 16) throw wfapp::UsageError("option --view-grid: expected 1 ... 16");
+      }
       else if (a[i] == "--quiet") o.quiet = true;
       else if (!a[i].empty() && a[i][0] == '-') throw wfapp::UsageError("render: unknown option '" + a[i] + "'");
       else if (o.input.empty()) o.input = a[i];

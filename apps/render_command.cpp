@@ -73,8 +73,11 @@ json statsJson(const wf::RenderStats& st, const wf::RenderOptions& o, bool refer
   e["shading_bound"] = st.mapError + st.sphereError + st.orthographicError;
   e["notes"] =
       "coverage: exact area per fragment; masks (1/N per subpixel) decide hiding where fragments "
-      "overlap. occlusion_epsilon: bound per pixel of what occlusion culling leaves out. map/sphere: max |table - exact| over 192 test directions; orthographic: largest "
-      "change of the exact shading between the view axis and the image-corner ray. Radiance units.";
+      "overlap. occlusion_epsilon: bound per pixel of what occlusion culling leaves out. map_max / "
+      "sphere_max: max |table - exact| over 192 test directions at a node of the view grid; "
+      "orthographic_max: the same with the view-direction approximation where it is worst (the "
+      "image corner for one orthographic table, the corner cell's centre for a grid of them). "
+      "Radiance units.";
   j["error_estimate"] = e;
   j["options"] = {{"size", {o.width, o.height}},
                   {"mask", o.mask.name()},
@@ -84,7 +87,8 @@ json statsJson(const wf::RenderStats& st, const wf::RenderOptions& o, bool refer
                   {"threads", o.threads},
                   {"tile_size", o.tileSize},
                   {"map_resolution", o.map.resolution},
-                  {"map_samples", o.map.samples}};
+                  {"map_samples", o.map.samples},
+                  {"view_grid", st.viewGrid}};
   if (reference) j["options"]["reference_samples"] = o.referenceSamples * o.referenceSamples;
   j["left_out"] = {{"pseudo_reflectance_maps_built", st.pseudoReflectanceMaps},
                    {"reflectance_spheres_built", st.reflectanceSpheres},
@@ -145,6 +149,7 @@ int runRender(const RenderCommandOptions& o) {
   ro.threads = o.threads;
   ro.shading = (o.exact || o.reference) ? wf::ShadingPath::Exact : wf::ShadingPath::Maps;
   ro.referenceSamples = o.samples;
+  ro.viewGrid = o.viewGrid;
   if (const std::string p = ro.problem(); !p.empty()) throw UsageError("render: " + p);
   // Make sure the outputs can be written before spending time on the render.
   for (const std::string& f : {o.output, o.statsPath}) {

@@ -66,8 +66,8 @@ size_t PreparedScene::bytes() const {
              triangles.capacity() * sizeof(TriangleAttributes) +
              segments.capacity() * sizeof(SegmentAttributes);
   for (const ShaderSlot& s : shaders) {
-    if (s.map) b += s.map->bytes();
-    if (s.sphere) b += s.sphere->texels().size() * sizeof(glm::vec3);
+    if (s.wireTables) b += s.wireTables->bytes();
+    if (s.surfaceTables) b += s.surfaceTables->bytes();
   }
   return b;
 }
@@ -141,8 +141,10 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
                     RenderStats& st) {
   const auto t0 = Clock::now();
   const bool maps = o.shading == ShadingPath::Maps;
-  std::map<int, std::shared_ptr<PseudoReflectanceMap>> mapOf;
-  std::map<int, std::shared_ptr<ReflectanceSphere>> sphereOf;
+  ps.grid = std::make_unique<ViewGrid>(ps.view, o.viewGrid);
+  const ViewGrid& grid = *ps.grid;
+  std::map<int, std::shared_ptr<WireTables>> wireTablesOf;
+  std::map<int, std::shared_ptr<SurfaceTables>> surfaceTablesOf;
   std::map<int, int> surfaceSlotOf;
   auto material = [&](int i) -> const Material& {
     return scene.materials[size_t(std::clamp(i, 0, int(scene.materials.size()) - 1))];
@@ -164,14 +166,12 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
       slot.phong = m.phong.sanitized();
       slot.chromeReflectance = m.chromeReflectance;
       if (maps) {
-        if (slot.kind == ShaderSlot::Kind::SurfacePhong)
-          slot.sphere = std::make_shared<ReflectanceSphere>(
-              ReflectanceSphere::phong(o.sphereResolution, slot.phong, ps.eyeLights));
-        else
-          slot.sphere = std::make_shared<ReflectanceSphere>(
-              ReflectanceSphere::chrome(o.sphereResolution, env(), slot.chromeReflectance));
-        sphereOf[mi] = slot.sphere;
-        ++st.reflectanceSpheres;
+        slot.surfaceTables = std::make_shared<SurfaceTables>(
+            slot.kind == ShaderSlot::Kind::SurfacePhong
+                ? SurfaceTables::phong(grid, o.sphereResolution, slot.phong, ps.eyeLights)
+                : SurfaceTables::chrome(grid, o.sphereResolution, env(), slot.chromeReflectance));
+        surfaceTablesOf[mi] = slot.surfaceTables;
+        st.reflectanceSpheres += slot.surfaceTables->spheresBuilt();
       }
       ps.shaders.push_back(slot);
       it = surfaceSlotOf.emplace(mi, int(ps.shaders.size()) - 1).first;
@@ -187,51 +187,64 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
                 : w.style == WireStyle::Plain ? ShaderSlot::Kind::WirePlain
                                               : ShaderSlot::Kind::WireDepthCued;
     if (maps && slot.kind == ShaderSlot::Kind::WireShaded && w.lines.points.size() >= 2) {
-      auto it = mapOf.find(mi);
-      if (it == mapOf.end()) {
-        auto map = std::make_shared<PseudoReflectanceMap>();
-        map->build(slot.phong, ps.eyeLights, o.map);
-        ++st.pseudoReflectanceMaps;
-        it = mapOf.emplace(mi, map).first;
+      auto it = wireTablesOf.find(mi);
+      if (it == wireTablesOf.end()) {
+        auto tables = std::make_shared<WireTables>(grid, slot.phong, ps.eyeLights, o.map);
+        st.pseudoReflectanceMaps += tables->mapsBuilt();
+        it = wireTablesOf.emplace(mi, tables).first;
       }
-      slot.map = it->second;
+      slot.wireTables = it->second;
     }
     ps.shaders.push_back(slot);
     wireShader.push_back(int(ps.shaders.size()) - 1);
   }
   st.maps = secondsSince(t0);
+  st.viewGrid = grid.size();
 
-  // Error estimates of the tables against the exact path, and of the orthographic assumption
-  // (the tables are built for V = +z; the ray through the image corner sees the most change).
+  // Error estimates against the exact path at the true view vector: the tables alone at a node
+  // (where a table is exact in direction), and the tables with the view-direction approximation
+  // (the orthographic assumption for one node, interpolation between nodes otherwise) where it is
+  // worst: the image corner for one node, the centre of the corner cell of the grid otherwise.
   if (!maps) return;
-  const glm::dvec3 axis(0, 0, 1);
-  const double ang = ps.view.maxRayAngle();
-  const glm::dvec3 corner = glm::normalize(glm::dvec3(std::sin(ang), 0.0, std::cos(ang)) +
-                                           glm::dvec3(0.0, 1e-9, 0.0));
+  const int n = grid.size();
+  // A node (where the tables are exact in direction), and where the view approximation is worst:
+  // the image corner (beyond the outer nodes) or the point between the first four nodes.
+  const double nodeX = 0.5 * ps.view.width / n, nodeY = 0.5 * ps.view.height / n;
+  auto viewAt = [&](double x, double y) { return ps.view.viewVector(ps.view.eyePoint(x, y, 1.0)); };
+  const glm::dvec3 vNode = viewAt(nodeX, nodeY);
+  const double worstPoints[2][2] = {{0.0, 0.0}, {n > 1 ? 2 * nodeX : 0.0, n > 1 ? 2 * nodeY : 0.0}};
+  const bool perspective = ps.view.perspective;
   const std::vector<glm::dvec3> dirs = fibonacciSphere(192);
-  for (auto& [mi, map] : mapOf) {
+  for (auto& [mi, tables] : wireTablesOf) {
     const PhongMaterial m = material(mi).phong.sanitized();
     for (size_t i = 0; i < dirs.size(); ++i) {
-      const glm::dvec3 exact = cylinderRadianceExact(dirs[i], axis, m, ps.eyeLights, 1e-8);
-      st.mapError = std::max(st.mapError, maxComponentDiff(glm::dvec3(map->lookup(dirs[i])), exact));
-      if (ang > 0 && i % 3 == 0)
-        st.orthographicError = std::max(
-            st.orthographicError,
-            maxComponentDiff(cylinderRadianceExact(dirs[i], corner, m, ps.eyeLights, 1e-8), exact));
+      st.mapError = std::max(st.mapError, maxComponentDiff(glm::dvec3(tables->lookup(dirs[i], nodeX, nodeY)),
+                                                           cylinderRadianceExact(dirs[i], vNode, m, ps.eyeLights, 1e-8)));
+      if (perspective && i % 3 == 0)
+        for (const auto& w : worstPoints)
+          st.orthographicError = std::max(
+              st.orthographicError, maxComponentDiff(glm::dvec3(tables->lookup(dirs[i], w[0], w[1])),
+                                                     cylinderRadianceExact(dirs[i], viewAt(w[0], w[1]), m, ps.eyeLights, 1e-8)));
     }
   }
-  for (auto& [mi, sphere] : sphereOf) {
+  for (auto& [mi, tables] : surfaceTablesOf) {
     const Material& mat = material(mi);
     const PhongMaterial m = mat.phong.sanitized();
+    auto exactAt = [&](const glm::dvec3& nrm, const glm::dvec3& v) {
+      return mat.kind == Material::Kind::Chrome ? chromeRadiance(env(), mat.chromeReflectance, nrm, v)
+                                                : phongRadiance(nrm, v, m, ps.eyeLights);
+    };
     for (const glm::dvec3& d : dirs) {
-      const glm::dvec3 n(d.x, d.y, std::abs(d.z));
-      const glm::dvec3 exact = mat.kind == Material::Kind::Chrome
-                                   ? chromeRadiance(env(), mat.chromeReflectance, n, axis)
-                                   : phongRadiance(n, axis, m, ps.eyeLights);
-      st.sphereError = std::max(st.sphereError, maxComponentDiff(glm::dvec3(sphere->lookup(n)), exact));
-      if (ang > 0 && mat.kind == Material::Kind::Phong && glm::dot(n, corner) > 0)
-        st.orthographicError = std::max(
-            st.orthographicError, maxComponentDiff(phongRadiance(n, corner, m, ps.eyeLights), exact));
+      // Normals facing the viewer at the node (and at the worst point, for the second estimate).
+      glm::dvec3 nrm = glm::dot(d, vNode) < 0 ? -d : d;
+      st.sphereError = std::max(st.sphereError, maxComponentDiff(glm::dvec3(tables->lookup(nrm, nodeX, nodeY)), exactAt(nrm, vNode)));
+      if (perspective && mat.kind == Material::Kind::Phong)
+        for (const auto& w : worstPoints) {
+          const glm::dvec3 v = viewAt(w[0], w[1]);
+          nrm = glm::dot(d, v) < 0 ? -d : d;
+          st.orthographicError = std::max(st.orthographicError,
+                                          maxComponentDiff(glm::dvec3(tables->lookup(nrm, w[0], w[1])), exactAt(nrm, v)));
+        }
     }
   }
 }
@@ -585,9 +598,10 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint16_
         if (slot.kind == ShaderSlot::Kind::WirePlain) {
           prim.constantColour = true;
           prim.colour = slot.colour * sa.c0;
-        } else if (slot.kind == ShaderSlot::Kind::WireShaded && slot.map && sa.t0 == sa.t1) {
-          prim.constantColour = true;  // the map depends on the tangent alone
-          prim.colour = slot.map->lookup(sa.t0) * sa.c0;
+        } else if (slot.kind == ShaderSlot::Kind::WireShaded && slot.wireTables && sa.t0 == sa.t1 &&
+                   ps.grid->size() == 1) {
+          prim.constantColour = true;  // one orthographic map: the tangent alone decides
+          prim.colour = slot.wireTables->lookup(sa.t0, ps.view.cx, ps.view.cy) * sa.c0;
         }
       }
       if (!finishPolygon(poly, view, prim, out)) {
@@ -819,7 +833,7 @@ glm::vec3 shadeFragment(const PreparedScene& ps, const Primitive& prim, double x
       }
       default: {
         glm::dvec3 T = glm::mix(sa.t0, sa.t1, s);
-        if (ps.path == ShadingPath::Maps && slot.map) return slot.map->lookup(T) * c;
+        if (ps.path == ShadingPath::Maps && slot.wireTables) return slot.wireTables->lookup(T, x, y) * c;
         return glm::vec3(cylinderRadianceExact(T, V, slot.phong, ps.eyeLights, 1e-8)) * c;
       }
     }
@@ -829,7 +843,7 @@ glm::vec3 shadeFragment(const PreparedScene& ps, const Primitive& prim, double x
   const SurfaceSample sample = interpolateTriangle(ps, ta, P, V);
   const glm::dvec3& N = sample.normal;
   const glm::vec3 c = sample.colour;
-  if (ps.path == ShadingPath::Maps && slot.sphere) return slot.sphere->lookup(N) * c;
+  if (ps.path == ShadingPath::Maps && slot.surfaceTables) return slot.surfaceTables->lookup(N, x, y) * c;
   if (slot.kind == ShaderSlot::Kind::SurfaceChrome) {
     const EnvironmentMap& env = ps.scene->environment ? *ps.scene->environment : defaultEnvironment();
     return glm::vec3(chromeRadiance(env, slot.chromeReflectance, N, V)) * c;

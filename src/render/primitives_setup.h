@@ -17,6 +17,7 @@
 #include "render/renderer.h"
 #include "shading/pseudo_reflectance_map.h"
 #include "shading/reflectance_sphere.h"
+#include "render/view_tables.h"
 
 #include <glm/glm.hpp>
 #include <tbb/task_arena.h>
@@ -68,8 +69,8 @@ struct ShaderSlot {
   PhongMaterial phong;
   glm::dvec3 chromeReflectance{0.9};
   glm::vec3 colour{1.0f};
-  std::shared_ptr<PseudoReflectanceMap> map;
-  std::shared_ptr<ReflectanceSphere> sphere;
+  std::shared_ptr<WireTables> wireTables;        ///< shaded wire, map path
+  std::shared_ptr<SurfaceTables> surfaceTables;  ///< surfaces, map path
 };
 
 struct PreparedScene {
@@ -77,6 +78,7 @@ struct PreparedScene {
   ViewTransform view;
   LightRig eyeLights;  ///< canonical, eye space
   ShadingPath path = ShadingPath::Maps;
+  std::unique_ptr<ViewGrid> grid;  ///< view directions of the tables (held by pointer: tables refer to it)
   std::vector<ShaderSlot> shaders;
   std::vector<Primitive> primitives;
   std::vector<glm::dvec2> vertices;

@@ -27,6 +27,7 @@ std::string RenderOptions::problem() const {
   if (map.resolution < 8 || map.resolution > 4096) return "map resolution must be 8 ... 4096";
   if (map.samples < 1 || map.samples > 65536) return "map samples must be 1 ... 65536";
   if (sphereResolution < 8 || sphereResolution > 8192) return "sphere resolution must be 8 ... 8192";
+  if (viewGrid < 1 || viewGrid > 16) return "view grid must be 1 ... 16";
   return {};
 }
 

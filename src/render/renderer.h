@@ -36,6 +36,11 @@ struct RenderOptions {
   int threads = 0;          ///< 0: all cores
   ShadingPath shading = ShadingPath::Maps;
   PseudoReflectanceMapOptions map{};
+  /// Tables for a viewGrid x viewGrid grid of view directions over the image, blended by screen
+  /// position (1: the paper's single orthographic table; see render/view_tables.h). Default 1:
+  /// the tables cost n^2 builds (about 4 ms each) and pay off on large images of many fragments;
+  /// `wirefur accuracy` shows the curve.
+  int viewGrid = 1;
   int sphereResolution = 256;
   int referenceSamples = 16;  ///< brute-force reference: n x n stratified samples per pixel
   std::uint64_t referenceSeed = 1;
@@ -58,12 +63,13 @@ struct RenderStats {
   ABufferCounters abuffer;
   size_t tiles = 0, tilesEmpty = 0;
   int pseudoReflectanceMaps = 0, reflectanceSpheres = 0;  ///< built for this render
+  int viewGrid = 1;                                       ///< nodes per side of the view-direction grid
   size_t peakBytes = 0;                     ///< primitives + bins + tile buffers
   // error estimate (each an upper bound or a measurement, radiance units or coverage)
   double coverageQuantisation = 0;  ///< 1/N: one subpixel, where masks decide hiding
   double mapError = 0;              ///< max |map - exact| (orthographic) over a test set
   double sphereError = 0;           ///< max |sphere - Phong| over a test set
-  double orthographicError = 0;     ///< max change of exact shading from the axis to the corner ray
+  double orthographicError = 0;     ///< tables with the view-direction approximation vs exact, where worst
   double budgetTailShare = 0;       ///< share of fragments blended into tails
   double occlusionEpsilon = 0;      ///< bound of the error of occlusion culling per pixel
   std::vector<std::string> warnings;

@@ -66,9 +66,23 @@ TEST(RenderCli, BuiltInSceneWritesPngAndTheContractsStatsKeys) {
   for (const char* k : {"total", "setup", "maps", "binning", "raster_resolve"}) EXPECT_TRUE(s["seconds"].contains(k)) << k;
   EXPECT_GT(s["segments"].get<int>(), 1000);   // the cage: 23 isolines of 96 segments
   EXPECT_GT(s["triangles"].get<int>(), 1000);  // the torus: 96 x 48 x 2
-  // One material drawn as shaded wire: exactly one pseudo-reflectance map.
-  EXPECT_EQ(s["left_out"]["pseudo_reflectance_maps_built"].get<int>(), 1);
+  // One material drawn as shaded wire: one pseudo-reflectance map per node of the view grid.
+  const int grid = s["options"]["view_grid"].get<int>();
+  EXPECT_EQ(grid, 1);  // the default: the paper's one orthographic table
+  EXPECT_EQ(s["left_out"]["pseudo_reflectance_maps_built"].get<int>(), grid * grid);
   EXPECT_DOUBLE_EQ(s["error_estimate"]["coverage_quantisation"].get<double>(), 1.0 / 32);  // 8x4 default
+}
+
+TEST(RenderCli, ViewGridBuildsOneMapPerNode) {
+  const fs::path stats = dir() / "grid.json";
+  const Result r = run("render -o '" + (dir() / "grid.png").string() + "' --size 160x120 --view-grid 3 --stats '" +
+                       stats.string() + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json s = json::parse(slurp(stats));
+  // 3 x 3 view directions: nine maps for the one wire material, nine spheres for the one surface.
+  EXPECT_EQ(s["options"]["view_grid"].get<int>(), 3);
+  EXPECT_EQ(s["left_out"]["pseudo_reflectance_maps_built"].get<int>(), 9);
+  EXPECT_EQ(s["left_out"]["reflectance_spheres_built"].get<int>(), 9);
 }
 
 TEST(RenderCli, PlainWireSceneBuildsNoMap) {
@@ -144,7 +158,8 @@ TEST(RenderCli, BadOptionsAreExitTwo) {
   const fs::path png = dir() / "opt.png";
   for (const std::string& args : {std::string("render --mask 5x5 -o ") + png.string(), std::string("render --size 12 -o ") + png.string(),
                                   std::string("render"), std::string("render x.step -o ") + png.string(),
-                                  std::string("render --style fluffy -o ") + png.string()}) {
+                                  std::string("render --style fluffy -o ") + png.string(),
+                                  std::string("render --view-grid 0 -o ") + png.string()}) {
     const Result r = run(args);
     EXPECT_EQ(r.status, 2) << args << ": " << r.err;
     EXPECT_EQ(lines(r.err), 1) << args << ": " << r.err;
