@@ -173,6 +173,8 @@ json viewGridStudy(bool quick, const Progress& progress, std::vector<std::pair<s
                   fov, secs * 1e3, r.stats.maps * 1e3, e.rms, e.max, r.stats.orthographicError);
     }
     std::printf("  exact shading, fov %2.0f: %7.2f ms\n", fov, exact.stats.total * 1e3);
+    out.push_back({{"fov_deg", fov}, {"view_grid", "exact"}, {"seconds", exact.stats.total}, {"rgba_rms", 0.0}, {"rgba_max", 0.0}});
+    spec.series.push_back({"exact shading, fov " + std::to_string(int(fov)) + " deg", {exact.stats.total * 1e3}, {1e-4}, {}, "points pt 7 ps 2"});
     spec.series.push_back(rms);
     spec.series.push_back(mx);
   }
