@@ -20,6 +20,7 @@
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <tuple>
 #include <vector>
 
 namespace wfapp {
@@ -93,7 +94,8 @@ int runGallery(const GalleryOptions& opt) {
       return std::atof(sf.paperImage.c_str()) + (sf.paperImage.empty() ? 1e6 : 0.0);
     };
     std::sort(scenes.begin(), scenes.end(), [&](const auto& a, const auto& b) {
-      return key(a.second) < key(b.second) || (key(a.second) == key(b.second) && a.first < b.first);
+      return std::make_tuple(key(a.second), a.second.paperImage, a.first) <
+             std::make_tuple(key(b.second), b.second.paperImage, b.first);
     });
   }
   json sceneStats = json::object();
