@@ -167,8 +167,12 @@ int runRender(const RenderCommandOptions& o) {
     progress.say("rendering the brute-force reference for the error measurement");
     wf::RenderOptions rr = ro;
     rr.shading = wf::ShadingPath::Exact;
-    const wf::RenderResult ref = wf::renderReference(sf.scene, rr);
-    const ImageError e = imageError(r.image, ref.image);
+    // Compared over a transparent background, so that alpha is the coverage itself.
+    wf::Scene clear = sf.scene;
+    clear.background = glm::vec4(0.0f);
+    const wf::RenderResult ref = wf::renderReference(clear, rr);
+    const wf::RenderResult mine = sf.scene.background.w > 0.0f ? wf::render(clear, ro) : r;
+    const ImageError e = imageError(mine.image, ref.image);
     stats["error_estimate"]["measured_against_reference"] = {{"reference_samples", rr.referenceSamples * rr.referenceSamples},
                                                              {"rgba_rms", e.rms},
                                                              {"rgba_max", e.max},
