@@ -111,6 +111,24 @@ void TileABuffer::toTail(Pixel& p, const Fragment& f) {
   t.transmittance *= std::max(0.0f, 1.0f - w);
   t.zkeyMin = std::min(t.zkeyMin, f.zkey);
   ++local_.tail;
+  // The tail blends what it holds over the whole pixel, so the per-subpixel occlusion built from
+  // fragments that may now sit in it no longer holds: from here on only the solid fragment (never
+  // evicted) occludes this pixel.
+  if (!p.noOcclusion) {
+    p.noOcclusion = true;
+    const size_t pixelIndex = size_t(&p - pixels_.data());
+    occlusion_[pixelIndex] = p.hasSolid ? solids_[size_t(p.solid)].zmax : INFINITY;
+    updateBlock(pixelIndex);
+  }
+}
+
+void TileABuffer::updateBlock(size_t pixelIndex) {
+  const int px = int(pixelIndex % size_t(w_)), py = int(pixelIndex / size_t(w_));
+  const int bx = px >> 2, by = py >> 2;
+  float bmax = 0.0f;
+  for (int y = by * 4; y < std::min(h_, by * 4 + 4); ++y)
+    for (int x = bx * 4; x < std::min(w_, bx * 4 + 4); ++x) bmax = std::max(bmax, occlusion_[size_t(y) * size_t(w_) + size_t(x)]);
+  blockOcclusion_[size_t(by) * size_t(bw_) + size_t(bx)] = bmax;
 }
 
 void TileABuffer::occlude(Pixel& p, size_t pixelIndex, const Fragment& f) {
@@ -122,7 +140,7 @@ void TileABuffer::occlude(Pixel& p, size_t pixelIndex, const Fragment& f) {
   const int k = maskCount(f.mask);
   const int n = layout_.samples();
   const float hide = f.opacity * std::min(1.0f, f.area * float(n) / float(std::max(k, 1)));
-  if (!(hide > 0.0f) || k == 0) return;
+  if (!(hide > 0.0f) || k == 0 || p.noOcclusion) return;
   // A settled pixel changes only when a wholly hiding fragment comes nearer than its depth.
   if (p.open == 0 && p.depths >= 0 && (hide < 1.0f || !(f.zmax < occlusion_[pixelIndex]))) return;
   if (p.depths < 0) {
@@ -160,20 +178,16 @@ void TileABuffer::occlude(Pixel& p, size_t pixelIndex, const Fragment& f) {
   for (int s = 0; s < n; ++s) occ = std::max(occ, z[s]);
   if (!(occ < occlusion_[pixelIndex])) return;
   occlusion_[pixelIndex] = occ;
-  const int px = int(pixelIndex % size_t(w_)), py = int(pixelIndex / size_t(w_));
-  const int bx = px >> 2, by = py >> 2;
-  float bmax = 0.0f;
-  for (int y = by * 4; y < std::min(h_, by * 4 + 4); ++y)
-    for (int x = bx * 4; x < std::min(w_, bx * 4 + 4); ++x) bmax = std::max(bmax, occlusion_[size_t(y) * size_t(w_) + size_t(x)]);
-  blockOcclusion_[size_t(by) * size_t(bw_) + size_t(bx)] = bmax;
+  updateBlock(pixelIndex);
 }
 
 void TileABuffer::pruneHidden(Pixel& p, float depth) {
-  // Drops the list entries that lie wholly behind `depth`.
+  // Drops the list entries that lie wholly behind `depth`. Strictly behind: an entry at exactly
+  // that depth (a flat fragment, often the occluder itself) arrived earlier and sorts first.
   std::int32_t* link = &p.head;
   while (*link >= 0) {
     Node& n = nodes_[size_t(*link)];
-    if (n.f.zmin >= depth) {
+    if (n.f.zmin > depth) {
       const std::int32_t dead = *link;
       *link = n.next;
       freeNodes_.push_back(dead);
@@ -219,14 +233,21 @@ void TileABuffer::setSolid(Pixel& p, const Fragment& f) {
     }
     const Fragment old = cur;
     cur = f;
+    p.solidSeq = p.seq++;
     if (old.zmin < f.zmax) pushList(p, old);  // interpenetrates the new solid: keep it
     else ++local_.culled;
   } else {
     p.solid = std::int32_t(solids_.size());
     solids_.push_back(f);
     p.hasSolid = true;
+    p.solidSeq = p.seq++;
   }
   pruneHidden(p, solids_[size_t(p.solid)].zmax);  // entries wholly behind the new solid fragment
+  if (p.noOcclusion) {
+    const size_t pixelIndex = size_t(&p - pixels_.data());
+    occlusion_[pixelIndex] = std::min(occlusion_[pixelIndex], solids_[size_t(p.solid)].zmax);
+    updateBlock(pixelIndex);
+  }
 }
 
 void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
@@ -286,7 +307,7 @@ glm::vec4 TileABuffer::resolve(int x, int y) const {
   order.clear();
   for (std::int32_t i = p.head; i >= 0; i = nodes_[size_t(i)].next) order.push_back(&nodes_[size_t(i)]);
   if (p.hasSolid) {
-    solidNode = Node{solids_[size_t(p.solid)], 0xFFFFFFFFu, -1};
+    solidNode = Node{solids_[size_t(p.solid)], p.solidSeq, -1};  // its arrival: ties sort by it
     order.push_back(&solidNode);
   }
   if (p.hasTail) {

@@ -140,6 +140,8 @@ class TileABuffer {
     std::int32_t solid = -1;      ///< index into solids_ (kept out of Pixel: most have none)
     std::int32_t depths = -1;     ///< this pixel's record (2N floats) in subpixelDepth_, once it has an occluder
     std::uint8_t open = 64;       ///< subpixels not yet settled (see occlude)
+    bool noOcclusion = false;     ///< has a tail: only the solid fragment occludes (see toTail)
+    std::uint32_t solidSeq = 0;   ///< arrival of the solid fragment, for the resolve's order
   };
 
   bool isSolid(const Fragment& f) const;
@@ -148,6 +150,7 @@ class TileABuffer {
   void toTail(Pixel& p, const Fragment& f);
   void occlude(Pixel& p, size_t pixelIndex, const Fragment& f);
   void pruneHidden(Pixel& p, float depth);
+  void updateBlock(size_t pixelIndex);
   std::int32_t allocNode();
 
   MaskLayout layout_;

@@ -83,6 +83,13 @@ bool finite3(const glm::dvec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
+// Colours and opacities from the scene: NaN / Inf / negative would reach the image.
+glm::vec3 safeColour(const glm::vec3& c) {
+  auto f = [](float v) { return std::isfinite(v) ? std::max(v, 0.0f) : 0.0f; };
+  return {f(c.x), f(c.y), f(c.z)};
+}
+float safeOpacity(float a) { return std::isfinite(a) ? std::clamp(a, 0.0f, 1.0f) : 1.0f; }
+
 // Unit vectors spread evenly over the sphere (Fibonacci lattice): the test set of the error
 // estimates.
 std::vector<glm::dvec3> fibonacciSphere(int n) {
@@ -113,13 +120,21 @@ const EnvironmentMap& defaultEnvironment() {
 
 // ---- camera, lights, shaders -------------------------------------------------------------
 
-Camera chooseCamera(const Scene& scene, const RenderOptions& o) {
+Camera chooseCamera(const Scene& scene, const RenderOptions& o, RenderStats& st) {
   glm::dvec3 centre;
   double sphereRadius = 0;
   const bool hasBounds = scene.boundingSphere(centre, sphereRadius);
-  Camera c = scene.camera ? *scene.camera
-                          : (hasBounds ? frameSphere(centre, sphereRadius, double(o.width) / o.height)
-                                       : Camera{});
+  bool useScenes = scene.camera.has_value();
+  if (useScenes) {
+    const std::string problem = scene.camera->problem();
+    if (!problem.empty()) {
+      st.warnings.push_back("camera: " + problem + "; framed from the scene's bounds instead");
+      useScenes = false;
+    }
+  }
+  Camera c = useScenes ? *scene.camera
+                       : (hasBounds ? frameSphere(centre, sphereRadius, double(o.width) / o.height)
+                                    : Camera{});
   if (c.nearPlane > 0 && c.farPlane > 0) return c;
   // Near and far from the bounding sphere, as tight as the scene allows.
   const glm::dvec3 dir = glm::normalize(c.target - c.eye);
@@ -182,7 +197,7 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
     ShaderSlot slot;
     const int mi = std::clamp(w.material, 0, int(scene.materials.size()) - 1);
     slot.phong = material(mi).phong.sanitized();
-    slot.colour = w.colour;
+    slot.colour = safeColour(w.colour);
     slot.kind = w.style == WireStyle::Shaded  ? ShaderSlot::Kind::WireShaded
                 : w.style == WireStyle::Plain ? ShaderSlot::Kind::WirePlain
                                               : ShaderSlot::Kind::WireDepthCued;
@@ -451,16 +466,27 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint16_
   const ShaderSlot& slot = ps.shaders[shader];
   const bool hasColours = L.colours.size() == L.points.size();
   std::vector<SegScreen> segs;
+  std::vector<size_t> ids;
   std::vector<glm::dvec2> offsets;
   std::vector<char> mitred;
   for (size_t li = begin; li < end; ++li) {
     const size_t a = L.starts[li], b = std::min<size_t>(L.starts[li + 1], L.points.size());
-    if (b < a + 2) continue;
-    const size_t nseg = b - a - 1;
+    // Repeated points make zero-length segments: drop them here, so that the segments on either
+    // side still meet in a mitred joint.
+    ids.clear();
+    for (size_t k = a; k < b; ++k) {
+      if (!ids.empty() && L.points[k] == L.points[ids.back()]) {
+        ++out.zeroLength;
+        continue;
+      }
+      ids.push_back(k);
+    }
+    if (ids.size() < 2) continue;
+    const size_t nseg = ids.size() - 1;
     segs.assign(nseg, SegScreen{});
     for (size_t j = 0; j < nseg; ++j) {
       SegScreen& s = segs[j];
-      const glm::dvec3 &w0 = L.points[a + j], &w1 = L.points[a + j + 1];
+      const glm::dvec3 &w0 = L.points[ids[j]], &w1 = L.points[ids[j + 1]];
       if (!finite3(w0) || !finite3(w1)) {
         ++out.rejected;
         continue;
@@ -572,7 +598,7 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint16_
       prim.zhi = float(std::max(s.d0, s.d1));
       prim.tag = tag;
       prim.mayMerge = nseg > 1;  // a one-segment polyline (a straight hair) has nothing to merge with
-      prim.opacity = wire.opacity;
+      prim.opacity = safeOpacity(wire.opacity);
       prim.isSegment = true;
       prim.attribute = std::uint32_t(out.segs.size());
       SegmentAttributes sa;
@@ -591,8 +617,8 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint16_
       };
       sa.t0 = jointTangent(j, s.tangent);
       sa.t1 = jointTangent(j + 1, s.tangent);
-      sa.c0 = hasColours ? L.colours[a + j] : glm::vec3(1.0f);
-      sa.c1 = hasColours ? L.colours[a + j + 1] : glm::vec3(1.0f);
+      sa.c0 = hasColours ? safeColour(L.colours[ids[j]]) : glm::vec3(1.0f);
+      sa.c1 = hasColours ? safeColour(L.colours[ids[j + 1]]) : glm::vec3(1.0f);
       sa.shader = shader;
       if (sa.c0 == sa.c1) {
         if (slot.kind == ShaderSlot::Kind::WirePlain) {
@@ -620,7 +646,7 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
   PreparedScene ps;
   ps.scene = &scene;
   ps.path = o.shading;
-  const Camera camera = chooseCamera(scene, o);
+  const Camera camera = chooseCamera(scene, o, st);
   ps.view = ViewTransform::make(camera, o.width, o.height);
   ps.eyeLights = scene.lightsFollowCamera ? scene.lights.canonical()
                                           : scene.lights.transformed(ps.view.eyeFromWorld).canonical();
@@ -670,7 +696,7 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
       const SceneSurface& s = scene.surfaces[j.object];
       const Material& m = scene.materials[size_t(std::clamp(s.material, 0, int(scene.materials.size()) - 1))];
       setupTriangles(ps, s, j.object, std::uint16_t(surfaceShader[j.object]), j.object + 1,
-                     std::clamp(m.opacity, 0.0f, 1.0f), j.begin, j.end, chunks[i]);
+                     safeOpacity(m.opacity), j.begin, j.end, chunks[i]);
     }
   });
   // Concatenate in job order (deterministic whatever the thread count).
@@ -797,7 +823,7 @@ SurfaceSample interpolateTriangle(const PreparedScene& ps, const TriangleAttribu
   }
   if (mesh.uvs.size() == nv) out.uv = mix3(mesh.uvs[tri.x], mesh.uvs[tri.y], mesh.uvs[tri.z]);
   if (mesh.colours.size() == nv)
-    out.colour = mesh.colours[tri.x] * float(b0) + mesh.colours[tri.y] * float(b1) + mesh.colours[tri.z] * float(b2);
+    out.colour = safeColour(mesh.colours[tri.x] * float(b0) + mesh.colours[tri.y] * float(b1) + mesh.colours[tri.z] * float(b2));
   return out;
 }
 

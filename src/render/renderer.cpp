@@ -96,8 +96,9 @@ void rasterizePolygon(const PreparedScene& ps, const Primitive& prim, int tx0, i
       xmax = std::max({xmax, xca, xcb});
     }
     if (ns < 2) continue;
-    const int c0 = std::max(tx0, int(floorToInt(xmin)));
-    const int c1 = std::min(tx1 - 1, int(ceilToInt(xmax)) - 1);
+    // Clamped in 64 bits before narrowing: a polygon may reach billions of pixels off screen.
+    const int c0 = int(std::clamp<std::int64_t>(floorToInt(std::max(xmin, -1e15)), tx0, tx1));
+    const int c1 = int(std::clamp<std::int64_t>(ceilToInt(std::min(xmax, 1e15)) - 1, tx0 - 1, tx1 - 1));
     if (c0 > c1 || occludedRow(row, c0, c1, prim.zlo)) continue;
     std::int64_t spanLo[8], spanHi[8];  // the polygon's sample runs on this row's sample rows
     bool spansDone = false;              // computed at the row's first pixel that survives culling
@@ -127,7 +128,8 @@ void rasterizePolygon(const PreparedScene& ps, const Primitive& prim, int tx0, i
       pc.keyMax = std::max({k00, k10, k01, k11});
       if (prim.zlo < prim.zhi) {
         const double near = ps.view.perspective ? pc.keyMax : pc.keyMin;
-        if (occluded(col, row, std::max(double(prim.zlo), ps.view.depthFromKey(near)))) continue;
+        const double nearDepth = ps.view.perspective ? (near > 0.0 ? 1.0 / near : INFINITY) : near;
+        if (occluded(col, row, std::clamp(nearDepth, double(prim.zlo), double(prim.zhi)))) continue;
       }
       pc.area = area;
       if (!spansDone) {
@@ -158,11 +160,17 @@ void rasterizePolygon(const PreparedScene& ps, const Primitive& prim, int tx0, i
 
 void depthRange(const PreparedScene& ps, const Primitive& prim, const PixelCoverage& pc,
                 float& zmin, float& zmax, float& zkey) {
-  double a = ps.view.depthFromKey(pc.keyMin), b = ps.view.depthFromKey(pc.keyMax);
-  if (a > b) std::swap(a, b);
+  // Depths from the screen-linear key, extrapolated over the pixel square. Under perspective a
+  // key <= 0 lies beyond the vanishing line: infinitely far, never in front of anything.
+  auto depthOf = [&](double k) {
+    return ps.view.perspective ? (k > 0.0 ? 1.0 / k : INFINITY) : k;
+  };
+  double a = depthOf(ps.view.perspective ? pc.keyMax : pc.keyMin);
+  double b = depthOf(ps.view.perspective ? pc.keyMin : pc.keyMax);
   a = std::clamp(a, double(prim.zlo), double(prim.zhi));
   b = std::clamp(b, double(prim.zlo), double(prim.zhi));
-  const double c = std::clamp(ps.view.depthFromKey(prim.depthKeyAt(pc.cx, pc.cy)), a, b);
+  if (a > b) std::swap(a, b);
+  const double c = std::clamp(depthOf(prim.depthKeyAt(pc.cx, pc.cy)), a, b);
   zmin = float(a);
   zmax = float(b);
   zkey = float(c);
