@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "abuffer_test_fragments.h"
 #include "test_support.h"
 
 #include <algorithm>
@@ -17,24 +18,7 @@
 namespace wf {
 namespace {
 
-const MaskLayout kL{8, 4};
-constexpr MaskBits kFull = 0xFFFFFFFFull;
-constexpr MaskBits kLeftHalf = 0x0F0F0F0Full;
-constexpr MaskBits kRightHalf = 0xF0F0F0F0ull;
-const glm::vec3 kRed(1, 0, 0), kGreen(0, 1, 0), kBlue(0, 0, 1);
-
-Fragment frag(float z, float area, float opacity, glm::vec3 colour, MaskBits mask, std::uint32_t tag,
-              bool mayMerge = true) {
-  Fragment f;
-  f.zmin = f.zmax = f.zkey = z;
-  f.area = area;
-  f.opacity = opacity;
-  f.colour = colour;
-  f.mask = mask;
-  f.tag = tag;
-  f.mayMerge = mayMerge;
-  return f;
-}
+using namespace wf::test;
 
 // The resolve rule over all fragments (sorted by zkey, then arrival), in double, no culling,
 // no budget, no merging: what the buffer must reproduce when culling is exact.

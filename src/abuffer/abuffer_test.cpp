@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "abuffer_test_fragments.h"
 #include "test_support.h"
 
 #include <algorithm>
@@ -17,22 +18,7 @@
 namespace wf {
 namespace {
 
-const MaskLayout kL{8, 4};                         // Carpenter's 8x4: 32 samples
-constexpr MaskBits kFull = 0xFFFFFFFFull;          // all 32 samples
-constexpr MaskBits kLeftHalf = 0x0F0F0F0Full;      // columns 0-3 of every row
-constexpr MaskBits kRightHalf = 0xF0F0F0F0ull;     // columns 4-7 of every row
-const glm::vec3 kRed(1, 0, 0), kGreen(0, 1, 0), kBlue(0, 0, 1);
-
-Fragment frag(float z, float area, float opacity, glm::vec3 colour, MaskBits mask, std::uint32_t tag) {
-  Fragment f;
-  f.zmin = f.zmax = f.zkey = z;
-  f.area = area;
-  f.opacity = opacity;
-  f.colour = colour;
-  f.mask = mask;
-  f.tag = tag;
-  return f;
-}
+using namespace wf::test;
 
 void expectRGBA(const glm::vec4& got, const glm::vec4& want, float tol, const char* what) {
   for (int i = 0; i < 4; ++i) EXPECT_NEAR(got[i], want[i], tol) << what << " channel " << i;

@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include "render_test_scenes.h"
 #include "test_support.h"
 
 #include <algorithm>
@@ -25,133 +26,19 @@
 namespace wf {
 namespace {
 
-using V2 = glm::dvec2;
-using Poly = std::vector<V2>;
+using namespace wf::test;
 
-Camera orthoCamera(int H) {
-  Camera c;
-  c.projection = Camera::Projection::Orthographic;
-  c.eye = {0, 0, 10};
-  c.target = {0, 0, 0};
-  c.up = {0, 1, 0};
-  c.orthoHeight = H;
-  c.nearPlane = 1;
-  c.farPlane = 100;
-  return c;
-}
 
-glm::dvec3 world(const V2& s, double depth, int W, int H) { return {s.x - W / 2.0, H / 2.0 - s.y, 10.0 - depth}; }
 
-Scene baseScene(int W, int H) {
-  Scene s;
-  (void)W;
-  s.camera = orthoCamera(H);
-  s.background = glm::vec4(0.0f);
-  s.lights.ambient = glm::dvec3(1.0);
-  s.materials[0].phong.diffuse = glm::dvec3(1.0);
-  s.materials[0].phong.specular = glm::dvec3(0.0);
-  return s;
-}
 
-RenderOptions smallOptions(int W, int H) {
-  RenderOptions o;
-  o.width = W;
-  o.height = H;
-  o.tileSize = 16;
-  o.sphereResolution = 32;
-  o.map.resolution = 32;
-  o.map.samples = 16;
-  return o;
-}
 
-SceneSurface screenSurface(const std::vector<Poly>& tris, double depth, int W, int H, glm::vec3 colour = glm::vec3(1)) {
-  SceneSurface s;
-  for (const Poly& t : tris) {
-    const std::uint32_t b = std::uint32_t(s.mesh.positions.size());
-    for (const V2& p : t) {
-      s.mesh.positions.push_back(world(p, depth, W, H));
-      s.mesh.colours.push_back(colour);
-    }
-    s.mesh.triangles.push_back({b, b + 1, b + 2});
-  }
-  return s;
-}
 
-SceneSurface screenRect(double x0, double y0, double x1, double y1, double depth, int W, int H, glm::vec3 colour) {
-  SceneSurface s;
-  for (const V2& p : {V2(x0, y0), V2(x1, y0), V2(x1, y1), V2(x0, y1)}) {
-    s.mesh.positions.push_back(world(p, depth, W, H));
-    s.mesh.colours.push_back(colour);
-  }
-  s.mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
-  return s;
-}
 
-SceneWire plainWire(const std::vector<std::vector<V2>>& lines, double thicknessPx, double depth, int W, int H) {
-  SceneWire w;
-  w.style = WireStyle::Plain;
-  w.thickness = thicknessPx;
-  w.thicknessInPixels = true;
-  w.colour = glm::vec3(1.0f);
-  for (const auto& l : lines) {
-    std::vector<glm::dvec3> pts;
-    for (const V2& p : l) pts.push_back(world(p, depth, W, H));
-    w.lines.add(pts);
-  }
-  return w;
-}
 
-std::vector<double> pixelAreas(const std::vector<Poly>& polys, int W, int H) {
-  std::vector<double> a(size_t(W) * H, 0.0);
-  for (const Poly& v : polys) {
-    ScreenPolygon p;
-    for (const V2& q : v) p.add(q.x, q.y);
-    for (int py = 0; py < H; ++py)
-      for (int px = 0; px < W; ++px) {
-        ScreenPolygon piece;
-        clipRect(p, piece, px, py, px + 1, py + 1);
-        a[size_t(py) * W + px] += piece.area();
-      }
-  }
-  return a;
-}
 
-double sumAlpha(const ImageRGBA& im) {
-  double s = 0;
-  for (const glm::vec4& p : im.pixels) s += p.w;
-  return s;
-}
 
-double maxAlphaError(const ImageRGBA& im, const std::vector<double>& want, int* where = nullptr) {
-  double m = 0;
-  for (size_t i = 0; i < im.pixels.size(); ++i) {
-    const double e = std::abs(double(im.pixels[i].w) - want[i]);
-    if (e > m) {
-      m = e;
-      if (where) *where = int(i);
-    }
-  }
-  return m;
-}
 
-double maxDiff(const ImageRGBA& a, const ImageRGBA& b, int* where = nullptr) {
-  double m = 0;
-  for (size_t i = 0; i < a.pixels.size(); ++i)
-    for (int c = 0; c < 4; ++c) {
-      const double e = std::abs(double(a.pixels[i][c]) - double(b.pixels[i][c]));
-      if (e > m || std::isnan(e)) {
-        m = std::isnan(e) ? INFINITY : e;
-        if (where) *where = int(i);
-      }
-    }
-  return m;
-}
 
-bool allFinite(const ImageRGBA& im) {
-  for (const glm::vec4& p : im.pixels)
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) || !std::isfinite(p.w)) return false;
-  return true;
-}
 
 // ---- rasterisation: exact area ---------------------------------------------------------------
 
@@ -515,7 +402,7 @@ TEST(RenderReview, ViewGridCornerWeightsArePartitionOfUnityEverywhere) {
       }
   }
   // An orthographic view has one direction: one node whatever n.
-  Camera oc = orthoCamera(48);
+  Camera oc = orthoCamera(48, 48);
   EXPECT_EQ(ViewGrid(ViewTransform::make(oc, 64, 48), 4).size(), 1);
 }
 

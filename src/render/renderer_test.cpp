@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include "render_test_scenes.h"
 #include "test_support.h"
 
 #include <algorithm>
@@ -24,89 +25,14 @@
 namespace wf {
 namespace {
 
-using V2 = glm::dvec2;
-using Poly = std::vector<V2>;
+using namespace wf::test;
 
-Camera orthoCamera(int W, int H) {
-  Camera c;
-  c.projection = Camera::Projection::Orthographic;
-  c.eye = {0, 0, 10};
-  c.target = {0, 0, 0};
-  c.up = {0, 1, 0};
-  c.orthoHeight = H;  // 1 pixel per world unit
-  c.nearPlane = 1;
-  c.farPlane = 100;
-  (void)W;
-  return c;
-}
 
-// World point seen at screen (X, Y) and view depth `depth` by orthoCamera.
-glm::dvec3 world(const V2& s, double depth, int W, int H) { return {s.x - W / 2.0, H / 2.0 - s.y, 10.0 - depth}; }
 
-Scene baseScene(int W, int H) {
-  Scene s;
-  s.camera = orthoCamera(W, H);
-  s.background = glm::vec4(0.0f);
-  s.lights.ambient = glm::dvec3(1.0);
-  s.materials[0].phong.diffuse = glm::dvec3(1.0);
-  s.materials[0].phong.specular = glm::dvec3(0.0);
-  return s;
-}
 
-RenderOptions smallOptions(int W, int H) {
-  RenderOptions o;
-  o.width = W;
-  o.height = H;
-  o.tileSize = 16;  // several tiles even in small images
-  o.sphereResolution = 32;
-  o.map.resolution = 32;
-  o.map.samples = 16;
-  return o;
-}
 
-// A surface of triangles given in screen coordinates, all at view depth `depth`.
-SceneSurface screenSurface(const std::vector<Poly>& tris, double depth, int W, int H, glm::vec3 colour = glm::vec3(1),
-                           int material = 0) {
-  SceneSurface s;
-  s.material = material;
-  for (const Poly& t : tris) {
-    const std::uint32_t b = std::uint32_t(s.mesh.positions.size());
-    for (const V2& p : t) {
-      s.mesh.positions.push_back(world(p, depth, W, H));
-      s.mesh.colours.push_back(colour);
-    }
-    s.mesh.triangles.push_back({b, b + 1, b + 2});
-  }
-  return s;
-}
 
-// An axis-aligned screen rectangle [x0, x1] x [y0, y1] as one mesh of two triangles sharing
-// the diagonal (shared vertices).
-SceneSurface screenRect(double x0, double y0, double x1, double y1, double depth, int W, int H, glm::vec3 colour,
-                        int material = 0) {
-  SceneSurface s;
-  s.material = material;
-  for (const V2& p : {V2(x0, y0), V2(x1, y0), V2(x1, y1), V2(x0, y1)}) {
-    s.mesh.positions.push_back(world(p, depth, W, H));
-    s.mesh.colours.push_back(colour);
-  }
-  s.mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
-  return s;
-}
 
-SceneWire plainWire(const std::vector<std::vector<V2>>& lines, double thicknessPx, double depth, int W, int H) {
-  SceneWire w;
-  w.style = WireStyle::Plain;
-  w.thickness = thicknessPx;
-  w.thicknessInPixels = true;
-  w.colour = glm::vec3(1.0f);
-  for (const auto& l : lines) {
-    std::vector<glm::dvec3> pts;
-    for (const V2& p : l) pts.push_back(world(p, depth, W, H));
-    w.lines.add(pts);
-  }
-  return w;
-}
 
 double shoelace(const Poly& v) {
   double s = 0;
@@ -114,50 +40,9 @@ double shoelace(const Poly& v) {
   return 0.5 * s;
 }
 
-// Exact covered area of every pixel by a set of convex polygons with disjoint interiors.
-std::vector<double> pixelAreas(const std::vector<Poly>& polys, int W, int H) {
-  std::vector<double> a(size_t(W) * H, 0.0);
-  for (const Poly& v : polys) {
-    ScreenPolygon p;
-    double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
-    for (const V2& q : v) {
-      p.add(q.x, q.y);
-      x0 = std::min(x0, q.x), x1 = std::max(x1, q.x), y0 = std::min(y0, q.y), y1 = std::max(y1, q.y);
-    }
-    for (int py = std::max(0, int(std::floor(y0))); py < std::min(H, int(std::ceil(y1))); ++py)
-      for (int px = std::max(0, int(std::floor(x0))); px < std::min(W, int(std::ceil(x1))); ++px) {
-        ScreenPolygon piece;
-        clipRect(p, piece, px, py, px + 1, py + 1);
-        a[size_t(py) * W + px] += piece.area();
-      }
-  }
-  return a;
-}
 
-double sumAlpha(const ImageRGBA& im) {
-  double s = 0;
-  for (const glm::vec4& p : im.pixels) s += p.w;
-  return s;
-}
 
-bool allFinite(const ImageRGBA& im) {
-  for (const glm::vec4& p : im.pixels)
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) || !std::isfinite(p.w)) return false;
-  return true;
-}
 
-// Largest |alpha - expected| over the image, and where.
-double maxAlphaError(const ImageRGBA& im, const std::vector<double>& want, int* where = nullptr) {
-  double m = 0;
-  for (size_t i = 0; i < im.pixels.size(); ++i) {
-    const double e = std::abs(double(im.pixels[i].w) - want[i]);
-    if (e > m) {
-      m = e;
-      if (where) *where = int(i);
-    }
-  }
-  return m;
-}
 
 // A rectangle of half-width w around the segment p0-p1 (the paper's wire polygon, no caps).
 Poly segmentRect(const V2& p0, const V2& p1, double w) {
