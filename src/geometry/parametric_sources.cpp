@@ -26,7 +26,11 @@ SurfacePoint evaluate(const ParametricSource& s, double u, double v) {
   switch (s.type) {
     case ParametricSource::Type::Sphere: {
       const double th = std::numbers::pi * v;  // from the south pole (v = 0) to the north
-      const glm::dvec3 n(std::sin(th) * std::cos(a), std::sin(th) * std::sin(a), -std::cos(th));
+      // Exactly on the axis at the poles (sin(pi) is 1e-16, not 0): the pole's vertices coincide
+      // and the triangles collapsed there are recognised and left out.
+      const double st = (v <= 0.0 || v >= 1.0) ? 0.0 : std::sin(th);
+      const double ct = v <= 0.0 ? 1.0 : (v >= 1.0 ? -1.0 : std::cos(th));
+      const glm::dvec3 n(st * std::cos(a), st * std::sin(a), -ct);
       return {s.radius * n, n};
     }
     case ParametricSource::Type::Torus: {
