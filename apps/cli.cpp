@@ -20,6 +20,7 @@ void Progress::say(const std::string& line) const {
 
 int parsePositiveInt(const std::string& option, const std::string& value) {
   try {
+    if (value.empty() || value.find_first_not_of("0123456789") != std::string::npos) throw std::invalid_argument("digits");
     size_t used = 0;
     const long v = std::stol(value, &used);
     if (used != value.size() || v <= 0 || v > 1000000) throw std::invalid_argument("range");

@@ -52,6 +52,21 @@ wf::ImageRGBA mapImage(const wf::PseudoReflectanceMap& map, wf::PseudoReflectanc
   return img;
 }
 
+// Scene titles and captions are the user's text: escaped for HTML.
+std::string escapeHtml(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
 void writeIndex(const std::string& dir, const std::vector<Entry>& entries, double total) {
   std::ofstream html(dir + "/index.html.tmp");
   html << "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>WireFur gallery</title>\n"
@@ -62,8 +77,8 @@ void writeIndex(const std::string& dir, const std::vector<Entry>& entries, doubl
           "<h1>WireFur gallery</h1>\n<p>Pictures after G. S. P. Miller, <i>From Wire-frames to Furry Animals</i> "
           "(Graphics Interface 1988). Each shows its run time and its error against the exact path.</p>\n";
   for (const Entry& e : entries)
-    html << "<figure><img src=\"" << e.file << "\" alt=\"" << e.title << "\"><figcaption><b>" << e.title
-         << "</b><br>" << e.caption << "<br><span class=\"m\">time " << sci(e.seconds) << " s; error: " << e.error
+    html << "<figure><img src=\"" << escapeHtml(e.file) << "\" alt=\"" << escapeHtml(e.title) << "\"><figcaption><b>" << escapeHtml(e.title)
+         << "</b><br>" << escapeHtml(e.caption) << "<br><span class=\"m\">time " << sci(e.seconds) << " s; error: " << escapeHtml(e.error)
          << "</span></figcaption></figure>\n";
   html << "<p class=\"m\">total " << sci(total) << " s</p></body></html>\n";
   html.close();
@@ -101,6 +116,8 @@ int runGallery(const GalleryOptions& opt) {
   json sceneStats = json::object();
   for (auto& [file, sf] : scenes) {
     const std::string stem = std::filesystem::path(file).stem().string();
+    if (stem == "environment" || stem.rfind("prm_", 0) == 0 || stem == "index" || stem == "gallery")
+      throw UsageError(file + ": this name is taken by the gallery's own pictures; rename the scene");
     progress.say("scene " + stem);
     wf::RenderOptions ro = renderOptionsFor(sf);
     if (opt.size > 0 && std::max(ro.width, ro.height) > opt.size) {
@@ -207,7 +224,10 @@ int runGallery(const GalleryOptions& opt) {
     if (sceneStats.contains(stem)) j["stats"] = sceneStats[stem];
     doc.push_back(j);
   }
-  std::ofstream(dir + "/gallery.json") << doc.dump(2) << "\n";
+  {
+    std::ofstream(dir + "/gallery.json.tmp") << doc.dump(2) << "\n";
+    std::filesystem::rename(dir + "/gallery.json.tmp", dir + "/gallery.json");
+  }
   for (const Entry& e : entries)
     std::printf("%-24s %8.3f s  %s\n", e.file.c_str(), e.seconds, e.error.c_str());
   std::printf("gallery: %zu pictures in %s/index.html, %.2f s\n", entries.size(), dir.c_str(), total);

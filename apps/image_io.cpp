@@ -50,8 +50,9 @@ void writePng(const wf::ImageRGBA& image, const std::string& path) {
   }
   std::filesystem::rename(tmp, target, ec);
   if (ec) {
+    const std::string why = ec.message();  // before remove() overwrites ec
     std::filesystem::remove(tmp, ec);
-    throw std::runtime_error(path + ": cannot write PNG (" + ec.message() + ")");
+    throw std::runtime_error(path + ": cannot write PNG (" + why + ")");
   }
 }
 

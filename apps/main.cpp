@@ -35,9 +35,10 @@ std::string need(const std::vector<std::string>& a, size_t& i) {
 }
 
 int run(const std::vector<std::string>& a) {
-  if (a.empty() || a[0] == "--help" || a[0] == "-h" || a[0] == "help") {
+  if (a.empty()) throw wfapp::UsageError("no command (try wirefur --help)");
+  if (a[0] == "--help" || a[0] == "-h" || a[0] == "help") {
     std::cout << kUsage;
-    return a.empty() ? 2 : 0;
+    return 0;
   }
   if (a[0] == "--version") {
     std::cout << "wirefur 0.1.0\n";

@@ -25,7 +25,11 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <vector>
 #include <string>
 
 namespace wfapp {
@@ -57,6 +61,129 @@ class ErrorCatcher : public vtkCommand {
   std::string message;
 };
 
+// VTK's PLY reader trusts the header: a short vertex line or a body shorter than the header
+// declares makes it read past its buffers. Before handing a file to it, check that the body can
+// hold what the header promises: for binary files, at least the declared counts times the fixed
+// sizes (a list counts its length field only); for ASCII, enough lines with enough numbers.
+void checkPly(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line, format;
+  if (!std::getline(in, line) || line.rfind("ply", 0) != 0) throw UsageError(path + ": not a PLY file (no 'ply' magic)");
+  struct Element {
+    std::string name;
+    std::uint64_t count = 0;
+    std::uint64_t fixedBytes = 0;  // scalars, and each list's length field
+    int scalars = 0, lists = 0;
+  };
+  std::vector<Element> elements;
+  auto typeSize = [&](const std::string& t) -> int {
+    if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+    if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+    if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" || t == "float32") return 4;
+    if (t == "double" || t == "float64") return 8;
+    throw UsageError(path + ": PLY header: unknown property type '" + t + "'");
+  };
+  int lineNo = 1;
+  bool ended = false;
+  while (std::getline(in, line)) {
+    ++lineNo;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream w(line);
+    std::string key;
+    w >> key;
+    if (key == "format") w >> format;
+    else if (key == "element") {
+      Element e;
+      long long n = -1;
+      if (!(w >> e.name >> n) || n < 0 || n > 2000000000LL)
+        throw UsageError(path + ":" + std::to_string(lineNo) + ": PLY header: bad element line");
+      e.count = std::uint64_t(n);
+      elements.push_back(e);
+    } else if (key == "property") {
+      if (elements.empty()) throw UsageError(path + ":" + std::to_string(lineNo) + ": PLY header: property before any element");
+      std::string t;
+      w >> t;
+      if (t == "list") {
+        std::string countType, itemType;
+        w >> countType >> itemType;
+        elements.back().fixedBytes += std::uint64_t(typeSize(countType));
+        typeSize(itemType);
+        ++elements.back().lists;
+      } else {
+        elements.back().fixedBytes += std::uint64_t(typeSize(t));
+        ++elements.back().scalars;
+      }
+    } else if (key == "end_header") {
+      ended = true;
+      break;
+    }
+  }
+  if (!ended) throw UsageError(path + ": PLY header has no end_header");
+  if (format == "binary_little_endian" || format == "binary_big_endian") {
+    const std::uint64_t header = std::uint64_t(in.tellg());
+    std::uint64_t need = 0;
+    for (const Element& e : elements) need += e.count * e.fixedBytes;
+    const std::uint64_t size = std::filesystem::file_size(path);
+    if (size < header + need)
+      throw UsageError(path + ": PLY body is " + std::to_string(size - header) + " bytes, the header declares at least " +
+                       std::to_string(need));
+  } else if (format == "ascii") {
+    for (const Element& e : elements)
+      for (std::uint64_t i = 0; i < e.count; ++i) {
+        ++lineNo;
+        if (!std::getline(in, line))
+          throw UsageError(path + ": PLY body ends before " + std::to_string(e.count) + " " + e.name + " lines");
+        std::istringstream w(line);
+        int tokens = 0;
+        std::string tok;
+        long long listLength = 0;
+        for (int k = 0; k < e.scalars + e.lists && w >> tok; ++k) ++tokens;
+        if (e.lists > 0) listLength = std::atoll(tok.c_str());  // the last list's length (one list per element in practice)
+        int rest = 0;
+        while (w >> tok) ++rest;
+        if (tokens < e.scalars + e.lists || (e.lists > 0 && rest < listLength))
+          throw UsageError(path + ":" + std::to_string(lineNo) + ": PLY " + e.name + " line has too few values");
+      }
+  } else {
+    throw UsageError(path + ": PLY header: unknown format '" + format + "'");
+  }
+}
+
+// A binary STL is 84 bytes and 50 per triangle; VTK reads a truncated one without a word.
+void checkStl(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char head[84] = {};
+  in.read(head, 84);
+  const std::uint64_t size = std::filesystem::file_size(path);
+  if (in.gcount() == 84) {
+    std::uint32_t n = 0;
+    std::memcpy(&n, head + 80, 4);
+    if (84 + 50 * std::uint64_t(n) == size) return;  // a well-formed binary STL (even if it says "solid")
+  }
+  if (std::string(head, std::min<std::streamsize>(in.gcount(), 5)) == "solid") return;  // ASCII: VTK parses it
+  if (in.gcount() < 84) throw UsageError(path + ": too short for an STL file");
+  std::uint32_t n = 0;
+  std::memcpy(&n, head + 80, 4);
+  throw UsageError(path + ": binary STL declares " + std::to_string(n) + " triangles (" + std::to_string(84 + 50 * std::uint64_t(n)) +
+                   " bytes) but the file has " + std::to_string(size));
+}
+
+// Every cell must name points that exist: VTK's filters index without checking.
+void checkCells(const std::string& path, vtkPolyData* pd) {
+  const vtkIdType np = pd->GetNumberOfPoints();
+  vtkCellArray* arrays[4] = {pd->GetVerts(), pd->GetLines(), pd->GetPolys(), pd->GetStrips()};
+  vtkNew<vtkIdList> ids;
+  vtkIdType cell = 0;
+  for (vtkCellArray* a : arrays) {
+    if (!a) continue;
+    for (a->InitTraversal(); a->GetNextCell(ids); ++cell)
+      for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+        if (ids->GetId(k) < 0 || ids->GetId(k) >= np)
+          throw UsageError(path + ": cell " + std::to_string(cell) + " refers to point " + std::to_string(ids->GetId(k)) +
+                           " of " + std::to_string(np));
+  }
+}
+
 }  // namespace
 
 bool isGeometryFile(const std::string& path) {
@@ -78,6 +205,7 @@ LoadedGeometry readGeometry(const std::string& path) {
     r->SetFileName(path.c_str());
     reader = r;
   } else if (e == ".stl") {
+    checkStl(path);
     auto r = vtkSmartPointer<vtkSTLReader>::New();
     r->SetFileName(path.c_str());
     reader = r;
@@ -86,6 +214,7 @@ LoadedGeometry readGeometry(const std::string& path) {
     r->SetFileName(path.c_str());
     reader = r;
   } else if (e == ".ply") {
+    checkPly(path);
     auto r = vtkSmartPointer<vtkPLYReader>::New();
     r->SetFileName(path.c_str());
     reader = r;
@@ -100,6 +229,7 @@ LoadedGeometry readGeometry(const std::string& path) {
   if (!catcher->message.empty()) throw UsageError(path + ": " + catcher->message);
   if (!pd || pd->GetNumberOfPoints() == 0)
     throw UsageError(path + ": no points (not a polygonal data file, or empty)");
+  checkCells(path, pd);
 
   LoadedGeometry g;
   // Lines and polylines.

@@ -133,6 +133,8 @@ ImageError imageError(const wf::ImageRGBA& a, const wf::ImageRGBA& ref) {
 int runRender(const RenderCommandOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   if (o.output.empty()) throw UsageError("render: -o OUT.png is required");
+  if (o.reference && o.measureError) throw UsageError("render: --measure-error compares against --reference; give one of them");
+  if (!o.style.empty() && o.input.empty()) throw UsageError("render: --style applies to a mesh or CAD input");
   {
     std::string e = std::filesystem::path(o.output).extension().string();
     for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
@@ -142,7 +144,10 @@ int runRender(const RenderCommandOptions& o) {
   SceneFile sf = loadInput(o.input, o.style);
   const double readSeconds = secondsSince(t0);
   wf::RenderOptions ro = renderOptionsFor(sf);
-  if (o.width > 0) ro.width = o.width, ro.height = o.height;
+  if (o.width > 0) {
+    ro.width = o.width, ro.height = o.height;
+    reframe(sf, ro.width, ro.height);  // an automatically framed camera fits the new aspect
+  }
   if (!o.mask.empty() && !wf::MaskLayout::parse(o.mask, ro.mask))
     throw UsageError("option --mask: expected 4x4, 8x4 or 8x8, got '" + o.mask + "'");
   if (o.budget > 0) ro.budget = o.budget;
@@ -151,13 +156,27 @@ int runRender(const RenderCommandOptions& o) {
   ro.referenceSamples = o.samples;
   ro.viewGrid = o.viewGrid;
   if (const std::string p = ro.problem(); !p.empty()) throw UsageError("render: " + p);
-  // Make sure the outputs can be written before spending time on the render.
+  // Make sure the outputs can be written before spending time on the render: the folder
+  // exists, the name is not a folder, and a file can be created beside it.
   for (const std::string& f : {o.output, o.statsPath}) {
     if (f.empty()) continue;
-    const std::filesystem::path parent = std::filesystem::path(f).parent_path();
-    if (!parent.empty() && !std::filesystem::is_directory(parent))
+    const std::filesystem::path target(f), parent = target.parent_path();
+    std::error_code ec;
+    if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
       throw UsageError(f + ": the folder " + parent.string() + " does not exist");
+    if (std::filesystem::is_directory(target, ec)) throw UsageError(f + ": is a folder");
+    std::string probeName = target.filename().string();
+    probeName.insert(0, 1, '.');
+    probeName += ".probe";
+    const std::filesystem::path probe = parent / probeName;
+    {
+      std::ofstream test(probe);
+      if (!test) throw UsageError(f + ": cannot be written here");
+    }
+    std::filesystem::remove(probe, ec);
   }
+  if (!o.statsPath.empty() && std::filesystem::absolute(o.statsPath) == std::filesystem::absolute(o.output))
+    throw UsageError(o.statsPath + ": --stats and -o name the same file");
   progress.say("rendering " + (o.input.empty() ? std::string("the built-in scene") : o.input) + " at " +
                std::to_string(ro.width) + "x" + std::to_string(ro.height) + (o.reference ? " (reference)" : ""));
   const wf::RenderResult r = o.reference ? wf::renderReference(sf.scene, ro) : wf::render(sf.scene, ro);
@@ -186,13 +205,21 @@ int runRender(const RenderCommandOptions& o) {
   stats["seconds"]["write_png"] = secondsSince(tw);
   stats["peak_rss_bytes"] = peakRssBytes();
   if (!o.statsPath.empty()) {
+    // Both files or neither: a stats file that cannot be written takes the PNG back with it.
     const std::string tmp = o.statsPath + ".tmp";
+    std::error_code ec;
+    bool ok = false;
     {
       std::ofstream out(tmp);
       out << stats.dump(2) << "\n";
-      if (!out) throw std::runtime_error(o.statsPath + ": cannot write");
+      ok = bool(out);
     }
-    std::filesystem::rename(tmp, o.statsPath);
+    if (ok) std::filesystem::rename(tmp, o.statsPath, ec);
+    if (!ok || ec) {
+      std::filesystem::remove(tmp, ec);
+      std::filesystem::remove(o.output, ec);
+      throw std::runtime_error(o.statsPath + ": cannot write the stats (the PNG was removed too)");
+    }
   }
   progress.say("wrote " + o.output + " in " + std::to_string(r.stats.total) + " s (render)");
   return 0;

@@ -93,6 +93,8 @@ struct Reader {
 };
 
 std::string readText(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw UsageError(path + ": is a directory, not a scene file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw UsageError(path + ": cannot open");
   std::ostringstream s;
@@ -114,6 +116,12 @@ json parse(const std::string& path, const std::string& text) {
     const size_t p = what.find("parse error");
     if (p != std::string::npos) what = what.substr(p);
     throw UsageError(path + ":" + std::to_string(line) + ":" + std::to_string(col) + ": invalid JSON: " + what);
+  } catch (const json::exception& e) {
+    // e.g. a number beyond double range: still bad input, not an internal error.
+    std::string what = e.what();
+    const size_t p = what.find("] ");
+    if (p != std::string::npos) what = what.substr(p + 2);
+    throw UsageError(path + ": invalid JSON: " + what);
   }
 }
 
@@ -138,7 +146,9 @@ glm::dmat4 readTransform(const Reader& r, const json& j, const std::string& ptr)
   if (j.contains("scale")) {
     const std::string sp = Reader::at(ptr, "scale");
     const glm::dvec3 s = j["scale"].is_number() ? glm::dvec3(r.number(j["scale"], sp, 1e-12, 1e12)) : r.vec3(j["scale"], sp);
-    if (!(std::abs(s.x * s.y * s.z) > 0)) r.fail(sp, "scale must not be zero");
+    for (int k = 0; k < 3; ++k)  // mirroring allowed; sizes within the range the renderer is tested for
+      if (!(std::abs(s[k]) >= 1e-12 && std::abs(s[k]) <= 1e12))
+        r.fail(sp, "each scale factor must have a magnitude in [1e-12, 1e12]");
     M = glm::scale(M, s);
   }
   return M;
@@ -186,6 +196,7 @@ wf::ParametricSource readSource(const Reader& r, const json& j, const std::strin
 
 void readLights(const Reader& r, const json& j, const std::string& ptr, wf::Scene& scene) {
   r.keys(j, ptr, {"preset", "count", "ambient", "directional", "space"});
+  if (j.contains("count") && !j.contains("preset")) r.fail(Reader::at(ptr, "count"), "count belongs to a preset");
   if (j.contains("preset")) {
     r.choice(j["preset"], Reader::at(ptr, "preset"), {"studio"});
     const int count = j.contains("count") ? r.integer(j["count"], Reader::at(ptr, "count"), 1, 7) : 3;
@@ -335,6 +346,8 @@ void readObject(const Reader& r, const json& j, const std::string& ptr, const st
     wf::transformMesh(mesh, M);
     scene.surfaces.push_back({name, std::move(mesh), surfaceMaterial});
   }
+  if (!drawSurface && !j.contains("wire"))
+    r.fail(ptr, "this object draws nothing (no polygons for a surface, and no wire)");
 }
 
 void readCamera(const Reader& r, const json& j, const std::string& ptr, SceneFile& sf) {
@@ -344,26 +357,31 @@ void readCamera(const Reader& r, const json& j, const std::string& ptr, SceneFil
     c.projection = r.choice(j["projection"], Reader::at(ptr, "projection"), {"perspective", "orthographic"}) == "orthographic"
                        ? wf::Camera::Projection::Orthographic
                        : wf::Camera::Projection::Perspective;
+  if (j.contains("fov")) c.fovYDegrees = r.number(j["fov"], Reader::at(ptr, "fov"), 1e-3, 179);
   if (!j.contains("eye")) {
-    // Framed from the objects' bounds, looking along `direction` (from the target to the eye).
+    // Framed from the objects' bounds, looking along `direction` (from the target to the eye);
+    // refitted by reframe() when the image size changes.
     glm::dvec3 dir(0.55, -0.75, 0.45);
     if (j.contains("direction")) dir = r.vec3(j["direction"], Reader::at(ptr, "direction"));
     if (!(glm::length(dir) > 0)) r.fail(Reader::at(ptr, "direction"), "direction must not be zero");
+    for (const char* k : {"target", "up", "height"})
+      if (j.contains(k)) r.fail(Reader::at(ptr, k), "only with an eye (without one the camera frames the scene)");
+    sf.framed = true;
+    sf.frameDirection = dir;
     glm::dvec3 centre(0.0);
     double radius = 1.0;
     if (!sf.scene.boundingSphere(centre, radius)) centre = glm::dvec3(0.0), radius = 1.0;
-    const wf::Camera framed = wf::frameSphere(centre, radius, double(sf.width) / sf.height, c.projection, dir);
+    const wf::Camera framed = wf::frameSphere(centre, radius, double(sf.width) / sf.height, c.projection, dir, c.fovYDegrees);
     c.eye = framed.eye;
     c.target = framed.target;
     c.up = framed.up;
     c.orthoHeight = framed.orthoHeight;
-    c.fovYDegrees = framed.fovYDegrees;
   } else {
+    if (j.contains("direction")) r.fail(Reader::at(ptr, "direction"), "only without an eye (it says where to frame from)");
     c.eye = r.vec3(j["eye"], Reader::at(ptr, "eye"));
     c.target = j.contains("target") ? r.vec3(j["target"], Reader::at(ptr, "target")) : glm::dvec3(0.0);
     c.up = j.contains("up") ? r.vec3(j["up"], Reader::at(ptr, "up")) : glm::dvec3(0, 0, 1);
   }
-  if (j.contains("fov")) c.fovYDegrees = r.number(j["fov"], Reader::at(ptr, "fov"), 1e-3, 179);
   if (j.contains("height")) c.orthoHeight = r.number(j["height"], Reader::at(ptr, "height"), 1e-12, 1e12);
   if (j.contains("near")) c.nearPlane = r.number(j["near"], Reader::at(ptr, "near"), 0, 1e15);
   if (j.contains("far")) c.farPlane = r.number(j["far"], Reader::at(ptr, "far"), 0, 1e15);
@@ -415,6 +433,19 @@ SceneFile parseScene(const std::string& path, const std::string& text, const std
   readCamera(r, doc.contains("camera") ? doc["camera"] : json::object(), "/camera", sf);
   if (sf.title.empty()) sf.title = std::filesystem::path(path).stem().string();
   return sf;
+}
+
+void reframe(SceneFile& sf, int width, int height) {
+  if (!sf.framed || !sf.scene.camera) return;
+  wf::Camera& c = *sf.scene.camera;
+  glm::dvec3 centre(0.0);
+  double radius = 1.0;
+  if (!sf.scene.boundingSphere(centre, radius)) centre = glm::dvec3(0.0), radius = 1.0;
+  const wf::Camera f = wf::frameSphere(centre, radius, double(width) / height, c.projection, sf.frameDirection, c.fovYDegrees);
+  c.eye = f.eye;
+  c.target = f.target;
+  c.up = f.up;
+  c.orthoHeight = f.orthoHeight;
 }
 
 SceneFile loadSceneFile(const std::string& path) {

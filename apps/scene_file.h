@@ -17,7 +17,13 @@ struct SceneFile {
   int width = 640, height = 480;
   wf::MaskLayout mask{8, 4};
   int budget = 64;
+  /// The camera was framed from the bounds (no eye given): reframe() fits it to another size.
+  bool framed = false;
+  glm::dvec3 frameDirection{0.55, -0.75, 0.45};
 };
+
+/// Refits an automatically framed camera to a width x height image (after --size).
+void reframe(SceneFile& sf, int width, int height);
 
 /// Parses a scene file; relative file names in it are relative to the file's folder.
 SceneFile loadSceneFile(const std::string& path);

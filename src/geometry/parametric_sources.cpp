@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <vector>
 #include <numbers>
 #include <utility>
 
@@ -21,7 +22,17 @@ glm::dvec3 safeNormalize(const glm::dvec3& v, const glm::dvec3& fallback) {
   return (l > 0 && std::isfinite(l)) ? v / l : fallback;
 }
 
-SurfacePoint evaluate(const ParametricSource& s, double u, double v) {
+// Cumulative arc lengths of a lathe profile (empty for other sources): made once per
+// tessellation, not per vertex.
+std::vector<double> latheLengths(const ParametricSource& s) {
+  std::vector<double> len;
+  if (s.type != ParametricSource::Type::Lathe) return len;
+  len.assign(s.profile.size(), 0.0);
+  for (size_t i = 1; i < s.profile.size(); ++i) len[i] = len[i - 1] + glm::length(s.profile[i] - s.profile[i - 1]);
+  return len;
+}
+
+SurfacePoint evaluate(const ParametricSource& s, double u, double v, const std::vector<double>& len) {
   const double a = kTwoPi * u;
   switch (s.type) {
     case ParametricSource::Type::Sphere: {
@@ -39,17 +50,16 @@ SurfacePoint evaluate(const ParametricSource& s, double u, double v) {
       return {glm::dvec3(s.major * std::cos(a), s.major * std::sin(a), 0.0) + s.minor * n, n};
     }
     case ParametricSource::Type::Lathe: {
-      // Piecewise-linear profile by arc length; normals from the profile's central difference.
+      // Piecewise-linear profile by arc length (cumulative lengths made once per source, found
+      // by binary search); normals from the profile's direction, blended across vertices.
       const auto& P = s.profile;
-      std::vector<double> len(P.size(), 0.0);
-      for (size_t i = 1; i < P.size(); ++i) len[i] = len[i - 1] + glm::length(P[i] - P[i - 1]);
       const double t = v * len.back();
-      size_t i = 1;
-      while (i + 1 < P.size() && len[i] < t) ++i;
+      size_t i = size_t(std::upper_bound(len.begin(), len.end(), t) - len.begin());
+      i = std::clamp<size_t>(i, 1, P.size() - 1);
+      while (i > 1 && len[i] == len[i - 1] && t <= len[i - 1]) --i;  // skip repeated points
       const double seg = len[i] - len[i - 1];
       const double f = seg > 0 ? std::clamp((t - len[i - 1]) / seg, 0.0, 1.0) : 0.0;
       const glm::dvec2 q = glm::mix(P[i - 1], P[i], f);
-      // Tangent of the profile: blend the neighbouring segment directions for smooth shading.
       auto dirAt = [&](size_t k) { return safeNormalize(glm::dvec3(P[k] - P[k - 1], 0.0), glm::dvec3(0, 1, 0)); };
       glm::dvec3 d = dirAt(i);
       if (f < 0.5 && i > 1) d = safeNormalize(glm::mix(dirAt(i - 1), d, 0.5 + f), d);
@@ -78,6 +88,8 @@ bool periodicU(const ParametricSource& s) {
 std::string ParametricSource::problem() const {
   if (resolutionU < 3 || resolutionV < 2 || resolutionU > 4096 || resolutionV > 4096)
     return "resolution must be at least [3, 2] and at most [4096, 4096]";
+  if (double(resolutionU) * double(resolutionV) > 4194304.0)
+    return "resolution u x v must be at most 4,194,304 (2048 x 2048): about 1 GB of mesh";
   auto positive = [](double x) { return x > 0 && std::isfinite(x); };
   switch (type) {
     case Type::Sphere:
@@ -88,8 +100,16 @@ std::string ParametricSource::problem() const {
       break;
     case Type::Lathe:
       if (profile.size() < 2) return "profile needs at least two [radius, height] points";
-      for (const glm::dvec2& p : profile)
-        if (!std::isfinite(p.x) || !std::isfinite(p.y) || p.x < 0) return "profile points must be finite with radius >= 0";
+      {
+        double length = 0, maxRadius = 0;
+        for (size_t i = 0; i < profile.size(); ++i) {
+          const glm::dvec2& p = profile[i];
+          if (!std::isfinite(p.x) || !std::isfinite(p.y) || p.x < 0) return "profile points must be finite with radius >= 0";
+          if (i > 0) length += glm::length(p - profile[i - 1]);
+          maxRadius = std::max(maxRadius, p.x);
+        }
+        if (!(length > 0) || !(maxRadius > 0)) return "profile must have length and leave the axis somewhere";
+      }
       break;
     case Type::Plane:
     case Type::Box:
@@ -126,17 +146,18 @@ TriangleMesh tessellate(const ParametricSource& s) {
     return m;
   }
   const int nu = s.resolutionU, nv = s.resolutionV;
+  const std::vector<double> len = latheLengths(s);
   const bool wrap = periodicU(s);
   const int cols = wrap ? nu : nu + 1;
   for (int j = 0; j <= nv; ++j)
     for (int i = 0; i < cols; ++i) {
       const double u = double(i) / nu, v = double(j) / nv;
-      const SurfacePoint sp = evaluate(s, u, v);
+      const SurfacePoint sp = evaluate(s, u, v, len);
       m.positions.push_back(sp.p);
       m.normals.push_back(sp.n);
       m.uvs.emplace_back(u, v);
       // Tangent along u (the direction of increasing u), finite at poles.
-      const SurfacePoint q = evaluate(s, u + 1e-4, v);
+      const SurfacePoint q = evaluate(s, u + 1e-4, v, len);
       m.tangents.push_back(safeNormalize(q.p - sp.p, glm::dvec3(-std::sin(kTwoPi * u), std::cos(kTwoPi * u), 0)));
     }
   auto id = [&](int i, int j) { return uint32_t(j * cols + (wrap ? i % nu : i)); };
@@ -171,6 +192,7 @@ PolylineSet isolines(const ParametricSource& s, int linesU, int linesV, int samp
     return out;
   }
   const int n = std::max(2, samplesPerLine);
+  const std::vector<double> len = latheLengths(s);
   const bool wrap = periodicU(s);
   const bool wrapV = s.type == ParametricSource::Type::Torus;
   // Lines of constant u run along v; lines of constant v run around u.
@@ -179,7 +201,7 @@ PolylineSet isolines(const ParametricSource& s, int linesU, int linesV, int samp
     std::vector<glm::dvec3> line;
     for (int k = 0; k <= n; ++k) {
       if (wrapV && k == n) break;
-      line.push_back(evaluate(s, u, double(k) / n).p);
+      line.push_back(evaluate(s, u, double(k) / n, len).p);
     }
     if (wrapV) line.push_back(line.front());
     out.add(line);
@@ -189,9 +211,9 @@ PolylineSet isolines(const ParametricSource& s, int linesU, int linesV, int samp
     if (s.type == ParametricSource::Type::Sphere || s.type == ParametricSource::Type::Lathe)
       v = double(j + 1) / (linesV + 1);  // parallels between the poles, not the poles themselves
     std::vector<glm::dvec3> line;
-    for (int k = 0; k < n; ++k) line.push_back(evaluate(s, double(k) / n, v).p);
+    for (int k = 0; k < n; ++k) line.push_back(evaluate(s, double(k) / n, v, len).p);
     if (wrap) line.push_back(line.front());
-    else line.push_back(evaluate(s, 1.0, v).p);
+    else line.push_back(evaluate(s, 1.0, v, len).p);
     out.add(line);
   }
   return out;
@@ -211,7 +233,18 @@ PolylineSet meshEdges(const TriangleMesh& mesh) {
 }
 
 void transformMesh(TriangleMesh& mesh, const glm::dmat4& M) {
-  const glm::dmat3 N = glm::transpose(glm::inverse(glm::dmat3(M)));
+  // Normals by the cofactor matrix: the inverse transpose times det(A), without the division,
+  // so that it keeps its direction for scales like [1e-160, 1e-160, 1] where det underflows.
+  // Its columns are c1 x c2, c2 x c0, c0 x c1 for the columns c of A; the sign of det (a mirror
+  // turns the outside in) comes from A with its columns normalised, which cannot underflow.
+  const glm::dmat3 A(M);
+  glm::dmat3 N(glm::cross(A[1], A[2]), glm::cross(A[2], A[0]), glm::cross(A[0], A[1]));
+  glm::dmat3 unitColumns = A;
+  for (int c = 0; c < 3; ++c) {
+    const double l = glm::length(unitColumns[c]);
+    if (l > 0 && std::isfinite(l)) unitColumns[c] /= l;
+  }
+  if (glm::determinant(unitColumns) < 0) N = -N;
   for (glm::dvec3& p : mesh.positions) p = glm::dvec3(M * glm::dvec4(p, 1.0));
   for (glm::dvec3& n : mesh.normals) n = safeNormalize(N * n, n);
   for (glm::dvec3& t : mesh.tangents) t = safeNormalize(glm::dmat3(M) * t, t);

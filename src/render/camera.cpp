@@ -28,14 +28,14 @@ std::string Camera::problem() const {
 }
 
 Camera frameSphere(const glm::dvec3& centre, double radius, double aspect,
-                   Camera::Projection projection, const glm::dvec3& direction) {
+                   Camera::Projection projection, const glm::dvec3& direction, double fovYDegrees) {
   Camera c;
   c.projection = projection;
   if (!(radius > 0) || !std::isfinite(radius)) radius = std::max(1e-300, std::abs(centre.x) * 1e-9 + 1.0);
   const glm::dvec3 dir = glm::normalize(direction);
   c.target = centre;
   c.up = std::abs(dir.z) > 0.99 ? glm::dvec3(0, 1, 0) : glm::dvec3(0, 0, 1);
-  c.fovYDegrees = 30.0;
+  c.fovYDegrees = std::isfinite(fovYDegrees) ? std::clamp(fovYDegrees, 1e-3, 179.0) : 30.0;
   const double halfFov = glm::radians(c.fovYDegrees) / 2;
   const double fit = std::min(1.0, aspect);  // the smaller image side holds the sphere
   const double dist = radius / std::sin(std::atan(std::tan(halfFov) * fit)) * 1.08;

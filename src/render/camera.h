@@ -31,7 +31,7 @@ struct Camera {
 /// towards the eye), the sphere filling the smaller image side. Works for any scale.
 Camera frameSphere(const glm::dvec3& centre, double radius, double aspect,
                    Camera::Projection projection = Camera::Projection::Perspective,
-                   const glm::dvec3& direction = glm::dvec3(0.55, -0.75, 0.45));
+                   const glm::dvec3& direction = glm::dvec3(0.55, -0.75, 0.45), double fovYDegrees = 30.0);
 
 struct ViewTransform {
   glm::dmat3 eyeFromWorld{1.0};  ///< rows: right, up, back

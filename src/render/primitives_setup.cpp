@@ -368,9 +368,12 @@ void setupTriangles(const PreparedScene& ps, const SceneSurface& surf, std::uint
     const glm::dvec3 nrm = glm::cross(e1, e2);
     const double k = glm::dot(nrm, e[0]);
     Primitive prim;
+    // Seen edge-on (the plane through the eye, or perpendicular to the screen): no area. The
+    // test is relative, so that it means the same at any scale (1e-100 ... 1e100).
+    const double nrmLength = glm::length(nrm);
     if (view.perspective) {
-      if (!(std::abs(k) > 1e-300)) {
-        ++out.clipped;  // seen exactly edge-on: no area
+      if (!(std::abs(k) > 1e-14 * nrmLength * glm::length(e[0]))) {
+        ++out.clipped;
         continue;
       }
       const double f = view.focal;
@@ -378,7 +381,7 @@ void setupTriangles(const PreparedScene& ps, const SceneSurface& surf, std::uint
       prim.qb = -nrm.y / (f * k);
       prim.qc = (-nrm.x * view.cx / f + nrm.y * view.cy / f - nrm.z) / k;
     } else {
-      if (!(std::abs(nrm.z) > 1e-300)) {
+      if (!(std::abs(nrm.z) > 1e-14 * nrmLength)) {
         ++out.clipped;
         continue;
       }

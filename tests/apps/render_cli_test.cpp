@@ -207,3 +207,43 @@ TEST(RenderCli, UnreadableMeshFileIsExitTwo) {
   EXPECT_NE(r.err.find("broken.vtk"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(png));
 }
+
+// Malformed mesh files that once crashed VTK's filters or readers, or rendered silently: each is
+// bad input now, one line, exit 2, nothing written (found by the apps review).
+TEST(RenderCli, MalformedMeshFilesAreBadInputNotCrashes) {
+  std::string stl(80, '\0');
+  const uint32_t declared = 10;
+  stl.append(reinterpret_cast<const char*>(&declared), 4);
+  stl.append(2 * 50 + 3, '\0');  // two triangles and stray bytes, where ten were declared
+  const std::vector<std::pair<std::string, std::string>> files = {
+      {"oob.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99\n"},
+      {"oob.vtk", "# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0 1 0 0 0 1 0\nPOLYGONS 1 4\n3 0 1 88\n"},
+      {"short.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n1 0 0\n0 1\n"},
+      {"trunc.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 1000000\nproperty float x\nend_header\n\x01\x02"},
+      {"trunc.stl", stl},
+  };
+  for (const auto& [name, text] : files) {
+    const std::string file = write(name, text);
+    const fs::path png = dir() / (name + ".png");
+    const Result r = run("render '" + file + "' -o '" + png.string() + "'");
+    EXPECT_EQ(r.status, 2) << name << ": " << r.err;
+    EXPECT_EQ(lines(r.err), 1) << name << ": " << r.err;
+    EXPECT_NE(r.err.find(name), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(png)) << name;
+  }
+}
+
+TEST(RenderCli, UnwritableOutputsAndOutOfRangeNumbersAreBadInput) {
+  fs::create_directories(dir() / "a-folder.png");
+  const std::string scene = write("ok.json", R"({"objects": [{"source": {"type": "sphere"}}]})");
+  for (const std::string& args : {"render '" + scene + "' -o '" + (dir() / "a-folder.png").string() + "'",
+                                  "render '" + scene + "' -o '" + (dir() / "x.png").string() + "' --stats '" + dir().string() + "'",
+                                  "render '" + write("huge.json", R"({"objects": [{"source": {"type": "sphere", "radius": 1e400}}]})") +
+                                      "' -o '" + (dir() / "y.png").string() + "'"}) {
+    const Result r = run(args);
+    EXPECT_EQ(r.status, 2) << args << ": " << r.err;
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir() / "x.png"));
+  EXPECT_FALSE(fs::exists(dir() / "y.png"));
+}
