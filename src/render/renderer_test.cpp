@@ -817,3 +817,46 @@ TEST(Render, ThousandsOfLayersPerPixelStayFiniteAndBounded) {
 
 }  // namespace
 }  // namespace wf
+
+namespace wf {
+namespace {
+
+Scene hairBall(int hairs) {
+  Scene s;
+  s.background = glm::vec4(0.0f);
+  SceneWire w;
+  w.style = WireStyle::Plain;
+  w.thickness = 1.2;
+  w.thicknessInPixels = true;
+  w.opacity = 0.3f;  // translucent: nothing settles, every fragment is kept or blended
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  for (int i = 0; i < hairs; ++i) {
+    const glm::dvec3 a(U(rng), U(rng), U(rng)), d(U(rng), U(rng), U(rng));
+    w.lines.add({a * 0.8, a * 0.8 + d * 0.3});
+  }
+  s.wires.push_back(w);
+  return s;
+}
+
+// The tile buffers' memory is bounded by the budget K, not by the depth complexity: doubling the
+// hairs doubles the fragments but not the peak bytes of the A-buffer (lists hold at most K; the
+// rest blend into one tail per pixel).
+TEST(Render, BufferMemoryIsBoundedByTheBudgetNotTheDepthComplexity) {
+  RenderOptions o;
+  o.width = 96;
+  o.height = 72;
+  o.budget = 8;
+  o.threads = 1;
+  const RenderResult a = render(hairBall(4000), o);
+  const RenderResult b = render(hairBall(8000), o);
+  ASSERT_GT(a.stats.abuffer.maxFragmentsPerPixel, 40u);  // a deep scene
+  EXPECT_GT(double(b.stats.abuffer.fragments), 1.8 * double(a.stats.abuffer.fragments));
+  EXPECT_GT(b.stats.abuffer.tail, a.stats.abuffer.tail);
+  EXPECT_LE(b.stats.abuffer.maxListLength, 8u);
+  EXPECT_LE(double(b.stats.abuffer.peakBytes), 1.15 * double(a.stats.abuffer.peakBytes))
+      << a.stats.abuffer.peakBytes << " -> " << b.stats.abuffer.peakBytes;
+}
+
+}  // namespace
+}  // namespace wf
