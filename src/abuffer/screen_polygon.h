@@ -85,6 +85,14 @@ inline void clipAxis(const ScreenPolygon& in, ScreenPolygon& out, bool alongX, d
   }
 }
 
+/// The pixel columns c0 ... c1 (inclusive; empty when c0 > c1) of [xmin, xmax] inside the tile
+/// columns [tx0, tx1). Clamped in 64 bits before narrowing: a polygon may reach billions of
+/// pixels off screen.
+inline void pixelColumns(double xmin, double xmax, int tx0, int tx1, int& c0, int& c1) {
+  c0 = int(std::clamp<std::int64_t>(floorToInt(std::max(xmin, -1e15)), tx0, tx1));
+  c1 = int(std::clamp<std::int64_t>(ceilToInt(std::min(xmax, 1e15)) - 1, tx0 - 1, tx1 - 1));
+}
+
 /// Clips to the rectangle [x0, x1] x [y0, y1].
 inline void clipRect(const ScreenPolygon& in, ScreenPolygon& out, double x0, double y0, double x1,
                      double y1) {

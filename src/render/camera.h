@@ -9,6 +9,8 @@
 
 #include <glm/glm.hpp>
 
+#include <cmath>
+
 #include <string>
 
 namespace wf {
@@ -55,7 +57,9 @@ struct ViewTransform {
   }
   /// The depth key (1/d or d), linear in screen space.
   double depthKey(double d) const { return perspective ? 1.0 / d : d; }
-  double depthFromKey(double key) const { return perspective ? 1.0 / key : key; }
+  /// Inverse of depthKey. Under perspective a key <= 0 (extrapolated beyond the vanishing
+  /// line) is infinitely far, never in front of anything.
+  double depthFromKey(double key) const { return perspective ? (key > 0.0 ? 1.0 / key : INFINITY) : key; }
   /// Eye-space point at screen (x, y) and view depth d.
   glm::dvec3 eyePoint(double x, double y, double d) const {
     if (perspective) return {(x - cx) / focal * d, -(y - cy) / focal * d, -d};

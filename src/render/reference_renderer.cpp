@@ -95,8 +95,8 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
           if (band.count < 3) continue;
           double xmin = band.x[0], xmax = band.x[0];
           for (int i = 1; i < band.count; ++i) xmin = std::min(xmin, band.x[i]), xmax = std::max(xmax, band.x[i]);
-          const int c0 = int(std::clamp<std::int64_t>(floorToInt(std::max(xmin, -1e15)), tx0, tx1));
-          const int c1 = int(std::clamp<std::int64_t>(ceilToInt(std::min(xmax, 1e15)) - 1, tx0 - 1, tx1 - 1));
+          int c0, c1;
+          pixelColumns(xmin, xmax, tx0, tx1, c0, c1);
           for (int col = c0; col <= c1; ++col) {
             const size_t base = (size_t(row - ty0) * tw + (col - tx0)) * S2;
             for (int s = 0; s < S2; ++s) {
@@ -105,9 +105,8 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
               bool in = true;
               for (int e = 0; e < ne && in; ++e) in = edges[e](x, y) >= 0.0;
               if (!in) continue;
-              const double key = prim.depthKeyAt(x, y);
-              const double d = std::clamp(ps.view.perspective ? (key > 0.0 ? 1.0 / key : INFINITY) : key,
-                                          double(prim.zlo), double(prim.zhi));
+              const double d = std::clamp(ps.view.depthFromKey(prim.depthKeyAt(x, y)), double(prim.zlo),
+                                          double(prim.zhi));
               if (prim.opacity >= 1.0f) {
                 if (float(d) < buf.depth[base + s]) {
                   buf.depth[base + s] = float(d);

@@ -96,9 +96,8 @@ void rasterizePolygon(const PreparedScene& ps, const Primitive& prim, int tx0, i
       xmax = std::max({xmax, xca, xcb});
     }
     if (ns < 2) continue;
-    // Clamped in 64 bits before narrowing: a polygon may reach billions of pixels off screen.
-    const int c0 = int(std::clamp<std::int64_t>(floorToInt(std::max(xmin, -1e15)), tx0, tx1));
-    const int c1 = int(std::clamp<std::int64_t>(ceilToInt(std::min(xmax, 1e15)) - 1, tx0 - 1, tx1 - 1));
+    int c0, c1;
+    pixelColumns(xmin, xmax, tx0, tx1, c0, c1);
     if (c0 > c1 || occludedRow(row, c0, c1, prim.zlo)) continue;
     std::int64_t spanLo[8], spanHi[8];  // the polygon's sample runs on this row's sample rows
     bool spansDone = false;              // computed at the row's first pixel that survives culling
@@ -128,8 +127,7 @@ void rasterizePolygon(const PreparedScene& ps, const Primitive& prim, int tx0, i
       pc.keyMax = std::max({k00, k10, k01, k11});
       if (prim.zlo < prim.zhi) {
         const double near = ps.view.perspective ? pc.keyMax : pc.keyMin;
-        const double nearDepth = ps.view.perspective ? (near > 0.0 ? 1.0 / near : INFINITY) : near;
-        if (occluded(col, row, std::clamp(nearDepth, double(prim.zlo), double(prim.zhi)))) continue;
+        if (occluded(col, row, std::clamp(ps.view.depthFromKey(near), double(prim.zlo), double(prim.zhi)))) continue;
       }
       pc.area = area;
       if (!spansDone) {
@@ -160,17 +158,15 @@ void rasterizePolygon(const PreparedScene& ps, const Primitive& prim, int tx0, i
 
 void depthRange(const PreparedScene& ps, const Primitive& prim, const PixelCoverage& pc,
                 float& zmin, float& zmax, float& zkey) {
-  // Depths from the screen-linear key, extrapolated over the pixel square. Under perspective a
-  // key <= 0 lies beyond the vanishing line: infinitely far, never in front of anything.
-  auto depthOf = [&](double k) {
-    return ps.view.perspective ? (k > 0.0 ? 1.0 / k : INFINITY) : k;
-  };
-  double a = depthOf(ps.view.perspective ? pc.keyMax : pc.keyMin);
-  double b = depthOf(ps.view.perspective ? pc.keyMin : pc.keyMax);
+  // Depths from the screen-linear key, extrapolated over the pixel square (the near end is the
+  // larger key under perspective, 1/d, and the smaller one under orthographic, d).
+  const ViewTransform& v = ps.view;
+  double a = v.depthFromKey(v.perspective ? pc.keyMax : pc.keyMin);
+  double b = v.depthFromKey(v.perspective ? pc.keyMin : pc.keyMax);
   a = std::clamp(a, double(prim.zlo), double(prim.zhi));
   b = std::clamp(b, double(prim.zlo), double(prim.zhi));
   if (a > b) std::swap(a, b);
-  const double c = std::clamp(depthOf(prim.depthKeyAt(pc.cx, pc.cy)), a, b);
+  const double c = std::clamp(v.depthFromKey(prim.depthKeyAt(pc.cx, pc.cy)), a, b);
   zmin = float(a);
   zmax = float(b);
   zkey = float(c);
