@@ -102,7 +102,6 @@ void TileABuffer::toTail(Pixel& p, const Fragment& f) {
   if (p.tail < 0) {
     p.tail = std::int32_t(tails_.size());
     tails_.push_back(Tail{});
-    p.hasTail = true;
   }
   Tail& t = tails_[size_t(p.tail)];
   const float w = f.opacity * f.area;
@@ -117,7 +116,7 @@ void TileABuffer::toTail(Pixel& p, const Fragment& f) {
   if (!p.noOcclusion) {
     p.noOcclusion = true;
     const size_t pixelIndex = size_t(&p - pixels_.data());
-    occlusion_[pixelIndex] = p.hasSolid ? solids_[size_t(p.solid)].zmax : INFINITY;
+    occlusion_[pixelIndex] = p.hasSolid() ? solids_[size_t(p.solid)].zmax : INFINITY;
     updateBlock(pixelIndex);
   }
 }
@@ -224,7 +223,7 @@ void TileABuffer::pushList(Pixel& p, const Fragment& f) {
 }
 
 void TileABuffer::setSolid(Pixel& p, const Fragment& f) {
-  if (p.hasSolid) {
+  if (p.hasSolid()) {
     Fragment& cur = solids_[size_t(p.solid)];
     if (!(f.zkey < cur.zkey)) {
       if (f.zmin < cur.zmax) pushList(p, f);
@@ -239,7 +238,6 @@ void TileABuffer::setSolid(Pixel& p, const Fragment& f) {
   } else {
     p.solid = std::int32_t(solids_.size());
     solids_.push_back(f);
-    p.hasSolid = true;
     p.solidSeq = p.seq++;
   }
   pruneHidden(p, solids_[size_t(p.solid)].zmax);  // entries wholly behind the new solid fragment
@@ -257,7 +255,7 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
   if (!(f.area > 0.0f)) return;
   f.area = std::min(f.area, 1.0f);
   f.opacity = std::clamp(f.opacity, 0.0f, 1.0f);
-  if (f.zmin >= occlusion_[size_t(y) * size_t(w_) + size_t(x)] || (p.hasSolid && f.zmin >= solids_[size_t(p.solid)].zmax)) {
+  if (f.zmin >= occlusion_[size_t(y) * size_t(w_) + size_t(x)] || (p.hasSolid() && f.zmin >= solids_[size_t(p.solid)].zmax)) {
     ++local_.culled;
     return;
   }
@@ -297,8 +295,8 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
 
 glm::vec4 TileABuffer::resolve(int x, int y) const {
   const Pixel& p = pixels_[size_t(y) * size_t(w_) + size_t(x)];
-  if (p.length == 0 && !p.hasTail) {
-    if (p.hasSolid) return glm::vec4(solids_[size_t(p.solid)].colour, 1.0f);
+  if (p.length == 0 && !p.hasTail()) {
+    if (p.hasSolid()) return glm::vec4(solids_[size_t(p.solid)].colour, 1.0f);
     return glm::vec4(0.0f);
   }
   // Gather, sort front to back (depth, then arrival: deterministic).
@@ -306,11 +304,11 @@ glm::vec4 TileABuffer::resolve(int x, int y) const {
   thread_local Node solidNode, tailNode;
   order.clear();
   for (std::int32_t i = p.head; i >= 0; i = nodes_[size_t(i)].next) order.push_back(&nodes_[size_t(i)]);
-  if (p.hasSolid) {
+  if (p.hasSolid()) {
     solidNode = Node{solids_[size_t(p.solid)], p.solidSeq, -1};  // its arrival: ties sort by it
     order.push_back(&solidNode);
   }
-  if (p.hasTail) {
+  if (p.hasTail()) {
     // The tail composites as one whole-pixel layer, at the depth of its nearest member: behind
     // the kept fragments (they are the nearest), in front of a solid fragment it is not behind.
     const Tail& t = tails_[size_t(p.tail)];
@@ -366,9 +364,9 @@ void TileABuffer::finish(ABufferCounters& counters) {
     if (offered_[i] == 0) continue;
     ++local_.coveredPixels;
     local_.maxFragmentsPerPixel = std::max(local_.maxFragmentsPerPixel, offered_[i]);
-    if (p.length > 0 || p.hasTail) ++local_.pixelsWithList;
-    else if (p.hasSolid) ++local_.pixelsSolidOnly;
-    if (p.hasTail) ++local_.pixelsOverBudget;
+    if (p.length > 0 || p.hasTail()) ++local_.pixelsWithList;
+    else if (p.hasSolid()) ++local_.pixelsSolidOnly;
+    if (p.hasTail()) ++local_.pixelsOverBudget;
   }
   local_.peakBytes = std::max(peakBytes_, bytes());
   counters.add(local_);

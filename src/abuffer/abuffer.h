@@ -133,11 +133,11 @@ class TileABuffer {
   struct Pixel {
     std::int32_t head = -1;
     std::uint16_t length = 0;
-    bool hasSolid = false;
-    bool hasTail = false;
     std::uint32_t seq = 0;
-    std::int32_t tail = -1;
-    std::int32_t solid = -1;      ///< index into solids_ (kept out of Pixel: most have none)
+    std::int32_t tail = -1;       ///< index into tails_, or -1
+    std::int32_t solid = -1;      ///< index into solids_ (kept out of Pixel: most have none), or -1
+    bool hasSolid() const { return solid >= 0; }
+    bool hasTail() const { return tail >= 0; }
     std::int32_t depths = -1;     ///< this pixel's record (2N floats) in subpixelDepth_, once it has an occluder
     std::uint8_t open = 64;       ///< subpixels not yet settled (see occlude)
     bool noOcclusion = false;     ///< has a tail: only the solid fragment occludes (see toTail)
