@@ -794,7 +794,7 @@ TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& st) {
 }
 
 SurfaceSample interpolateTriangle(const PreparedScene& ps, const TriangleAttributes& ta, const glm::dvec3& P,
-                                  const glm::dvec3& V) {
+                                  const glm::dvec3& V, bool tangentAndUv) {
   // Barycentrics of the eye-space point P (on the triangle's plane under the fragment), clamped
   // into the triangle: perspective-correct by construction.
   const glm::dvec3 v = P - ta.p0;
@@ -819,12 +819,12 @@ SurfaceSample interpolateTriangle(const PreparedScene& ps, const TriangleAttribu
   N = (nl > 0 && std::isfinite(nl)) ? N / nl : V;
   if (glm::dot(N, V) < 0) N = -N;  // two-sided: the side facing the viewer
   out.normal = N;
-  if (mesh.tangents.size() == nv) {
+  if (tangentAndUv && mesh.tangents.size() == nv) {
     const glm::dvec3 T = ps.view.eyeFromWorld * mix3(mesh.tangents[tri.x], mesh.tangents[tri.y], mesh.tangents[tri.z]);
     const double tl = glm::length(T);
     out.tangent = (tl > 0 && std::isfinite(tl)) ? T / tl : glm::dvec3(0.0);
   }
-  if (mesh.uvs.size() == nv) out.uv = mix3(mesh.uvs[tri.x], mesh.uvs[tri.y], mesh.uvs[tri.z]);
+  if (tangentAndUv && mesh.uvs.size() == nv) out.uv = mix3(mesh.uvs[tri.x], mesh.uvs[tri.y], mesh.uvs[tri.z]);
   if (mesh.colours.size() == nv)
     out.colour = safeColour(mesh.colours[tri.x] * float(b0) + mesh.colours[tri.y] * float(b1) + mesh.colours[tri.z] * float(b2));
   return out;
@@ -834,7 +834,7 @@ SurfaceSample interpolateSurface(const PreparedScene& ps, const Primitive& prim,
   if (prim.isSegment) return {};
   const double depth = ps.view.depthFromKey(prim.depthKeyAt(x, y));
   const glm::dvec3 P = ps.view.eyePoint(x, y, depth);
-  return interpolateTriangle(ps, ps.triangles[prim.attribute], P, ps.view.viewVector(P));
+  return interpolateTriangle(ps, ps.triangles[prim.attribute], P, ps.view.viewVector(P), true);
 }
 
 glm::vec3 shadeFragment(const PreparedScene& ps, const Primitive& prim, double x, double y,
@@ -869,7 +869,9 @@ glm::vec3 shadeFragment(const PreparedScene& ps, const Primitive& prim, double x
   }
   const TriangleAttributes& ta = ps.triangles[prim.attribute];
   const ShaderSlot& slot = ps.shaders[ta.shader];
-  const SurfaceSample sample = interpolateTriangle(ps, ta, P, V);
+  // The shading models so far read the normal and colour only (tangent and (u, v) serve the
+  // burnished and textured surfaces to come): not interpolated per fragment until then.
+  const SurfaceSample sample = interpolateTriangle(ps, ta, P, V, false);
   const glm::dvec3& N = sample.normal;
   const glm::vec3 c = sample.colour;
   if (ps.path == ShadingPath::Maps && slot.surfaceTables) return slot.surfaceTables->lookup(N, x, y) * c;

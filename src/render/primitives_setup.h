@@ -138,8 +138,9 @@ struct SurfaceSample {
   glm::vec3 colour{1.0f};
   glm::dvec3 barycentric{1.0, 0.0, 0.0};
 };
+/// `tangentAndUv` false leaves tangent and (u, v) at their defaults (cheaper per fragment).
 SurfaceSample interpolateTriangle(const PreparedScene& ps, const TriangleAttributes& ta, const glm::dvec3& eyePoint,
-                                  const glm::dvec3& view);
+                                  const glm::dvec3& view, bool tangentAndUv);
 /// The same at screen point (x, y) of a triangle primitive (on its plane); default for segments.
 SurfaceSample interpolateSurface(const PreparedScene& ps, const Primitive& prim, double x, double y);
 /// Radiance of a primitive's fragment at screen point (x, y), view depth `depth`.
