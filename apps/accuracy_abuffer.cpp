@@ -6,6 +6,7 @@
 #include "accuracy_abuffer.h"
 
 #include "render_command.h"
+#include "scene_file.h"
 
 #include "geometry/parametric_sources.h"
 #include "render/renderer.h"
@@ -112,7 +113,7 @@ double medianSeconds(int reps, const wf::Scene& s, const wf::RenderOptions& o, w
 
 // The view-direction tables (render/view_tables.h): the map path against the exact path at the
 // true view vector of every fragment, same A-buffer, so the difference is the shading alone:
-// tables plus the view approximation. A wire cage over a torus, fields of view 30 and 60 degrees.
+// tables plus the view approximation. The shaded cage of image 9b, fields of view 30 and 60 degrees.
 json viewGridStudy(bool quick, const Progress& progress, std::vector<std::pair<std::string, PlotSpec>>& plots) {
   progress.say("view-direction tables: map path against exact shading");
   json out = json::array();
@@ -120,28 +121,9 @@ json viewGridStudy(bool quick, const Progress& progress, std::vector<std::pair<s
                 "render time incl. table builds [ms]", "RGBA error vs exact shading", true, true, {}, {2e-3}};
   const int W = quick ? 160 : 320, H = quick ? 120 : 240;
   for (double fov : {30.0, 60.0}) {
-    wf::Scene s;
-    s.lightsFollowCamera = true;
-    s.lights.ambient = glm::dvec3(0.05);
-    s.lights.lights = {{glm::normalize(glm::dvec3(-0.55, 0.65, 0.55)), glm::dvec3(1.0)},
-                       {glm::normalize(glm::dvec3(0.8, -0.1, 0.6)), glm::dvec3(0.35)}};
-    wf::Material clay, steel;
-    clay.phong = {glm::dvec3(0.55, 0.27, 0.2), glm::dvec3(0.3), 25};
-    steel.phong = {glm::dvec3(0.2, 0.2, 0.22), glm::dvec3(1.5), 12};
-    s.materials = {wf::Material{}, clay, steel};
-    wf::ParametricSource torus;
-    torus.type = wf::ParametricSource::Type::Torus;
-    torus.major = 0.8;
-    torus.minor = 0.3;
-    s.surfaces.push_back({"torus", wf::tessellate(torus), 1});
-    wf::ParametricSource cage;
-    cage.type = wf::ParametricSource::Type::Sphere;
-    cage.radius = 1.4;
-    wf::SceneWire w;
-    w.lines = wf::isolines(cage, 16, 7, 96);
-    w.material = 2;
-    w.thickness = 0.03;
-    s.wires.push_back(w);
+    // The gallery's shaded cage (image 9b, data/scenes/cage_shaded.json, compiled in), framed
+    // at this field of view.
+    wf::Scene s = defaultScene().scene;
     wf::Camera cam = wf::frameSphere(glm::dvec3(0.0), 1.45, double(W) / H);
     const double scale = std::tan(glm::radians(cam.fovYDegrees) / 2) / std::tan(glm::radians(fov) / 2);
     cam.eye = cam.target + (cam.eye - cam.target) * scale;

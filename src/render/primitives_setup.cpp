@@ -494,10 +494,6 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint16_
         ++out.rejected;
         continue;
       }
-      if (w0 == w1) {
-        ++out.zeroLength;
-        continue;
-      }
       glm::dvec3 e0 = view.toEye(w0), e1 = view.toEye(w1);
       if (!finite3(e0) || !finite3(e1) || e0 == e1) {
         ++out.zeroLength;
