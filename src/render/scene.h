@@ -21,7 +21,9 @@ namespace wf {
 struct TriangleMesh {
   std::vector<glm::dvec3> positions;
   std::vector<glm::dvec3> normals;   ///< per vertex, or empty (face normals)
-  std::vector<glm::dvec3> tangents;  ///< per vertex, or empty
+  std::vector<glm::dvec3> tangents;  ///< per vertex, or empty (the shading tangent: burnish grain)
+  std::vector<glm::dvec3> derivU;    ///< per vertex dS/du (surfaces from a parametric patch), or empty
+  std::vector<glm::dvec3> derivV;    ///< per vertex dS/dv, or empty
   std::vector<glm::dvec2> uvs;       ///< per vertex, or empty
   std::vector<glm::vec3> colours;    ///< per vertex (multiplies the shading), or empty
   std::vector<glm::uvec3> triangles;
