@@ -127,6 +127,56 @@ TEST(ParametricSources, TransformKeepsNormalsPerpendicular) {
   }
 }
 
+// Tangents and dS/du, dS/dv are directions along the surface: they transform by the linear part
+// A of M (dS'/du = A dS/du, exactly, 1e-12), not by the inverse transpose; tangents stay unit and
+// perpendicular to the transformed normals.
+TEST(ParametricSources, TransformMovesDerivativesByTheLinearPart) {
+  ParametricSource s;
+  s.type = ParametricSource::Type::Torus;
+  const TriangleMesh before = tessellate(s);
+  TriangleMesh m = before;
+  glm::dmat4 M(1.0);
+  M[0] = glm::dvec4(2.0, 0.5, 0.0, 0.0);
+  M[1] = glm::dvec4(0.0, 3.0, 0.0, 0.0);
+  M[2] = glm::dvec4(0.3, 0.0, 0.5, 0.0);
+  M[3] = glm::dvec4(1.0, 2.0, 3.0, 1.0);
+  transformMesh(m, M);
+  const glm::dmat3 A(M);
+  ASSERT_EQ(m.derivU.size(), m.positions.size());
+  for (size_t i = 0; i < m.positions.size(); ++i) {
+    EXPECT_LT(glm::length(m.derivU[i] - A * before.derivU[i]), 1e-12);
+    EXPECT_LT(glm::length(m.derivV[i] - A * before.derivV[i]), 1e-12);
+    EXPECT_LT(glm::length(m.tangents[i] - glm::normalize(A * before.tangents[i])), 1e-12);
+    EXPECT_NEAR(glm::dot(m.tangents[i], m.normals[i]), 0.0, 1e-12);
+    EXPECT_NEAR(glm::dot(glm::normalize(m.derivV[i]), m.normals[i]), 0.0, 1e-12);
+  }
+}
+
+// The scene lathe of the jugs (data/scenes/jug_*.json): a smooth profile with a crisp base rim
+// (a 55-degree turn > profileCornerAngle), so the base is flat at z = -1 and never below it.
+TEST(ParametricSources, JugLatheHasAFlatBaseAndASmoothBody) {
+  ParametricSource s;
+  s.type = ParametricSource::Type::Lathe;
+  s.profile = {{0.0, -1.0}, {0.55, -1.0}, {0.62, -0.9}, {0.7, -0.6}, {0.72, -0.3}, {0.66, 0.0},
+               {0.5, 0.3},  {0.36, 0.55}, {0.32, 0.75}, {0.36, 0.9}, {0.42, 1.0}};
+  s.resolutionU = 96;
+  s.resolutionV = 64;
+  ASSERT_TRUE(s.problem().empty());
+  const TriangleMesh m = tessellate(s);
+  for (size_t i = 0; i < m.positions.size(); ++i) {
+    EXPECT_GE(m.positions[i].z, -1.0 - 1e-12);
+    if (m.positions[i].z < -0.999 && glm::length(glm::dvec2(m.positions[i])) < 0.54) {  // the base
+      EXPECT_NEAR(m.normals[i].z, -1.0, 1e-12);
+    }
+  }
+  // The body is smooth: neighbouring vertex normals along a meridian above the base turn by less
+  // than 12 degrees per step (64 steps over the profile).
+  for (int j = 14; j < 64; ++j) {  // rows 0-13 are the flat base, 13-14 the crisp rim
+    const glm::dvec3 a = m.normals[size_t(j * 97)], b = m.normals[size_t((j + 1) * 97)];
+    EXPECT_GT(glm::dot(a, b), std::cos(12.0 * std::numbers::pi / 180.0)) << "row " << j;
+  }
+}
+
 TEST(ParametricSources, ProblemsAreReported) {
   ParametricSource s;
   s.type = ParametricSource::Type::Torus;
@@ -141,6 +191,24 @@ TEST(ParametricSources, ProblemsAreReported) {
   s.resolutionU = 2;
   EXPECT_FALSE(s.problem().empty());
   EXPECT_TRUE(ParametricSource{}.problem().empty());
+  s = ParametricSource{};
+  s.type = ParametricSource::Type::Loft;
+  EXPECT_FALSE(s.problem().empty());  // no sections
+  s.sections = {{{0, 0, 0}, 0.0, 0.0, {}}, {{1, 0, 0}, 0.5, 0.4, {}}, {{2, 0, 0.3}, 0.0, 0.0, {}}};
+  EXPECT_TRUE(s.problem().empty());
+  EXPECT_FALSE(tessellate(s).triangles.empty());
+  s = ParametricSource{};
+  s.type = ParametricSource::Type::Bezier;
+  EXPECT_FALSE(s.problem().empty());  // no control points
+  for (int k = 0; k < 16; ++k) s.controlPoints.emplace_back(k % 4, k / 4, 0.0);
+  EXPECT_TRUE(s.problem().empty());
+  EXPECT_EQ(tessellate(s).triangles.size(), size_t(2 * 48 * 24));
+  s.type = ParametricSource::Type::BSpline;
+  s.controlCountU = 3;
+  EXPECT_FALSE(s.problem().empty());  // 16 points are not a 3 x 4 net
+  s.controlCountU = 4;
+  s.periodicU = true;
+  EXPECT_TRUE(s.problem().empty());
 }
 
 }  // namespace
