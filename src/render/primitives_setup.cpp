@@ -107,6 +107,8 @@ double maxComponentDiff(const glm::dvec3& a, const glm::dvec3& b) {
   return std::max({d.x, d.y, d.z});
 }
 
+}  // namespace
+
 glm::dvec3 chromeRadiance(const EnvironmentMap& env, const glm::dvec3& refl, const glm::dvec3& n,
                           const glm::dvec3& v) {
   const glm::dvec3 r = 2.0 * glm::dot(n, v) * n - v;
@@ -117,6 +119,8 @@ const EnvironmentMap& defaultEnvironment() {
   static const EnvironmentMap env = EnvironmentMap::mountainScene(512);
   return env;
 }
+
+namespace {
 
 // ---- camera, lights, shaders -------------------------------------------------------------
 
@@ -176,17 +180,60 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
     if (it == surfaceSlotOf.end()) {
       ShaderSlot slot;
       const Material& m = material(mi);
-      slot.kind = m.kind == Material::Kind::Chrome ? ShaderSlot::Kind::SurfaceChrome
-                                                   : ShaderSlot::Kind::SurfacePhong;
+      const bool chrome = m.kind == Material::Kind::Chrome;
+      const bool burnished = !chrome && m.burnish.active();
+      slot.kind = chrome ? ShaderSlot::Kind::SurfaceChrome
+                         : burnished ? ShaderSlot::Kind::SurfaceBurnished : ShaderSlot::Kind::SurfacePhong;
       slot.phong = m.phong.sanitized();
       slot.chromeReflectance = m.chromeReflectance;
-      if (maps) {
-        slot.surfaceTables = std::make_shared<SurfaceTables>(
-            slot.kind == ShaderSlot::Kind::SurfacePhong
-                ? SurfaceTables::phong(grid, o.sphereResolution, slot.phong, ps.eyeLights)
-                : SurfaceTables::chrome(grid, o.sphereResolution, env(), slot.chromeReflectance));
-        surfaceTablesOf[mi] = slot.surfaceTables;
-        st.reflectanceSpheres += slot.surfaceTables->spheresBuilt();
+      slot.material = &m;
+      const Burnish::Grain grain = burnished ? m.burnish.grain : Burnish::Grain::None;
+      const bool grainUV = grain == Burnish::Grain::U || grain == Burnish::Grain::V;
+      const bool grooves = burnished && m.burnish.grooves;
+      slot.needsUv = bool(m.colourMap) || bool(m.bumpMap) || grainUV;
+      slot.needsDerivatives = bool(m.bumpMap) || grainUV;
+      slot.variesInPixel = bool(m.colourMap) || bool(m.bumpMap) || grooves;
+      slot.split = !chrome && bool(m.colourMap);
+      if (grain == Burnish::Grain::Radial || grain == Burnish::Grain::Circular) {
+        slot.axisPoint = ps.view.toEye(m.burnish.axisPoint);
+        glm::dvec3 a = ps.view.eyeFromWorld * m.burnish.axisDirection;
+        const double al = glm::length(a);
+        slot.axisDirection = (al > 0 && std::isfinite(al)) ? a / al : glm::dvec3(0.0, 0.0, 1.0);
+        if (!finite3(slot.axisPoint)) slot.axisPoint = glm::dvec3(0.0);
+      }
+      PhongMaterial diffusePart = slot.phong, specularPart = slot.phong;
+      diffusePart.specular = glm::dvec3(0.0);
+      specularPart.diffuse = glm::dvec3(0.0);
+      if (maps && burnished) {
+        // The burnished surface's cylinders share the pseudo-reflectance map of wires of the
+        // same material (unless split into parts by a colour map).
+        if (slot.split) {
+          slot.wireTables = std::make_shared<WireTables>(grid, diffusePart, ps.eyeLights, o.map);
+          slot.wireSpecular = std::make_shared<WireTables>(grid, specularPart, ps.eyeLights, o.map);
+          st.pseudoReflectanceMaps += slot.wireTables->mapsBuilt() + slot.wireSpecular->mapsBuilt();
+        } else {
+          auto wt = wireTablesOf.find(mi);
+          if (wt == wireTablesOf.end()) {
+            auto tables = std::make_shared<WireTables>(grid, slot.phong, ps.eyeLights, o.map);
+            st.pseudoReflectanceMaps += tables->mapsBuilt();
+            wt = wireTablesOf.emplace(mi, tables).first;
+          }
+          slot.wireTables = wt->second;
+        }
+      } else if (maps) {
+        if (chrome) {
+          slot.surfaceTables = std::make_shared<SurfaceTables>(
+              SurfaceTables::chrome(grid, o.sphereResolution, env(), slot.chromeReflectance));
+        } else {
+          slot.surfaceTables = std::make_shared<SurfaceTables>(
+              SurfaceTables::phong(grid, o.sphereResolution, slot.split ? diffusePart : slot.phong, ps.eyeLights));
+          if (slot.split)
+            slot.surfaceSpecular = std::make_shared<SurfaceTables>(
+                SurfaceTables::phong(grid, o.sphereResolution, specularPart, ps.eyeLights));
+        }
+        if (!slot.split) surfaceTablesOf[mi] = slot.surfaceTables;
+        st.reflectanceSpheres += slot.surfaceTables->spheresBuilt() +
+                                 (slot.surfaceSpecular ? slot.surfaceSpecular->spheresBuilt() : 0);
       }
       ps.shaders.push_back(slot);
       it = surfaceSlotOf.emplace(mi, int(ps.shaders.size()) - 1).first;
@@ -789,18 +836,54 @@ TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& st) {
   return bins;
 }
 
-SurfaceSample interpolateTriangle(const PreparedScene& ps, const TriangleAttributes& ta, const glm::dvec3& P,
-                                  const glm::dvec3& V, bool tangentAndUv) {
-  // Barycentrics of the eye-space point P (on the triangle's plane under the fragment), clamped
-  // into the triangle: perspective-correct by construction.
+namespace {
+// Unclamped barycentrics of eye point P on the triangle's plane.
+glm::dvec3 barycentricOf(const TriangleAttributes& ta, const glm::dvec3& P) {
   const glm::dvec3 v = P - ta.p0;
   const double d20 = glm::dot(v, ta.e1), d21 = glm::dot(v, ta.e2);
-  double b1 = (ta.d11 * d20 - ta.d01 * d21) * ta.invDen;
-  double b2 = (ta.d00 * d21 - ta.d01 * d20) * ta.invDen;
-  double b0 = 1.0 - b1 - b2;
-  b0 = std::max(b0, 0.0), b1 = std::max(b1, 0.0), b2 = std::max(b2, 0.0);
+  const double b1 = (ta.d11 * d20 - ta.d01 * d21) * ta.invDen;
+  const double b2 = (ta.d00 * d21 - ta.d01 * d20) * ta.invDen;
+  return {1.0 - b1 - b2, b1, b2};
+}
+
+// World-space dP/du, dP/dv of a triangle from its positions and (u, v) (zero when the (u, v)
+// are degenerate).
+void triangleUvGradient(const TriangleMesh& mesh, const glm::uvec3& tri, glm::dvec3& du, glm::dvec3& dv) {
+  const glm::dvec3 e1 = mesh.positions[tri.y] - mesh.positions[tri.x];
+  const glm::dvec3 e2 = mesh.positions[tri.z] - mesh.positions[tri.x];
+  const glm::dvec2 t1 = mesh.uvs[tri.y] - mesh.uvs[tri.x], t2 = mesh.uvs[tri.z] - mesh.uvs[tri.x];
+  const double det = t1.x * t2.y - t2.x * t1.y;
+  if (!(std::abs(det) > 0) || !std::isfinite(det)) {
+    du = dv = glm::dvec3(0.0);
+    return;
+  }
+  du = (e1 * t2.y - e2 * t1.y) / det;
+  dv = (e2 * t1.x - e1 * t2.x) / det;
+  if (!std::isfinite(glm::dot(du, du)) || !std::isfinite(glm::dot(dv, dv))) du = dv = glm::dvec3(0.0);
+}
+
+glm::dvec3 finiteOrZero(const glm::dvec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) ? v : glm::dvec3(0.0);
+}
+}  // namespace
+
+glm::dvec2 uvOnPlane(const PreparedScene& ps, const TriangleAttributes& ta, const glm::dvec3& P) {
+  const TriangleMesh& mesh = ps.scene->surfaces[ta.surface].mesh;
+  if (mesh.uvs.size() != mesh.positions.size()) return glm::dvec2(0.0);
+  const glm::uvec3 tri = mesh.triangles[ta.triangle];
+  const glm::dvec3 b = barycentricOf(ta, P);
+  const glm::dvec2 uv = b.x * mesh.uvs[tri.x] + b.y * mesh.uvs[tri.y] + b.z * mesh.uvs[tri.z];
+  return std::isfinite(uv.x) && std::isfinite(uv.y) ? uv : glm::dvec2(0.0);
+}
+
+SurfaceSample interpolateTriangle(const PreparedScene& ps, const TriangleAttributes& ta, const glm::dvec3& P,
+                                  const glm::dvec3& V, bool tangentAndUv, bool derivatives) {
+  // Barycentrics of the eye-space point P (on the triangle's plane under the fragment), clamped
+  // into the triangle: perspective-correct by construction.
+  const glm::dvec3 bu = barycentricOf(ta, P);
+  double b0 = std::max(bu.x, 0.0), b1 = std::max(bu.y, 0.0), b2 = std::max(bu.z, 0.0);
   const double bs = b0 + b1 + b2;
-  if (bs > 0) b0 /= bs, b1 /= bs, b2 /= bs;
+  if (bs > 0 && std::isfinite(bs)) b0 /= bs, b1 /= bs, b2 /= bs;
   else b0 = 1, b1 = b2 = 0;
   const TriangleMesh& mesh = ps.scene->surfaces[ta.surface].mesh;
   const glm::uvec3 tri = mesh.triangles[ta.triangle];
@@ -813,7 +896,7 @@ SurfaceSample interpolateTriangle(const PreparedScene& ps, const TriangleAttribu
                      : glm::cross(ta.e1, ta.e2);
   const double nl = glm::length(N);
   N = (nl > 0 && std::isfinite(nl)) ? N / nl : V;
-  if (glm::dot(N, V) < 0) N = -N;  // two-sided: the side facing the viewer
+  if (glm::dot(N, V) < 0) N = -N, out.flipped = true;  // two-sided: the side facing the viewer
   out.normal = N;
   if (tangentAndUv && mesh.tangents.size() == nv) {
     const glm::dvec3 T = ps.view.eyeFromWorld * mix3(mesh.tangents[tri.x], mesh.tangents[tri.y], mesh.tangents[tri.z]);
@@ -821,6 +904,19 @@ SurfaceSample interpolateTriangle(const PreparedScene& ps, const TriangleAttribu
     out.tangent = (tl > 0 && std::isfinite(tl)) ? T / tl : glm::dvec3(0.0);
   }
   if (tangentAndUv && mesh.uvs.size() == nv) out.uv = mix3(mesh.uvs[tri.x], mesh.uvs[tri.y], mesh.uvs[tri.z]);
+  if (derivatives) {
+    glm::dvec3 du(0.0), dv(0.0);
+    if (mesh.derivU.size() == nv && mesh.derivV.size() == nv) {
+      du = mix3(mesh.derivU[tri.x], mesh.derivU[tri.y], mesh.derivU[tri.z]);
+      dv = mix3(mesh.derivV[tri.x], mesh.derivV[tri.y], mesh.derivV[tri.z]);
+    } else if (mesh.uvs.size() == nv) {
+      triangleUvGradient(mesh, tri, du, dv);
+    } else if (mesh.tangents.size() == nv) {
+      du = mix3(mesh.tangents[tri.x], mesh.tangents[tri.y], mesh.tangents[tri.z]);
+    }
+    out.derivU = finiteOrZero(ps.view.eyeFromWorld * du);
+    out.derivV = finiteOrZero(ps.view.eyeFromWorld * dv);
+  }
   if (mesh.colours.size() == nv)
     out.colour = safeColour(mesh.colours[tri.x] * float(b0) + mesh.colours[tri.y] * float(b1) + mesh.colours[tri.z] * float(b2));
   return out;
@@ -863,19 +959,7 @@ glm::vec3 shadeFragment(const PreparedScene& ps, const Primitive& prim, double x
       }
     }
   }
-  const TriangleAttributes& ta = ps.triangles[prim.attribute];
-  const ShaderSlot& slot = ps.shaders[ta.shader];
-  // The shading models so far read the normal and colour only (tangent and (u, v) serve the
-  // burnished and textured surfaces to come): not interpolated per fragment until then.
-  const SurfaceSample sample = interpolateTriangle(ps, ta, P, V, false);
-  const glm::dvec3& N = sample.normal;
-  const glm::vec3 c = sample.colour;
-  if (ps.path == ShadingPath::Maps && slot.surfaceTables) return slot.surfaceTables->lookup(N, x, y) * c;
-  if (slot.kind == ShaderSlot::Kind::SurfaceChrome) {
-    const EnvironmentMap& env = ps.scene->environment ? *ps.scene->environment : defaultEnvironment();
-    return glm::vec3(chromeRadiance(env, slot.chromeReflectance, N, V)) * c;
-  }
-  return glm::vec3(phongRadiance(N, V, slot.phong, ps.eyeLights)) * c;
+  return shadeSurfaceFragment(ps, prim, x, y, P, V);
 }
 
 }  // namespace wf

@@ -64,13 +64,28 @@ struct SegmentAttributes {
 
 /// One way of shading: a surface material or a wire style, with the tables it reads.
 struct ShaderSlot {
-  enum class Kind { SurfacePhong, SurfaceChrome, WireShaded, WirePlain, WireDepthCued };
+  enum class Kind { SurfacePhong, SurfaceChrome, SurfaceBurnished, WireShaded, WirePlain, WireDepthCued };
   Kind kind = Kind::SurfacePhong;
   PhongMaterial phong;
   glm::dvec3 chromeReflectance{0.9};
   glm::vec3 colour{1.0f};
-  std::shared_ptr<WireTables> wireTables;        ///< shaded wire, map path
-  std::shared_ptr<SurfaceTables> surfaceTables;  ///< surfaces, map path
+  /// Shaded wire and burnished surfaces, map path (burnished: of the diffuse part when `split`).
+  std::shared_ptr<WireTables> wireTables;
+  /// Phong and chrome surfaces, map path (Phong: of the diffuse part when `split`).
+  std::shared_ptr<SurfaceTables> surfaceTables;
+  /// A colour map multiplies the diffuse part only: the tables above then hold the diffuse part
+  /// and these the specular part (only then are they built).
+  bool split = false;
+  std::shared_ptr<WireTables> wireSpecular;
+  std::shared_ptr<SurfaceTables> surfaceSpecular;
+  /// Surfaces: the material (textures, bumps, grooves, grain) and what its fragments need.
+  const Material* material = nullptr;
+  bool needsUv = false;          ///< colour map, bump map, grooves along u or v, grain along u or v
+  bool needsDerivatives = false; ///< bump map, grain along u or v
+  /// Shading varies inside a pixel (textures, bumps, grooves): the reference renderer shades
+  /// such primitives at every sample instead of once per pixel.
+  bool variesInPixel = false;
+  glm::dvec3 axisPoint{0.0}, axisDirection{0.0, 0.0, 1.0};  ///< radial / circular grain, eye space
 };
 
 struct PreparedScene {
@@ -85,6 +100,9 @@ struct PreparedScene {
   std::vector<TriangleAttributes> triangles;
   std::vector<SegmentAttributes> segments;
   double cueNear = 0, cueFar = 1;  ///< depth range of the wires (depth cueing)
+  /// Textures and grooves box-filtered over the pixel's footprint (the A-buffer), or point
+  /// sampled (the reference renderer, which averages its sub-samples instead).
+  bool filterTextures = true;
   size_t bytes() const;
 };
 
@@ -137,10 +155,26 @@ struct SurfaceSample {
   glm::dvec2 uv{0.0};
   glm::vec3 colour{1.0f};
   glm::dvec3 barycentric{1.0, 0.0, 0.0};
+  /// Eye-space dS/du and dS/dv (on request): the mesh's per-vertex derivatives, else its
+  /// tangents for dS/du, else the triangle's own (u, v) gradient; zero when there is none.
+  glm::dvec3 derivU{0.0}, derivV{0.0};
+  bool flipped = false;  ///< the normal was turned to face the viewer
 };
-/// `tangentAndUv` false leaves tangent and (u, v) at their defaults (cheaper per fragment).
+/// `tangentAndUv` false leaves tangent and (u, v) at their defaults (cheaper per fragment);
+/// `derivatives` fills derivU and derivV.
 SurfaceSample interpolateTriangle(const PreparedScene& ps, const TriangleAttributes& ta, const glm::dvec3& eyePoint,
-                                  const glm::dvec3& view, bool tangentAndUv);
+                                  const glm::dvec3& view, bool tangentAndUv, bool derivatives = false);
+/// (u, v) of the triangle's plane at eye point P, extrapolated beyond the triangle (for pixel
+/// footprints); zero when the mesh has no (u, v).
+glm::dvec2 uvOnPlane(const PreparedScene& ps, const TriangleAttributes& ta, const glm::dvec3& P);
+/// Mirror reflection of the environment (fixed to the viewer) for unit normal n, view vector v.
+glm::dvec3 chromeRadiance(const EnvironmentMap& env, const glm::dvec3& reflectance, const glm::dvec3& n,
+                          const glm::dvec3& v);
+/// The procedural mountain scene chrome reflects when the scene names no environment.
+const EnvironmentMap& defaultEnvironment();
+/// Radiance of a surface fragment (Phong, chrome, burnished; textures, bumps, grooves).
+glm::vec3 shadeSurfaceFragment(const PreparedScene& ps, const Primitive& prim, double x, double y,
+                               const glm::dvec3& P, const glm::dvec3& V);
 /// The same at screen point (x, y) of a triangle primitive (on its plane); default for segments.
 SurfaceSample interpolateSurface(const PreparedScene& ps, const Primitive& prim, double x, double y);
 /// Radiance of a primitive's fragment at screen point (x, y), view depth `depth`.

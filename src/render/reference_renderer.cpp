@@ -45,7 +45,8 @@ struct Visible {
   std::uint32_t prim;
   double sx, sy, sd;
   int n;
-  glm::vec3 colour;
+  glm::vec3 colour;   ///< shaded colour (summed over the samples while `perSample`)
+  bool perSample;     ///< shading varies inside the pixel: shaded at every sample
 };
 
 }  // namespace
@@ -58,6 +59,13 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
   const int S = options.referenceSamples, S2 = S * S;
   auto body = [&] {
     PreparedScene ps = prepareScene(scene, options, st);
+    // Textures, bumps and grooves are point-sampled at every sub-sample and averaged, instead of
+    // the A-buffer's box filter over one pixel's footprint.
+    ps.filterTextures = false;
+    auto variesInPixel = [&](std::uint32_t p) {
+      const Primitive& prim = ps.primitives[p];
+      return !prim.isSegment && !prim.constantColour && ps.shaders[ps.triangles[prim.attribute].shader].variesInPixel;
+    };
     const TileBins bins = binPrimitives(ps, options.tileSize, st);
     const auto tr = std::chrono::steady_clock::now();
     tbb::enumerable_thread_specific<TileSamples> store;
@@ -133,7 +141,7 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
           auto find = [&](std::uint32_t p) -> Visible& {
             for (Visible& v : vis)
               if (v.prim == p) return v;
-            vis.push_back({p, 0, 0, 0, 0, glm::vec3(0)});
+            vis.push_back({p, 0, 0, 0, 0, glm::vec3(0), variesInPixel(p)});
             return vis.back();
           };
           // Pass 1: which primitives are seen, and where (for shading).
@@ -146,14 +154,17 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
               if (buf.translucent[tp].depth < zo) {
                 Visible& v = find(buf.translucent[tp].prim);
                 v.sx += x, v.sy += y, v.sd += buf.translucent[tp].depth, ++v.n;
+                if (v.perSample) v.colour += shadeFragment(ps, ps.primitives[v.prim], x, y, buf.translucent[tp].depth);
               }
             if (buf.prim[base + s] >= 0) {
               Visible& v = find(std::uint32_t(buf.prim[base + s]));
               v.sx += x, v.sy += y, v.sd += zo, ++v.n;
+              if (v.perSample) v.colour += shadeFragment(ps, ps.primitives[v.prim], x, y, zo);
             }
           }
           for (Visible& v : vis)
-            v.colour = shadeFragment(ps, ps.primitives[v.prim], v.sx / v.n, v.sy / v.n, v.sd / v.n);
+            v.colour = v.perSample ? v.colour / float(v.n)
+                                   : shadeFragment(ps, ps.primitives[v.prim], v.sx / v.n, v.sy / v.n, v.sd / v.n);
           // Pass 2: composite every sample front to back.
           glm::vec3 rgb(0.0f);
           float alpha = 0;

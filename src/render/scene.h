@@ -7,6 +7,7 @@
 #include "shading/environment_map.h"
 #include "shading/light.h"
 #include "shading/phong.h"
+#include "texture/texture.h"
 
 #include <glm/glm.hpp>
 
@@ -41,6 +42,30 @@ struct PolylineSet {
   }
 };
 
+class GrooveTexture;
+
+/// Burnished metal (paper §2.2, images 5-8, 19): the surface is taken to be fine parallel
+/// cylinders (grooves) along a grain direction, shaded through the pseudo-reflectance map of the
+/// material's Phong model by the eye-space grain tangent, exactly as a wire is. Grooves made
+/// visible by a groove texture modulate the diffuse and the specular part together (the paper's
+/// stand-in for self-shadowing by uneven groove depth).
+struct Burnish {
+  enum class Grain {
+    None,      ///< not burnished: isotropic shading by the normal
+    U,         ///< along dS/du (grooves indexed by v)
+    V,         ///< along dS/dv (grooves indexed by u)
+    Radial,    ///< away from an axis (grooves indexed by the angle about it)
+    Circular,  ///< around an axis: a record on a turntable (grooves indexed by the distance from it)
+  };
+  Grain grain = Grain::None;
+  glm::dvec3 axisPoint{0.0};                   ///< radial / circular: a point of the axis (world)
+  glm::dvec3 axisDirection{0.0, 0.0, 1.0};     ///< radial / circular: the axis direction (world)
+  /// Visible grooves (optional). Their coordinate: v for grain U, u for grain V, the turn
+  /// (angle / 2 pi) for radial grain, the distance from the axis (world units) for circular.
+  std::shared_ptr<const GrooveTexture> grooves;
+  bool active() const { return grain != Grain::None; }
+};
+
 struct Material {
   enum class Kind { Phong, Chrome };
   std::string name = "default";
@@ -48,6 +73,14 @@ struct Material {
   PhongMaterial phong{};
   glm::dvec3 chromeReflectance{0.9};  ///< chrome: mirror reflectance of the environment
   float opacity = 1.0f;
+  Burnish burnish;                    ///< Phong materials only
+  /// Colour map over the surface's (u, v) (paper §4.1, images 12, 13): multiplies the diffuse
+  /// part (highlights keep the light's colour), box-filtered over the pixel's footprint.
+  std::shared_ptr<const ColourTexture> colourMap;
+  /// Bump map (Blinn 1978, paper image 14): a height over (u, v), in world units times
+  /// `bumpScale`, perturbing the normal; the outline stays smooth.
+  std::shared_ptr<const ScalarTexture> bumpMap;
+  double bumpScale = 1.0;
 };
 
 /// How a wire is drawn: the paper's shaded wire (a thin cylinder through the pseudo-reflectance

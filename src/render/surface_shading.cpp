@@ -1,0 +1,201 @@
+// Shading of surface fragments: Phong and chrome through reflectance spheres (or exactly),
+// burnished metal through the pseudo-reflectance map by the eye-space grain tangent (paper §2.2),
+// with colour maps, bump maps and groove textures over (u, v) (paper §4.1).
+//
+// Radiance = g (t D + S) c, where D and S are the diffuse (with ambient) and specular parts of the
+// model, t the colour map, g the groove intensity (the paper modulates both parts by it) and c
+// the mesh's vertex colour. Without a colour map D + S comes from one table lookup; with one the
+// material's tables are built in two parts (ShaderSlot::split). Chrome has no diffuse part: the
+// colour map and the grooves multiply the reflection.
+//
+// Pixel footprints: the A-buffer shades a fragment once, so a texture or groove pattern finer
+// than a pixel is box-filtered over the (u, v) (or groove-coordinate) footprint of one pixel,
+// found by moving the eye point one pixel in x and in y on the triangle's plane. The reference
+// renderer point-samples instead and averages its sub-samples.
+#include "render/primitives_setup.h"
+
+#include "shading/cylinder_shading.h"
+#include "texture/bump.h"
+#include "texture/grooves.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace wf {
+
+namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+glm::dvec3 anyPerpendicular(const glm::dvec3& n) {
+  const glm::dvec3 a = std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  return glm::normalize(glm::cross(n, a));
+}
+
+// Unit tangent t made orthogonal to unit N; a perpendicular of N when t is (nearly) along it or
+// not finite.
+glm::dvec3 tangentOff(const glm::dvec3& t, const glm::dvec3& N) {
+  const glm::dvec3 p = t - glm::dot(t, N) * N;
+  const double l = glm::length(p);
+  return (l > 1e-12 && std::isfinite(l)) ? p / l : anyPerpendicular(N);
+}
+
+// The radial offset of eye point P from the grain axis (eye space).
+glm::dvec3 radialOffset(const ShaderSlot& slot, const glm::dvec3& P) {
+  const glm::dvec3 d = P - slot.axisPoint;
+  return d - glm::dot(d, slot.axisDirection) * slot.axisDirection;
+}
+
+// Turn about the grain axis, in [0, 1).
+double turnAbout(const ShaderSlot& slot, const glm::dvec3& P) {
+  const glm::dvec3 r = radialOffset(slot, P);
+  const glm::dvec3 e1 = anyPerpendicular(slot.axisDirection);
+  const glm::dvec3 e2 = glm::cross(slot.axisDirection, e1);
+  const double a = std::atan2(glm::dot(r, e2), glm::dot(r, e1)) / kTwoPi;
+  return a < 0 ? a + 1.0 : a;
+}
+
+// The groove coordinate (see Burnish::grooves) at eye point P with surface (u, v).
+double grooveCoordinate(const ShaderSlot& slot, Burnish::Grain grain, const glm::dvec3& P, const glm::dvec2& uv) {
+  switch (grain) {
+    case Burnish::Grain::U: return uv.y;
+    case Burnish::Grain::V: return uv.x;
+    case Burnish::Grain::Radial: return turnAbout(slot, P);
+    case Burnish::Grain::Circular: return glm::length(radialOffset(slot, P));
+    case Burnish::Grain::None: break;
+  }
+  return 0.0;
+}
+
+struct Footprint {
+  bool valid = false;
+  glm::dvec3 Px{0.0}, Py{0.0};  ///< eye points one pixel right and one pixel down on the plane
+};
+
+Footprint footprintOf(const PreparedScene& ps, const Primitive& prim, double x, double y) {
+  Footprint f;
+  const double dx = ps.view.depthFromKey(prim.depthKeyAt(x + 1.0, y));
+  const double dy = ps.view.depthFromKey(prim.depthKeyAt(x, y + 1.0));
+  if (!std::isfinite(dx) || !std::isfinite(dy)) return f;  // the plane meets the horizon: no estimate
+  f.Px = ps.view.eyePoint(x + 1.0, y, dx);
+  f.Py = ps.view.eyePoint(x, y + 1.0, dy);
+  f.valid = true;
+  return f;
+}
+
+}  // namespace
+
+glm::vec3 shadeSurfaceFragment(const PreparedScene& ps, const Primitive& prim, double x, double y,
+                               const glm::dvec3& P, const glm::dvec3& V) {
+  const TriangleAttributes& ta = ps.triangles[prim.attribute];
+  const ShaderSlot& slot = ps.shaders[ta.shader];
+  const SurfaceSample sample = interpolateTriangle(ps, ta, P, V, slot.needsUv, slot.needsDerivatives);
+  glm::dvec3 N = sample.normal;
+  const glm::vec3 c = sample.colour;
+  const bool maps = ps.path == ShadingPath::Maps;
+  const Material* mat = slot.material;
+  if (!mat || (!slot.variesInPixel && slot.kind != ShaderSlot::Kind::SurfaceBurnished)) {
+    // Untextured, isotropic: one lookup by the normal.
+    if (maps && slot.surfaceTables) return slot.surfaceTables->lookup(N, x, y) * c;
+    if (slot.kind == ShaderSlot::Kind::SurfaceChrome) {
+      const EnvironmentMap& env = ps.scene->environment ? *ps.scene->environment : defaultEnvironment();
+      return glm::vec3(chromeRadiance(env, slot.chromeReflectance, N, V)) * c;
+    }
+    return glm::vec3(phongRadiance(N, V, slot.phong, ps.eyeLights)) * c;
+  }
+
+  // The pixel's footprint, only when a filtered lookup needs it.
+  const Burnish::Grain grain = mat->burnish.grain;
+  const bool grooves = mat->burnish.grooves && grain != Burnish::Grain::None;
+  Footprint fp;
+  if (ps.filterTextures && (mat->colourMap || grooves)) fp = footprintOf(ps, prim, x, y);
+  glm::dvec2 uvx = sample.uv, uvy = sample.uv;
+  if (fp.valid && slot.needsUv) uvx = uvOnPlane(ps, ta, fp.Px), uvy = uvOnPlane(ps, ta, fp.Py);
+
+  // Bump map (Blinn): perturb the normal by the height's gradient; the outline stays smooth.
+  if (mat->bumpMap) {
+    const glm::dvec2 g = mat->bumpMap->gradient(sample.uv);
+    glm::dvec3 Nb = bumpNormal(N, sample.derivU, sample.derivV, g, mat->bumpScale);
+    // A bumped normal never faces away from the viewer (it would look up the far hemisphere).
+    const double nv = glm::dot(Nb, V);
+    if (nv < 1e-3) Nb = glm::normalize(Nb + (1e-3 - nv) * V);
+    if (std::isfinite(Nb.x + Nb.y + Nb.z)) N = Nb;
+  }
+
+  // Groove intensity, box-filtered over the footprint in the groove coordinate.
+  double g = 1.0;
+  if (grooves) {
+    const double c0 = grooveCoordinate(slot, grain, P, sample.uv);
+    double width = 0.0;
+    if (fp.valid) {
+      double cx = grooveCoordinate(slot, grain, fp.Px, uvx) - c0;
+      double cy = grooveCoordinate(slot, grain, fp.Py, uvy) - c0;
+      if (grain == Burnish::Grain::Radial) {  // the turn wraps at 1
+        cx -= std::round(cx);
+        cy -= std::round(cy);
+      }
+      width = std::abs(cx) + std::abs(cy);
+      if (!std::isfinite(width)) width = 0.0;
+    }
+    g = mat->burnish.grooves->intensity(c0, width);
+  }
+
+  // Colour map, box-filtered over the (u, v) footprint.
+  glm::dvec3 t(1.0);
+  if (mat->colourMap) {
+    UvFootprint f;
+    if (fp.valid) f.dx = uvx - sample.uv, f.dy = uvy - sample.uv;
+    t = glm::dvec3(mat->colourMap->sample(sample.uv, f));
+  }
+
+  glm::dvec3 D(0.0), S(0.0);
+  if (slot.kind == ShaderSlot::Kind::SurfaceBurnished) {
+    // The grain tangent, in the surface's tangent plane.
+    glm::dvec3 T(0.0);
+    switch (grain) {
+      case Burnish::Grain::U: T = sample.derivU; break;
+      case Burnish::Grain::V: T = sample.derivV; break;
+      case Burnish::Grain::Radial: T = radialOffset(slot, P); break;
+      case Burnish::Grain::Circular: T = glm::cross(slot.axisDirection, radialOffset(slot, P)); break;
+      case Burnish::Grain::None: break;
+    }
+    T = tangentOff(T, N);
+    if (maps && slot.wireTables) {
+      D = glm::dvec3(slot.wireTables->lookup(T, x, y));
+      if (slot.split && slot.wireSpecular) S = glm::dvec3(slot.wireSpecular->lookup(T, x, y));
+    } else if (slot.split) {
+      PhongMaterial d = slot.phong, s = slot.phong;
+      d.specular = glm::dvec3(0.0);
+      s.diffuse = glm::dvec3(0.0);
+      D = cylinderRadianceExact(T, V, d, ps.eyeLights, 1e-8);
+      S = cylinderRadianceExact(T, V, s, ps.eyeLights, 1e-8);
+    } else {
+      D = cylinderRadianceExact(T, V, slot.phong, ps.eyeLights, 1e-8);
+    }
+  } else if (slot.kind == ShaderSlot::Kind::SurfaceChrome) {
+    if (maps && slot.surfaceTables) {
+      D = glm::dvec3(slot.surfaceTables->lookup(N, x, y));
+    } else {
+      const EnvironmentMap& env = ps.scene->environment ? *ps.scene->environment : defaultEnvironment();
+      D = chromeRadiance(env, slot.chromeReflectance, N, V);
+    }
+  } else {
+    if (maps && slot.surfaceTables) {
+      D = glm::dvec3(slot.surfaceTables->lookup(N, x, y));
+      if (slot.split && slot.surfaceSpecular) S = glm::dvec3(slot.surfaceSpecular->lookup(N, x, y));
+    } else if (slot.split) {
+      PhongMaterial d = slot.phong, s = slot.phong;
+      d.specular = glm::dvec3(0.0);
+      s.diffuse = glm::dvec3(0.0);
+      D = phongRadiance(N, V, d, ps.eyeLights);
+      S = phongRadiance(N, V, s, ps.eyeLights);
+    } else {
+      D = phongRadiance(N, V, slot.phong, ps.eyeLights);
+    }
+  }
+  const glm::dvec3 L = g * (t * D + S);
+  return glm::vec3(L) * c;
+}
+
+}  // namespace wf
