@@ -1,4 +1,5 @@
-// Writing the core's linear float images as 8-bit sRGB PNG, through VTK's PNG writer.
+// Writing the core's linear float images as 8-bit sRGB PNG, and reading PNG textures, through
+// VTK's PNG writer and reader.
 #pragma once
 
 #include "core/image.h"
@@ -13,5 +14,13 @@ float linearToSrgb(float linear);
 /// Writes RGB over black (alpha premultiplied coverage). Writes to a temporary name in the same
 /// directory and renames, so a failed write leaves nothing half-written. Throws on failure.
 void writePng(const wf::ImageRGBA& image, const std::string& path);
+
+/// Reads an 8- or 16-bit PNG (grey, grey+alpha, RGB or RGBA) as a linear image (sRGB decoded;
+/// alpha kept, 1 when absent), row 0 at the top. At most `maxPixels` pixels. Throws UsageError
+/// naming the file and the problem (missing, not a PNG, truncated, too large).
+wf::ImageRGBA readPng(const std::string& path, size_t maxPixels = size_t(1) << 26);
+
+/// sRGB decoding of one 8-bit-scaled value in [0, 1].
+float srgbToLinear(float encoded);
 
 }  // namespace wfapp

@@ -3,8 +3,12 @@
 #include "cli.h"
 #include "built_in_scene.h"
 #include "mesh_io.h"
+#include "scene_growth.h"
+#include "scene_materials.h"
+#include "scene_reader.h"
 
 #include "geometry/parametric_sources.h"
+#include "surface/transformed_surface.h"
 
 #include <nlohmann/json.hpp>
 
@@ -22,75 +26,6 @@ namespace wfapp {
 namespace {
 
 using json = nlohmann::json;
-
-// Reads values out of the document, naming the JSON pointer of anything wrong.
-struct Reader {
-  std::string file;
-
-  [[noreturn]] void fail(const std::string& ptr, const std::string& what) const {
-    throw UsageError(file + ": " + (ptr.empty() ? std::string("/") : ptr) + ": " + what);
-  }
-  static std::string at(const std::string& ptr, const std::string& key) {
-    std::string k;
-    for (char c : key) k += c == '~' ? "~0" : (c == '/' ? "~1" : std::string(1, c));
-    return ptr + "/" + k;
-  }
-  static std::string at(const std::string& ptr, size_t i) { return ptr + "/" + std::to_string(i); }
-
-  void keys(const json& j, const std::string& ptr, const std::set<std::string>& allowed) const {
-    if (!j.is_object()) fail(ptr, "expected an object");
-    for (auto it = j.begin(); it != j.end(); ++it)
-      if (!allowed.count(it.key())) {
-        std::string list;
-        for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
-        fail(at(ptr, it.key()), "unknown key (expected one of: " + list + ")");
-      }
-  }
-  double number(const json& j, const std::string& ptr, double lo, double hi) const {
-    if (!j.is_number()) fail(ptr, "expected a number");
-    const double v = j.get<double>();
-    if (!std::isfinite(v) || v < lo || v > hi) {
-      std::ostringstream s;
-      s << "expected a number in [" << lo << ", " << hi << "], got " << j.dump();
-      fail(ptr, s.str());
-    }
-    return v;
-  }
-  int integer(const json& j, const std::string& ptr, int lo, int hi) const {
-    if (!j.is_number_integer()) fail(ptr, "expected an integer");
-    const long long v = j.get<long long>();
-    if (v < lo || v > hi) fail(ptr, "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-    return int(v);
-  }
-  std::string string(const json& j, const std::string& ptr) const {
-    if (!j.is_string()) fail(ptr, "expected a string");
-    return j.get<std::string>();
-  }
-  std::string choice(const json& j, const std::string& ptr, const std::set<std::string>& options) const {
-    const std::string s = string(j, ptr);
-    if (!options.count(s)) {
-      std::string list;
-      for (const std::string& o : options) list += (list.empty() ? "" : ", ") + o;
-      fail(ptr, "'" + s + "' is not one of: " + list);
-    }
-    return s;
-  }
-  glm::dvec3 vec3(const json& j, const std::string& ptr, double bound = 1e12) const {
-    if (!j.is_array() || j.size() != 3) fail(ptr, "expected [x, y, z]");
-    return {number(j[0], at(ptr, 0), -bound, bound), number(j[1], at(ptr, 1), -bound, bound),
-            number(j[2], at(ptr, 2), -bound, bound)};
-  }
-  /// A colour: [r, g, b] or one grey value, linear, >= 0.
-  glm::dvec3 colour(const json& j, const std::string& ptr) const {
-    if (j.is_number()) return glm::dvec3(number(j, ptr, 0, 1e6));
-    if (!j.is_array() || j.size() != 3) fail(ptr, "expected a colour [r, g, b] or a number");
-    return {number(j[0], at(ptr, 0), 0, 1e6), number(j[1], at(ptr, 1), 0, 1e6), number(j[2], at(ptr, 2), 0, 1e6)};
-  }
-  bool boolean(const json& j, const std::string& ptr) const {
-    if (!j.is_boolean()) fail(ptr, "expected true or false");
-    return j.get<bool>();
-  }
-};
 
 std::string readText(const std::string& path) {
   std::error_code ec;
@@ -154,16 +89,37 @@ glm::dmat4 readTransform(const Reader& r, const json& j, const std::string& ptr)
   return M;
 }
 
+std::vector<glm::dvec3> readPoints(const Reader& r, const json& j, const std::string& ptr) {
+  if (!j.is_array()) r.fail(ptr, "expected a list of [x, y, z] points");
+  std::vector<glm::dvec3> pts;
+  for (size_t i = 0; i < j.size(); ++i) pts.push_back(r.vec3(j[i], Reader::at(ptr, i)));
+  return pts;
+}
+
 wf::ParametricSource readSource(const Reader& r, const json& j, const std::string& ptr) {
-  r.keys(j, ptr, {"type", "radius", "major", "minor", "profile", "size", "resolution"});
+  r.keys(j, ptr, {"type", "radius", "major", "minor", "profile", "corners", "interpolation", "corner_angle", "size",
+                  "sections", "up", "points", "count", "periodic", "resolution"});
   if (!j.contains("type")) r.fail(ptr, "a source needs a type");
   wf::ParametricSource s;
-  const std::string type = r.choice(j["type"], Reader::at(ptr, "type"), {"sphere", "torus", "lathe", "plane", "box"});
-  s.type = type == "sphere"  ? wf::ParametricSource::Type::Sphere
-           : type == "torus" ? wf::ParametricSource::Type::Torus
-           : type == "lathe" ? wf::ParametricSource::Type::Lathe
-           : type == "plane" ? wf::ParametricSource::Type::Plane
-                             : wf::ParametricSource::Type::Box;
+  const std::string type = r.choice(j["type"], Reader::at(ptr, "type"),
+                                    {"sphere", "torus", "lathe", "plane", "box", "loft", "bezier", "bspline"});
+  using T = wf::ParametricSource::Type;
+  s.type = type == "sphere"   ? T::Sphere
+           : type == "torus"  ? T::Torus
+           : type == "lathe"  ? T::Lathe
+           : type == "plane"  ? T::Plane
+           : type == "loft"   ? T::Loft
+           : type == "bezier" ? T::Bezier
+           : type == "bspline" ? T::BSpline
+                              : T::Box;
+  // Keys that belong to other types are errors, not silently ignored.
+  static const std::map<std::string, std::set<std::string>> owners = {
+      {"radius", {"sphere"}}, {"major", {"torus"}}, {"minor", {"torus"}}, {"profile", {"lathe"}},
+      {"corners", {"lathe"}}, {"interpolation", {"lathe"}}, {"corner_angle", {"lathe"}}, {"size", {"plane", "box"}},
+      {"sections", {"loft"}}, {"up", {"loft"}}, {"points", {"bezier", "bspline"}}, {"count", {"bspline"}},
+      {"periodic", {"bspline"}}};
+  for (const auto& [key, types] : owners)
+    if (j.contains(key) && !types.count(type)) r.fail(Reader::at(ptr, key), "does not belong to a " + type + " source");
   if (j.contains("radius")) s.radius = r.number(j["radius"], Reader::at(ptr, "radius"), 1e-12, 1e12);
   if (j.contains("major")) s.major = r.number(j["major"], Reader::at(ptr, "major"), 1e-12, 1e12);
   if (j.contains("minor")) s.minor = r.number(j["minor"], Reader::at(ptr, "minor"), 1e-12, 1e12);
@@ -183,11 +139,66 @@ wf::ParametricSource readSource(const Reader& r, const json& j, const std::strin
       s.profile.emplace_back(r.number(p[0], Reader::at(ip, 0), 0, 1e12), r.number(p[1], Reader::at(ip, 1), -1e12, 1e12));
     }
   }
+  if (j.contains("corners")) {
+    // Indices of profile points that are crisp corners (a jug's base rim).
+    const std::string cp = Reader::at(ptr, "corners");
+    if (!j["corners"].is_array()) r.fail(cp, "expected a list of profile point indices");
+    s.profileCorners.assign(s.profile.size(), false);
+    for (size_t i = 0; i < j["corners"].size(); ++i)
+      s.profileCorners[size_t(r.integer(j["corners"][i], Reader::at(cp, i), 0, int(s.profile.size()) - 1))] = true;
+  }
+  if (j.contains("interpolation"))
+    s.profileLinear = r.choice(j["interpolation"], Reader::at(ptr, "interpolation"), {"smooth", "linear"}) == "linear";
+  if (j.contains("corner_angle")) s.profileCornerAngle = r.number(j["corner_angle"], Reader::at(ptr, "corner_angle"), 0, 180);
+  if (j.contains("sections")) {
+    const std::string sp = Reader::at(ptr, "sections");
+    if (!j["sections"].is_array()) r.fail(sp, "expected a list of {centre, radii}");
+    for (size_t i = 0; i < j["sections"].size(); ++i) {
+      const json& q = j["sections"][i];
+      const std::string qp = Reader::at(sp, i);
+      r.keys(q, qp, {"centre", "radius", "radii", "profile"});
+      if (!q.contains("centre")) r.fail(qp, "a section needs a centre");
+      wf::LoftSection sec;
+      sec.centre = r.vec3(q["centre"], Reader::at(qp, "centre"));
+      if (q.contains("radius")) sec.a = sec.b = r.number(q["radius"], Reader::at(qp, "radius"), 0, 1e12);
+      if (q.contains("radii")) {
+        const std::string rp = Reader::at(qp, "radii");
+        if (!q["radii"].is_array() || q["radii"].size() != 2) r.fail(rp, "expected [a, b]");
+        sec.a = r.number(q["radii"][0], Reader::at(rp, 0), 0, 1e12);
+        sec.b = r.number(q["radii"][1], Reader::at(rp, 1), 0, 1e12);
+      }
+      if (q.contains("profile")) {
+        const std::string pp = Reader::at(qp, "profile");
+        if (!q["profile"].is_array()) r.fail(pp, "expected [[x, y], ...]");
+        for (size_t k = 0; k < q["profile"].size(); ++k) {
+          const json& p = q["profile"][k];
+          if (!p.is_array() || p.size() != 2) r.fail(Reader::at(pp, k), "expected [x, y]");
+          sec.profile.emplace_back(r.number(p[0], Reader::at(Reader::at(pp, k), 0), -1e12, 1e12),
+                                   r.number(p[1], Reader::at(Reader::at(pp, k), 1), -1e12, 1e12));
+        }
+      }
+      s.sections.push_back(sec);
+    }
+  }
+  if (j.contains("up")) s.up = r.vec3(j["up"], Reader::at(ptr, "up"));
+  if (j.contains("points")) s.controlPoints = readPoints(r, j["points"], Reader::at(ptr, "points"));
+  if (j.contains("count")) {
+    const std::string cp = Reader::at(ptr, "count");
+    if (!j["count"].is_array() || j["count"].size() != 2) r.fail(cp, "expected [control points along u, along v]");
+    s.controlCountU = r.integer(j["count"][0], Reader::at(cp, 0), 1, 4096);
+    s.controlCountV = r.integer(j["count"][1], Reader::at(cp, 1), 1, 4096);
+  }
+  if (j.contains("periodic")) {
+    const std::string pp = Reader::at(ptr, "periodic");
+    if (!j["periodic"].is_array() || j["periodic"].size() != 2) r.fail(pp, "expected [closed in u, closed in v]");
+    s.periodicU = r.boolean(j["periodic"][0], Reader::at(pp, 0));
+    s.periodicV = r.boolean(j["periodic"][1], Reader::at(pp, 1));
+  }
   if (j.contains("resolution")) {
     const std::string rp = Reader::at(ptr, "resolution");
     if (!j["resolution"].is_array() || j["resolution"].size() != 2) r.fail(rp, "expected [u, v]");
-    s.resolutionU = r.integer(j["resolution"][0], Reader::at(rp, 0), 3, 4096);
-    s.resolutionV = r.integer(j["resolution"][1], Reader::at(rp, 1), 2, 4096);
+    s.resolutionU = r.integer(j["resolution"][0], Reader::at(rp, 0), 1, 4096);
+    s.resolutionV = r.integer(j["resolution"][1], Reader::at(rp, 1), 1, 4096);
   }
   const std::string problem = s.problem();
   if (!problem.empty()) r.fail(ptr, problem);
@@ -224,13 +235,15 @@ void readLights(const Reader& r, const json& j, const std::string& ptr, wf::Scen
   }
 }
 
-void readMaterials(const Reader& r, const json& j, const std::string& ptr, wf::Scene& scene,
-                   std::map<std::string, int>& index) {
+void readMaterials(const Reader& r, const json& j, const std::string& ptr, const std::string& folder,
+                   wf::Scene& scene, std::map<std::string, int>& index) {
   if (!j.is_object()) r.fail(ptr, "expected an object of named materials");
   for (auto it = j.begin(); it != j.end(); ++it) {
     const std::string mp = Reader::at(ptr, it.key());
     const json& m = it.value();
-    r.keys(m, mp, {"kind", "diffuse", "specular", "exponent", "opacity", "reflectance"});
+    std::set<std::string> keys = {"kind", "diffuse", "specular", "exponent", "opacity", "reflectance"};
+    keys.insert(materialExtraKeys().begin(), materialExtraKeys().end());
+    r.keys(m, mp, keys);
     wf::Material mat;
     mat.name = it.key();
     if (m.contains("kind"))
@@ -241,6 +254,7 @@ void readMaterials(const Reader& r, const json& j, const std::string& ptr, wf::S
     if (m.contains("exponent")) mat.phong.exponent = r.number(m["exponent"], Reader::at(mp, "exponent"), 0, wf::kMaxPhongExponent);
     if (m.contains("opacity")) mat.opacity = float(r.number(m["opacity"], Reader::at(mp, "opacity"), 0, 1));
     if (m.contains("reflectance")) mat.chromeReflectance = r.colour(m["reflectance"], Reader::at(mp, "reflectance"));
+    readMaterialExtras(r, m, mp, folder, mat);
     index[mat.name] = int(scene.materials.size());
     scene.materials.push_back(mat);
   }
@@ -283,8 +297,8 @@ WireSpec readWire(const Reader& r, const json& j, const std::string& ptr, const 
 }
 
 void readObject(const Reader& r, const json& j, const std::string& ptr, const std::string& folder,
-                const std::map<std::string, int>& materials, wf::Scene& scene) {
-  r.keys(j, ptr, {"name", "source", "file", "transform", "surface", "wire"});
+                const std::map<std::string, int>& materials, std::uint32_t index, wf::Scene& scene) {
+  r.keys(j, ptr, {"name", "source", "file", "transform", "surface", "wire", "fur", "scales"});
   const std::string name = j.contains("name") ? r.string(j["name"], Reader::at(ptr, "name")) : ptr;
   if (j.contains("source") == j.contains("file")) r.fail(ptr, "an object needs exactly one of source and file");
   glm::dmat4 M(1.0);
@@ -346,8 +360,19 @@ void readObject(const Reader& r, const json& j, const std::string& ptr, const st
     wf::transformMesh(mesh, M);
     scene.surfaces.push_back({name, std::move(mesh), surfaceMaterial});
   }
-  if (!drawSurface && !j.contains("wire"))
-    r.fail(ptr, "this object draws nothing (no polygons for a surface, and no wire)");
+  // Fur and scales grow on the placed surface (world units, normals right under any transform).
+  GrowthContext growth;
+  if (isSource && (j.contains("fur") || j.contains("scales"))) {
+    std::shared_ptr<const wf::Surface> base(wf::makeSurface(source));
+    if (!base) r.fail(Reader::at(ptr, "source"), "a box is not one parametric patch: fur and scales need another source");
+    growth.surface = std::make_shared<wf::TransformedSurface>(base, M);
+  }
+  growth.patch = index;
+  growth.name = name;
+  growth.material = [&](const json& m, const std::string& mp) { return materialRef(r, m, mp, materials); };
+  readGrowth(r, j, ptr, growth, scene);
+  if (!drawSurface && !j.contains("wire") && !j.contains("fur") && !j.contains("scales"))
+    r.fail(ptr, "this object draws nothing (no polygons for a surface, no wire, fur or scales)");
 }
 
 void readCamera(const Reader& r, const json& j, const std::string& ptr, SceneFile& sf) {
@@ -425,11 +450,11 @@ SceneFile parseScene(const std::string& path, const std::string& text, const std
   else sf.scene.lights = wf::LightRig::studioRig(3), sf.scene.lightsFollowCamera = true;
   if (doc.contains("environment")) r.choice(doc["environment"], "/environment", {"mountains"});
   std::map<std::string, int> materials{{"default", 0}};
-  if (doc.contains("materials")) readMaterials(r, doc["materials"], "/materials", sf.scene, materials);
+  if (doc.contains("materials")) readMaterials(r, doc["materials"], "/materials", folder, sf.scene, materials);
   if (!doc.contains("objects") || !doc["objects"].is_array() || doc["objects"].empty())
     r.fail("/objects", "expected a non-empty list of objects");
   for (size_t i = 0; i < doc["objects"].size(); ++i)
-    readObject(r, doc["objects"][i], Reader::at("/objects", i), folder, materials, sf.scene);
+    readObject(r, doc["objects"][i], Reader::at("/objects", i), folder, materials, std::uint32_t(i), sf.scene);
   readCamera(r, doc.contains("camera") ? doc["camera"] : json::object(), "/camera", sf);
   if (sf.title.empty()) sf.title = std::filesystem::path(path).stem().string();
   return sf;

@@ -1,0 +1,21 @@
+// Scene-file material keys beyond Phong and chrome: "burnish", "texture", "bump".
+#pragma once
+
+#include "scene_reader.h"
+
+#include "render/scene.h"
+
+#include <set>
+#include <string>
+
+namespace wfapp {
+
+/// The keys readMaterialExtras reads.
+const std::set<std::string>& materialExtraKeys();
+
+/// Reads burnish (grain, axis, grooves), texture (chequer, image, noise with a colour ramp) and
+/// bump (noise, image) of material `m` at JSON pointer `mp`; files relative to `folder`.
+void readMaterialExtras(const Reader& r, const json& m, const std::string& mp, const std::string& folder,
+                        wf::Material& mat);
+
+}  // namespace wfapp
