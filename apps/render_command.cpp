@@ -50,6 +50,7 @@ wf::RenderOptions renderOptionsFor(const SceneFile& sf) {
   o.height = sf.height;
   o.mask = sf.mask;
   o.budget = sf.budget;
+  o.viewGrid = sf.viewGrid;
   return o;
 }
 
@@ -154,7 +155,7 @@ int runRender(const RenderCommandOptions& o) {
   ro.threads = o.threads;
   ro.shading = (o.exact || o.reference) ? wf::ShadingPath::Exact : wf::ShadingPath::Maps;
   ro.referenceSamples = o.samples;
-  ro.viewGrid = o.viewGrid;
+  if (o.viewGrid > 0) ro.viewGrid = o.viewGrid;
   if (const std::string p = ro.problem(); !p.empty()) throw UsageError("render: " + p);
   // Make sure the outputs can be written before spending time on the render: the folder
   // exists, the name is not a folder, and a file can be created beside it.

@@ -25,7 +25,7 @@ struct RenderCommandOptions {
   bool reference = false;      ///< brute-force reference instead of the A-buffer
   bool measureError = false;   ///< also render the reference and report the measured error
   int samples = 16;            ///< reference samples per side
-  int viewGrid = 1;            ///< view-direction tables per side
+  int viewGrid = 0;            ///< view-direction tables per side (0: from the scene)
   bool quiet = false;
 };
 

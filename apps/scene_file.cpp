@@ -427,7 +427,7 @@ SceneFile parseScene(const std::string& path, const std::string& text, const std
   if (doc.contains("paper_image")) sf.paperImage = r.string(doc["paper_image"], "/paper_image");
   if (doc.contains("image")) {
     const json& im = doc["image"];
-    r.keys(im, "/image", {"size", "mask", "budget", "background"});
+    r.keys(im, "/image", {"size", "mask", "budget", "background", "view_grid"});
     if (im.contains("size")) {
       if (!im["size"].is_array() || im["size"].size() != 2) r.fail("/image/size", "expected [width, height]");
       sf.width = r.integer(im["size"][0], "/image/size/0", 1, 16384);
@@ -436,6 +436,7 @@ SceneFile parseScene(const std::string& path, const std::string& text, const std
     if (im.contains("mask") && !wf::MaskLayout::parse(r.string(im["mask"], "/image/mask"), sf.mask))
       r.fail("/image/mask", "expected 4x4, 8x4 or 8x8");
     if (im.contains("budget")) sf.budget = r.integer(im["budget"], "/image/budget", 1, 65535);
+    if (im.contains("view_grid")) sf.viewGrid = r.integer(im["view_grid"], "/image/view_grid", 1, 16);
     if (im.contains("background")) {
       const json& b = im["background"];
       if (b.is_array() && b.size() == 4) {

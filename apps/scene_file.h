@@ -17,6 +17,7 @@ struct SceneFile {
   int width = 640, height = 480;
   wf::MaskLayout mask{8, 4};
   int budget = 64;
+  int viewGrid = 1;  ///< view-direction tables per side (image.view_grid)
   /// The camera was framed from the bounds (no eye given): reframe() fits it to another size.
   bool framed = false;
   glm::dvec3 frameDirection{0.55, -0.75, 0.45};

@@ -6,11 +6,32 @@
 #include "growth/scales.h"
 #include "texture/textures.h"
 
+#include <algorithm>
+#include <cmath>
+#include <exception>
 #include <memory>
 
 namespace wfapp {
 
 namespace {
+
+/// Most hair points one object may grow: about 1.2 GB of points and colours.
+constexpr double kMaxFurPoints = 33554432.0;
+
+/// The surface's area by the midpoint rule on a 64 x 64 grid of |Su x Sv| (an estimate for the
+/// size check; non-finite parts count as zero).
+double approximateArea(const wf::Surface& s) {
+  const wf::ParameterDomain d = s.domain();
+  const int n = 64;
+  double a = 0.0;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const wf::SurfacePoint p = s.evaluate(d.u0 + (i + 0.5) * d.du() / n, d.v0 + (j + 0.5) * d.dv() / n);
+      const double e = glm::length(glm::cross(p.Su, p.Sv));
+      if (std::isfinite(e)) a += e;
+    }
+  return a * d.du() * d.dv() / (double(n) * n);
+}
 
 glm::dvec2 pair(const Reader& r, const json& j, const std::string& ptr, double lo, double hi) {
   if (!j.is_array() || j.size() != 2) r.fail(ptr, "expected [u, v]");
@@ -154,8 +175,22 @@ void readGrowth(const Reader& r, const json& obj, const std::string& ptr, const 
     const json& j = obj["fur"];
     const wf::FurParams params = readFurParams(r, j, fp);
     if (const std::string p = params.problem(); !p.empty()) r.fail(fp, p);
-    wf::Fur fur = wf::growFur(*ctx.surface, params, ctx.patch);
-    if (!fur.problem.empty()) r.fail(fp, fur.problem);
+    // A bound on what one object may grow, checked before anything is allocated: the expected
+    // hair count (grid size, or density times the placed area) times the points per hair.
+    const double hairs = params.placement == wf::FurParams::Placement::Grid
+                             ? double(params.gridU) * double(params.gridV)
+                             : params.density * approximateArea(*ctx.surface);
+    const double points = hairs * double(params.segments + 1);
+    if (!(points <= kMaxFurPoints))
+      r.fail(fp, "this fur would have about " + std::to_string((long long)std::min(points, 9e18)) +
+                     " points, more than the " + std::to_string((long long)kMaxFurPoints) +
+                     " one object may grow (lower grid, density or segments)");
+    wf::Fur fur;
+    try {
+      fur = wf::growFur(*ctx.surface, params, ctx.patch);
+    } catch (const std::exception& e) {
+      r.fail(fp, e.what());
+    }
     wf::SceneWire w;
     w.name = ctx.name + " fur";
     w.lines = std::move(fur.hairs);

@@ -163,7 +163,15 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
   ps.grid = std::make_unique<ViewGrid>(ps.view, o.viewGrid);
   const ViewGrid& grid = *ps.grid;
   std::map<int, std::shared_ptr<WireTables>> wireTablesOf;
-  std::map<int, std::shared_ptr<SurfaceTables>> surfaceTablesOf;
+  // Every table built, with the model it tabulates, for the error estimates below.
+  std::vector<std::pair<const WireTables*, PhongMaterial>> wireChecks;
+  struct SurfaceCheck {
+    const SurfaceTables* tables;
+    PhongMaterial phong;
+    bool chrome;
+    glm::dvec3 reflectance;
+  };
+  std::vector<SurfaceCheck> surfaceChecks;
   std::map<int, int> surfaceSlotOf;
   auto material = [&](int i) -> const Material& {
     return scene.materials[size_t(std::clamp(i, 0, int(scene.materials.size()) - 1))];
@@ -211,12 +219,15 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
           slot.wireTables = std::make_shared<WireTables>(grid, diffusePart, ps.eyeLights, o.map);
           slot.wireSpecular = std::make_shared<WireTables>(grid, specularPart, ps.eyeLights, o.map);
           st.pseudoReflectanceMaps += slot.wireTables->mapsBuilt() + slot.wireSpecular->mapsBuilt();
+          wireChecks.push_back({slot.wireTables.get(), diffusePart});
+          wireChecks.push_back({slot.wireSpecular.get(), specularPart});
         } else {
           auto wt = wireTablesOf.find(mi);
           if (wt == wireTablesOf.end()) {
             auto tables = std::make_shared<WireTables>(grid, slot.phong, ps.eyeLights, o.map);
             st.pseudoReflectanceMaps += tables->mapsBuilt();
             wt = wireTablesOf.emplace(mi, tables).first;
+            wireChecks.push_back({tables.get(), slot.phong});
           }
           slot.wireTables = wt->second;
         }
@@ -231,7 +242,8 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
             slot.surfaceSpecular = std::make_shared<SurfaceTables>(
                 SurfaceTables::phong(grid, o.sphereResolution, specularPart, ps.eyeLights));
         }
-        if (!slot.split) surfaceTablesOf[mi] = slot.surfaceTables;
+        surfaceChecks.push_back({slot.surfaceTables.get(), slot.split ? diffusePart : slot.phong, chrome, slot.chromeReflectance});
+        if (slot.surfaceSpecular) surfaceChecks.push_back({slot.surfaceSpecular.get(), specularPart, false, glm::dvec3(0.0)});
         st.reflectanceSpheres += slot.surfaceTables->spheresBuilt() +
                                  (slot.surfaceSpecular ? slot.surfaceSpecular->spheresBuilt() : 0);
       }
@@ -254,6 +266,7 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
         auto tables = std::make_shared<WireTables>(grid, slot.phong, ps.eyeLights, o.map);
         st.pseudoReflectanceMaps += tables->mapsBuilt();
         it = wireTablesOf.emplace(mi, tables).first;
+        wireChecks.push_back({tables.get(), slot.phong});
       }
       slot.wireTables = it->second;
     }
@@ -277,8 +290,7 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
   const double worstPoints[2][2] = {{0.0, 0.0}, {n > 1 ? 2 * nodeX : 0.0, n > 1 ? 2 * nodeY : 0.0}};
   const bool perspective = ps.view.perspective;
   const std::vector<glm::dvec3> dirs = fibonacciSphere(192);
-  for (auto& [mi, tables] : wireTablesOf) {
-    const PhongMaterial m = material(mi).phong.sanitized();
+  for (const auto& [tables, m] : wireChecks) {
     for (size_t i = 0; i < dirs.size(); ++i) {
       st.mapError = std::max(st.mapError, maxComponentDiff(glm::dvec3(tables->lookup(dirs[i], nodeX, nodeY)),
                                                            cylinderRadianceExact(dirs[i], vNode, m, ps.eyeLights, 1e-8)));
@@ -289,18 +301,17 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
                                                      cylinderRadianceExact(dirs[i], viewAt(w[0], w[1]), m, ps.eyeLights, 1e-8)));
     }
   }
-  for (auto& [mi, tables] : surfaceTablesOf) {
-    const Material& mat = material(mi);
-    const PhongMaterial m = mat.phong.sanitized();
+  for (const SurfaceCheck& check : surfaceChecks) {
+    const SurfaceTables* tables = check.tables;
+    const PhongMaterial& m = check.phong;
     auto exactAt = [&](const glm::dvec3& nrm, const glm::dvec3& v) {
-      return mat.kind == Material::Kind::Chrome ? chromeRadiance(env(), mat.chromeReflectance, nrm, v)
-                                                : phongRadiance(nrm, v, m, ps.eyeLights);
+      return check.chrome ? chromeRadiance(env(), check.reflectance, nrm, v) : phongRadiance(nrm, v, m, ps.eyeLights);
     };
     for (const glm::dvec3& d : dirs) {
       // Normals facing the viewer at the node (and at the worst point, for the second estimate).
       glm::dvec3 nrm = glm::dot(d, vNode) < 0 ? -d : d;
       st.sphereError = std::max(st.sphereError, maxComponentDiff(glm::dvec3(tables->lookup(nrm, nodeX, nodeY)), exactAt(nrm, vNode)));
-      if (perspective && mat.kind == Material::Kind::Phong)
+      if (perspective && !check.chrome)
         for (const auto& w : worstPoints) {
           const glm::dvec3 v = viewAt(w[0], w[1]);
           nrm = glm::dot(d, v) < 0 ? -d : d;

@@ -96,7 +96,7 @@ TEST(RenderCli, PlainWireSceneBuildsNoMap) {
 }
 
 TEST(RenderCli, SameImageForAnyThreadCount) {
-  const std::string scene = kScenes + "hair_torus.json";
+  const std::string scene = kScenes + "fur_torus.json";
   const fs::path a = dir() / "t1.png", b = dir() / "t2.png", c = dir() / "t16.png";
   ASSERT_EQ(run("render '" + scene + "' -o '" + a.string() + "' --size 240x180 --threads 1").status, 0);
   ASSERT_EQ(run("render '" + scene + "' -o '" + b.string() + "' --size 240x180 --threads 2").status, 0);
