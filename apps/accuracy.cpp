@@ -3,6 +3,7 @@
 #include "cli.h"
 #include "plot.h"
 #include "accuracy_abuffer.h"
+#include "accuracy_textures.h"
 
 #include "shading/cylinder_shading.h"
 #include "shading/pseudo_reflectance_map.h"
@@ -431,6 +432,8 @@ int runAccuracy(const AccuracyOptions& opt) {
   std::printf("\nA-buffer (mask, budget K) against the brute-force reference (16x16 samples per pixel):\n");
   std::vector<std::pair<std::string, PlotSpec>> abufferPlots;
   doc["abuffer"] = abufferStudy(opt.quick, progress, abufferPlots);
+  std::printf("\nTextures and grooves finer than a pixel: box filter against the reference's samples:\n");
+  doc["textures"] = texturesStudy(opt.quick, progress, abufferPlots);
 
   if (!opt.plotsDir.empty()) {
     progress.say("plots into " + opt.plotsDir);

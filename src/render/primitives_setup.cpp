@@ -703,6 +703,7 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
   PreparedScene ps;
   ps.scene = &scene;
   ps.path = o.shading;
+  ps.filterTextures = o.filterTextures;
   const Camera camera = chooseCamera(scene, o, st);
   ps.view = ViewTransform::make(camera, o.width, o.height);
   ps.eyeLights = scene.lightsFollowCamera ? scene.lights.canonical()

@@ -42,6 +42,10 @@ struct RenderOptions {
   /// `wirefur accuracy` shows the curve.
   int viewGrid = 1;
   int sphereResolution = 256;
+  /// Colour maps, bumps and grooves box-filtered over each pixel's (u, v) footprint (true), or
+  /// point-sampled at the fragment's centroid (false: the unfiltered baseline of the accuracy
+  /// study). The reference renderer always point-samples at every sub-sample.
+  bool filterTextures = true;
   int referenceSamples = 16;  ///< brute-force reference: n x n stratified samples per pixel
   std::uint64_t referenceSeed = 1;
   /// Empty when usable; otherwise what is wrong.
