@@ -310,7 +310,11 @@ void readObject(const Reader& r, const json& j, const std::string& ptr, const st
   const bool isSource = j.contains("source");
   if (isSource) {
     source = readSource(r, j["source"], Reader::at(ptr, "source"));
-    mesh = wf::tessellate(source);
+    // Tessellated only when something draws the polygons: a surface, or a wire of its edges
+    // (fur and isolines work on the surface itself).
+    const bool noSurface = j.contains("surface") && j["surface"].is_boolean() && !j["surface"].get<bool>();
+    const bool edges = j.contains("wire") && j["wire"].is_object() && j["wire"].contains("from") && j["wire"]["from"] == "edges";
+    if (!noSurface || edges) mesh = wf::tessellate(source);
   } else {
     std::string f = r.string(j["file"], Reader::at(ptr, "file"));
     std::filesystem::path p(f);
