@@ -7,7 +7,9 @@
 #include <vtkLogger.h>
 #include <vtkObject.h>
 
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <iostream>
 #include <string>
@@ -24,6 +26,7 @@ constexpr const char* kUsage =
     "                                               error against run time of every shading approximation\n"
     "  render   [INPUT] -o OUT.png [--size WxH] [--style STYLE] [--mask 4x4|8x4|8x8] [--threads N]\n"
     "           [--stats FILE] [--budget K] [--shading maps|exact] [--reference [--samples N]]\n"
+    "           [--time T]\n"
     "           [--view-grid N] [--measure-error] [--quiet]\n"
     "                                               INPUT: scene .json, or .vtp .vtk .stl .obj .ply; none: built-in scene\n"
     "  view, export                                  not in this version yet\n"
@@ -97,6 +100,14 @@ int run(const std::vector<std::string>& a) {
       else if (a[i] == "--view-grid") {
         o.viewGrid = wfapp::parsePositiveInt("--view-grid", need(a, i));
         if (o.viewGrid > 16) throw wfapp::UsageError("option --view-grid: expected 1 ... 16");
+      }
+      else if (a[i] == "--time") {
+        const std::string v = need(a, i);
+        char* end = nullptr;
+        const double t = std::strtod(v.c_str(), &end);
+        if (v.empty() || *end != '\0' || !std::isfinite(t) || std::abs(t) > 1e9)
+          throw wfapp::UsageError("option --time: expected a number in [-1e9, 1e9], got '" + v + "'");
+        o.time = t;
       }
       else if (a[i] == "--quiet") o.quiet = true;
       else if (!a[i].empty() && a[i][0] == '-') throw wfapp::UsageError("render: unknown option '" + a[i] + "'");

@@ -31,7 +31,7 @@ bool isCadFile(const std::string& path) {
 }
 }  // namespace
 
-SceneFile loadInput(const std::string& input, const std::string& style) {
+SceneFile loadInput(const std::string& input, const std::string& style, const SceneOverrides& overrides) {
   if (input.empty()) return defaultScene();
   if (isCadFile(input))
     throw UsageError(input + ": CAD input (STEP, IGES, BREP, FreeCAD) is not in this version yet");
@@ -39,7 +39,7 @@ SceneFile loadInput(const std::string& input, const std::string& style) {
   std::string e = std::filesystem::path(input).extension().string();
   if (e == ".json") {
     if (!style.empty()) throw UsageError("--style applies to mesh and CAD files, not to scene files");
-    return loadSceneFile(input);
+    return loadSceneFile(input, overrides);
   }
   throw UsageError(input + ": unknown input type (expected a scene .json, or .vtp .vtk .stl .obj .ply)");
 }
@@ -142,7 +142,9 @@ int runRender(const RenderCommandOptions& o) {
     if (e != ".png") throw UsageError(o.output + ": the output must be a .png file");
   }
   const Progress progress(o.quiet);
-  SceneFile sf = loadInput(o.input, o.style);
+  SceneOverrides overrides;
+  overrides.time = o.time;
+  SceneFile sf = loadInput(o.input, o.style, overrides);
   const double readSeconds = secondsSince(t0);
   wf::RenderOptions ro = renderOptionsFor(sf);
   if (o.width > 0) {

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <optional>
 #include <string>
 
 namespace wfapp {
@@ -27,12 +28,13 @@ struct RenderCommandOptions {
   int samples = 16;            ///< reference samples per side
   int viewGrid = 0;            ///< view-direction tables per side (0: from the scene)
   bool quiet = false;
+  std::optional<double> time;  ///< --time: every fur's wind time (an animation frame)
 };
 
 int runRender(const RenderCommandOptions& options);
 
 /// Loads INPUT as the contract says (scene, mesh file, or built-in when empty).
-SceneFile loadInput(const std::string& input, const std::string& style);
+SceneFile loadInput(const std::string& input, const std::string& style, const SceneOverrides& overrides = {});
 
 /// Render options from a scene file's settings.
 wf::RenderOptions renderOptionsFor(const SceneFile& sf);

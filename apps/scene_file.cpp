@@ -297,7 +297,8 @@ WireSpec readWire(const Reader& r, const json& j, const std::string& ptr, const 
 }
 
 void readObject(const Reader& r, const json& j, const std::string& ptr, const std::string& folder,
-                const std::map<std::string, int>& materials, std::uint32_t index, wf::Scene& scene) {
+                const std::map<std::string, int>& materials, std::uint32_t index, const SceneOverrides& overrides,
+                wf::Scene& scene) {
   r.keys(j, ptr, {"name", "source", "file", "transform", "surface", "wire", "fur", "scales"});
   const std::string name = j.contains("name") ? r.string(j["name"], Reader::at(ptr, "name")) : ptr;
   if (j.contains("source") == j.contains("file")) r.fail(ptr, "an object needs exactly one of source and file");
@@ -372,6 +373,7 @@ void readObject(const Reader& r, const json& j, const std::string& ptr, const st
     growth.surface = std::make_shared<wf::TransformedSurface>(base, M);
   }
   growth.patch = index;
+  growth.time = overrides.time;
   growth.name = name;
   growth.material = [&](const json& m, const std::string& mp) { return materialRef(r, m, mp, materials); };
   readGrowth(r, j, ptr, growth, scene);
@@ -421,7 +423,8 @@ void readCamera(const Reader& r, const json& j, const std::string& ptr, SceneFil
 
 }  // namespace
 
-SceneFile parseScene(const std::string& path, const std::string& text, const std::string& folder) {
+SceneFile parseScene(const std::string& path, const std::string& text, const std::string& folder,
+                     const SceneOverrides& overrides) {
   const Reader r{path};
   const json doc = parse(path, text);
   r.keys(doc, "", {"title", "caption", "paper_image", "image", "camera", "lights", "materials", "environment", "objects"});
@@ -459,7 +462,7 @@ SceneFile parseScene(const std::string& path, const std::string& text, const std
   if (!doc.contains("objects") || !doc["objects"].is_array() || doc["objects"].empty())
     r.fail("/objects", "expected a non-empty list of objects");
   for (size_t i = 0; i < doc["objects"].size(); ++i)
-    readObject(r, doc["objects"][i], Reader::at("/objects", i), folder, materials, std::uint32_t(i), sf.scene);
+    readObject(r, doc["objects"][i], Reader::at("/objects", i), folder, materials, std::uint32_t(i), overrides, sf.scene);
   readCamera(r, doc.contains("camera") ? doc["camera"] : json::object(), "/camera", sf);
   if (sf.title.empty()) sf.title = std::filesystem::path(path).stem().string();
   return sf;
@@ -478,9 +481,9 @@ void reframe(SceneFile& sf, int width, int height) {
   c.orthoHeight = f.orthoHeight;
 }
 
-SceneFile loadSceneFile(const std::string& path) {
+SceneFile loadSceneFile(const std::string& path, const SceneOverrides& overrides) {
   const std::string folder = std::filesystem::path(path).parent_path().string();
-  return parseScene(path, readText(path), folder.empty() ? "." : folder);
+  return parseScene(path, readText(path), folder.empty() ? "." : folder, overrides);
 }
 
 SceneFile defaultScene() {

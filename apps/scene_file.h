@@ -7,6 +7,7 @@
 #include "abuffer/coverage_mask.h"
 #include "render/scene.h"
 
+#include <optional>
 #include <string>
 
 namespace wfapp {
@@ -23,13 +24,20 @@ struct SceneFile {
   glm::dvec3 frameDirection{0.55, -0.75, 0.45};
 };
 
+/// What the command line may override in a scene while it is read.
+struct SceneOverrides {
+  /// Time of every fur's wind (`--time`): render an animation frame by frame.
+  std::optional<double> time;
+};
+
 /// Refits an automatically framed camera to a width x height image (after --size).
 void reframe(SceneFile& sf, int width, int height);
 
 /// Parses a scene file; relative file names in it are relative to the file's folder.
-SceneFile loadSceneFile(const std::string& path);
+SceneFile loadSceneFile(const std::string& path, const SceneOverrides& overrides = {});
 /// Parses scene text; `name` is used in messages, `folder` resolves relative file names.
-SceneFile parseScene(const std::string& name, const std::string& text, const std::string& folder);
+SceneFile parseScene(const std::string& name, const std::string& text, const std::string& folder,
+                     const SceneOverrides& overrides = {});
 
 /// The built-in scene `wirefur render` draws with no input: data/scenes/cage_shaded.json, the
 /// paper's image 9b (a wire-frame cage as shaded wire over a shaded torus), compiled in.

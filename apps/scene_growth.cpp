@@ -173,7 +173,8 @@ void readGrowth(const Reader& r, const json& obj, const std::string& ptr, const 
   if (obj.contains("fur")) {
     const std::string fp = Reader::at(ptr, "fur");
     const json& j = obj["fur"];
-    const wf::FurParams params = readFurParams(r, j, fp);
+    wf::FurParams params = readFurParams(r, j, fp);
+    if (ctx.time) params.time = *ctx.time;
     if (const std::string p = params.problem(); !p.empty()) r.fail(fp, p);
     // A bound on what one object may grow, checked before anything is allocated: the expected
     // hair count (grid size, or density times the placed area) times the points per hair.

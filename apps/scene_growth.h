@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace wfapp {
@@ -17,6 +18,7 @@ struct GrowthContext {
   std::shared_ptr<const wf::Surface> surface;  ///< placed (world space); null for file objects
   std::uint32_t patch = 0;                     ///< the object's index: part of every hair's identity
   std::string name;
+  std::optional<double> time;                  ///< overrides every fur's wind time (`--time`)
   /// Resolves a material name at a JSON pointer (fails the read when unknown).
   std::function<int(const json&, const std::string&)> material;
 };
