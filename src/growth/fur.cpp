@@ -177,7 +177,7 @@ bool FurGenerator::rootFrame(const glm::dvec2& uv, const SurfacePoint& sp, RootF
     f.P = sp.P;
     f.Su = sp.Su;
     f.Sv = sp.Sv;
-    f.N = n * (1.0 / std::sqrt(n2));
+    f.N = n * (surface_.normalSign() / std::sqrt(n2));
     if (needTangents_) {
       f.Tu = sp.Su / std::sqrt(su2);
       f.Tv = sp.Sv / std::sqrt(sv2);

@@ -135,6 +135,7 @@ TriangleMesh growScales(const Surface& surface, const ScaleParams& params,
   mesh.uvs.reserve(4 * valid);
   mesh.colours.reserve(4 * valid);
   mesh.triangles.reserve(2 * valid);
+  const bool flip = surface.normalSign() < 0;
   for (const ScaleSlot& s : slots) {
     if (!s.valid) continue;
     const auto base = std::uint32_t(mesh.positions.size());
@@ -148,8 +149,13 @@ TriangleMesh growScales(const Surface& surface, const ScaleParams& params,
       mesh.uvs.push_back(s.uv);
       mesh.colours.push_back(colour);
     }
-    mesh.triangles.push_back({base, base + 1, base + 2});
-    mesh.triangles.push_back({base, base + 2, base + 3});
+    if (flip) {  // a mirrored placement: wound about its front normal, -(Su x Sv)
+      mesh.triangles.push_back({base, base + 2, base + 1});
+      mesh.triangles.push_back({base, base + 3, base + 2});
+    } else {
+      mesh.triangles.push_back({base, base + 1, base + 2});
+      mesh.triangles.push_back({base, base + 2, base + 3});
+    }
   }
   return mesh;
 }

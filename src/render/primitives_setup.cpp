@@ -877,6 +877,31 @@ void triangleUvGradient(const TriangleMesh& mesh, const glm::uvec3& tri, glm::dv
 glm::dvec3 finiteOrZero(const glm::dvec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) ? v : glm::dvec3(0.0);
 }
+
+template <class V>
+bool finiteVec(const V& v) {
+  for (int k = 0; k < V::length(); ++k)
+    if (!std::isfinite(double(v[k]))) return false;
+  return true;
+}
+
+// b0 a + b1 b + b2 c over the vertices whose value is finite, weights renormalised (a vertex
+// with a NaN attribute must not spoil the whole triangle: 0 x NaN is NaN); the plain mean of the
+// finite ones where their weights vanish; false when no vertex is finite.
+template <class V>
+bool mixFinite(const V& a, const V& b, const V& c, double b0, double b1, double b2, V& out) {
+  const bool fa = finiteVec(a), fb = finiteVec(b), fc = finiteVec(c);
+  if (fa && fb && fc) {
+    out = b0 * a + b1 * b + b2 * c;
+    if (finiteVec(out)) return true;
+  }
+  if (!fa && !fb && !fc) return false;
+  double w0 = fa ? b0 : 0.0, w1 = fb ? b1 : 0.0, w2 = fc ? b2 : 0.0;
+  double ws = w0 + w1 + w2;
+  if (!(ws > 0)) w0 = fa, w1 = fb, w2 = fc, ws = w0 + w1 + w2;
+  out = (w0 / ws) * (fa ? a : V(0.0)) + (w1 / ws) * (fb ? b : V(0.0)) + (w2 / ws) * (fc ? c : V(0.0));
+  return finiteVec(out);
+}
 }  // namespace
 
 glm::dvec2 uvOnPlane(const PreparedScene& ps, const TriangleAttributes& ta, const glm::dvec3& P) {
@@ -885,7 +910,9 @@ glm::dvec2 uvOnPlane(const PreparedScene& ps, const TriangleAttributes& ta, cons
   const glm::uvec3 tri = mesh.triangles[ta.triangle];
   const glm::dvec3 b = barycentricOf(ta, P);
   const glm::dvec2 uv = b.x * mesh.uvs[tri.x] + b.y * mesh.uvs[tri.y] + b.z * mesh.uvs[tri.z];
-  return std::isfinite(uv.x) && std::isfinite(uv.y) ? uv : glm::dvec2(0.0);
+  // Not finite (a NaN uv, or beyond double range): an unbounded footprint, which the textures
+  // read as their mean.
+  return std::isfinite(uv.x) && std::isfinite(uv.y) ? uv : glm::dvec2(INFINITY);
 }
 
 SurfaceSample interpolateTriangle(const PreparedScene& ps, const TriangleAttributes& ta, const glm::dvec3& P,
@@ -903,29 +930,38 @@ SurfaceSample interpolateTriangle(const PreparedScene& ps, const TriangleAttribu
   SurfaceSample out;
   out.barycentric = glm::dvec3(b0, b1, b2);
   auto mix3 = [&](const auto& a, const auto& b, const auto& c) { return b0 * a + b1 * b + b2 * c; };
-  glm::dvec3 N = mesh.normals.size() == nv
-                     ? ps.view.eyeFromWorld * mix3(mesh.normals[tri.x], mesh.normals[tri.y], mesh.normals[tri.z])
-                     : glm::cross(ta.e1, ta.e2);
+  glm::dvec3 N = glm::cross(ta.e1, ta.e2);  // the face normal, unless the mesh has usable vertex normals
+  if (glm::dvec3 n; mesh.normals.size() == nv &&
+                    mixFinite(mesh.normals[tri.x], mesh.normals[tri.y], mesh.normals[tri.z], b0, b1, b2, n) &&
+                    glm::dot(n, n) > 0)
+    N = ps.view.eyeFromWorld * n;
   const double nl = glm::length(N);
   N = (nl > 0 && std::isfinite(nl)) ? N / nl : V;
   if (glm::dot(N, V) < 0) N = -N, out.flipped = true;  // two-sided: the side facing the viewer
   out.normal = N;
   if (tangentAndUv && mesh.tangents.size() == nv) {
-    const glm::dvec3 T = ps.view.eyeFromWorld * mix3(mesh.tangents[tri.x], mesh.tangents[tri.y], mesh.tangents[tri.z]);
+    glm::dvec3 T(0.0);
+    if (mixFinite(mesh.tangents[tri.x], mesh.tangents[tri.y], mesh.tangents[tri.z], b0, b1, b2, T)) T = ps.view.eyeFromWorld * T;
     const double tl = glm::length(T);
     out.tangent = (tl > 0 && std::isfinite(tl)) ? T / tl : glm::dvec3(0.0);
   }
-  if (tangentAndUv && mesh.uvs.size() == nv) out.uv = mix3(mesh.uvs[tri.x], mesh.uvs[tri.y], mesh.uvs[tri.z]);
+  if (tangentAndUv && mesh.uvs.size() == nv && !mixFinite(mesh.uvs[tri.x], mesh.uvs[tri.y], mesh.uvs[tri.z], b0, b1, b2, out.uv))
+    out.uv = glm::dvec2(0.0);
   if (derivatives) {
+    // The mesh's own derivatives when all three vertices have finite ones; else the triangle's
+    // (u, v) gradient; else its tangents for dS/du.
     glm::dvec3 du(0.0), dv(0.0);
-    if (mesh.derivU.size() == nv && mesh.derivV.size() == nv) {
+    auto allFinite = [&](const std::vector<glm::dvec3>& a) {
+      return a.size() == nv && finiteVec(a[tri.x]) && finiteVec(a[tri.y]) && finiteVec(a[tri.z]);
+    };
+    if (allFinite(mesh.derivU) && allFinite(mesh.derivV)) {
       du = mix3(mesh.derivU[tri.x], mesh.derivU[tri.y], mesh.derivU[tri.z]);
       dv = mix3(mesh.derivV[tri.x], mesh.derivV[tri.y], mesh.derivV[tri.z]);
     } else if (mesh.uvs.size() == nv) {
       triangleUvGradient(mesh, tri, du, dv);
-    } else if (mesh.tangents.size() == nv) {
-      du = mix3(mesh.tangents[tri.x], mesh.tangents[tri.y], mesh.tangents[tri.z]);
     }
+    if (glm::dot(du, du) == 0 && glm::dot(dv, dv) == 0 && mesh.tangents.size() == nv)
+      mixFinite(mesh.tangents[tri.x], mesh.tangents[tri.y], mesh.tangents[tri.z], b0, b1, b2, du);
     out.derivU = finiteOrZero(ps.view.eyeFromWorld * du);
     out.derivV = finiteOrZero(ps.view.eyeFromWorld * dv);
   }

@@ -45,7 +45,7 @@ struct Visible {
   std::uint32_t prim;
   double sx, sy, sd;
   int n;
-  glm::vec3 colour;   ///< shaded colour (summed over the samples while `perSample`)
+  glm::vec3 colour;   ///< shaded colour (unused when `perSample`)
   bool perSample;     ///< shading varies inside the pixel: shaded at every sample
 };
 
@@ -154,17 +154,16 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
               if (buf.translucent[tp].depth < zo) {
                 Visible& v = find(buf.translucent[tp].prim);
                 v.sx += x, v.sy += y, v.sd += buf.translucent[tp].depth, ++v.n;
-                if (v.perSample) v.colour += shadeFragment(ps, ps.primitives[v.prim], x, y, buf.translucent[tp].depth);
               }
             if (buf.prim[base + s] >= 0) {
               Visible& v = find(std::uint32_t(buf.prim[base + s]));
               v.sx += x, v.sy += y, v.sd += zo, ++v.n;
-              if (v.perSample) v.colour += shadeFragment(ps, ps.primitives[v.prim], x, y, zo);
             }
           }
+          // Primitives whose shading varies inside the pixel are shaded at every sample in pass 2
+          // (with that sample's own transmittance); the others once, at their mean position.
           for (Visible& v : vis)
-            v.colour = v.perSample ? v.colour / float(v.n)
-                                   : shadeFragment(ps, ps.primitives[v.prim], v.sx / v.n, v.sy / v.n, v.sd / v.n);
+            if (!v.perSample) v.colour = shadeFragment(ps, ps.primitives[v.prim], v.sx / v.n, v.sy / v.n, v.sd / v.n);
           // Pass 2: composite every sample front to back.
           glm::vec3 rgb(0.0f);
           float alpha = 0;
@@ -173,14 +172,20 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
             float T = 1.0f;
             glm::vec3 c(0.0f);
             const float zo = buf.depth[base + s];
+            double x, y;
+            samplePos(px, py, s, x, y);
+            auto colourAt = [&](std::uint32_t p, float depth) {
+              const Visible& v = find(p);
+              return v.perSample ? shadeFragment(ps, ps.primitives[p], x, y, depth) : v.colour;
+            };
             for (; tp < tcur && buf.translucent[tp].sample == base + s; ++tp) {
               if (!(buf.translucent[tp].depth < zo)) continue;
               const float a = ps.primitives[buf.translucent[tp].prim].opacity;
-              c += T * a * find(buf.translucent[tp].prim).colour;
+              c += T * a * colourAt(buf.translucent[tp].prim, buf.translucent[tp].depth);
               T *= 1.0f - a;
             }
             if (buf.prim[base + s] >= 0) {
-              c += T * find(std::uint32_t(buf.prim[base + s])).colour;
+              c += T * colourAt(std::uint32_t(buf.prim[base + s]), zo);
               T = 0;
             }
             rgb += c;

@@ -69,18 +69,27 @@ double grooveCoordinate(const ShaderSlot& slot, Burnish::Grain grain, const glm:
 }
 
 struct Footprint {
-  bool valid = false;
-  glm::dvec3 Px{0.0}, Py{0.0};  ///< eye points one pixel right and one pixel down on the plane
+  bool valid = false;      ///< Px, Py hold the neighbours
+  bool unbounded = false;  ///< the plane reaches the horizon within a pixel: filter to the mean
+  glm::dvec3 Px{0.0}, Py{0.0};  ///< eye points one pixel away in x and in y on the plane
 };
 
+// The eye points one pixel to the right and one down on the primitive's plane (one to the left
+// or up where that one is beyond the horizon: the box filter only needs the distances).
 Footprint footprintOf(const PreparedScene& ps, const Primitive& prim, double x, double y) {
   Footprint f;
-  const double dx = ps.view.depthFromKey(prim.depthKeyAt(x + 1.0, y));
-  const double dy = ps.view.depthFromKey(prim.depthKeyAt(x, y + 1.0));
-  if (!std::isfinite(dx) || !std::isfinite(dy)) return f;  // the plane meets the horizon: no estimate
-  f.Px = ps.view.eyePoint(x + 1.0, y, dx);
-  f.Py = ps.view.eyePoint(x, y + 1.0, dy);
-  f.valid = true;
+  auto neighbour = [&](double dx, double dy, glm::dvec3& out) {
+    for (double sgn : {1.0, -1.0}) {
+      const double d = ps.view.depthFromKey(prim.depthKeyAt(x + sgn * dx, y + sgn * dy));
+      if (std::isfinite(d)) {
+        out = ps.view.eyePoint(x + sgn * dx, y + sgn * dy, d);
+        if (std::isfinite(out.x + out.y + out.z)) return true;
+      }
+    }
+    return false;
+  };
+  if (neighbour(1.0, 0.0, f.Px) && neighbour(0.0, 1.0, f.Py)) f.valid = true;
+  else f.unbounded = true;
   return f;
 }
 
@@ -136,9 +145,12 @@ glm::vec3 shadeSurfaceFragment(const PreparedScene& ps, const Primitive& prim, d
   if (fp.valid && slot.needsUv) uvx = uvOnPlane(ps, ta, fp.Px), uvy = uvOnPlane(ps, ta, fp.Py);
 
   // Bump map (Blinn): perturb the normal by the height's gradient; the outline stays smooth.
+  // The height displaces along the surface's own front normal, whichever side is seen: bump the
+  // unflipped normal and turn the result to the viewer after.
   if (mat->bumpMap) {
     const glm::dvec2 g = mat->bumpMap->gradient(sample.uv);
-    glm::dvec3 Nb = bumpNormal(N, sample.derivU, sample.derivV, g, mat->bumpScale);
+    const double side = sample.flipped ? -1.0 : 1.0;
+    glm::dvec3 Nb = side * bumpNormal(side * N, sample.derivU, sample.derivV, g, mat->bumpScale);
     // A bumped normal never faces away from the viewer (it would look up the far hemisphere).
     const double nv = glm::dot(Nb, V);
     if (nv < 1e-3) Nb = glm::normalize(Nb + (1e-3 - nv) * V);
@@ -158,7 +170,9 @@ glm::vec3 shadeSurfaceFragment(const PreparedScene& ps, const Primitive& prim, d
         cy -= std::round(cy);
       }
       width = std::abs(cx) + std::abs(cy);
-      if (!std::isfinite(width)) width = 0.0;
+      if (!std::isfinite(width)) width = INFINITY;
+    } else if (fp.unbounded) {
+      width = INFINITY;  // the groove texture's mean
     }
     g = mat->burnish.grooves->intensity(c0, width);
   }
@@ -168,6 +182,7 @@ glm::vec3 shadeSurfaceFragment(const PreparedScene& ps, const Primitive& prim, d
   if (mat->colourMap) {
     UvFootprint f;
     if (fp.valid) f.dx = uvx - sample.uv, f.dy = uvy - sample.uv;
+    if (fp.unbounded || !std::isfinite(f.dx.x + f.dx.y + f.dy.x + f.dy.y)) f.dx = f.dy = glm::dvec2(INFINITY);
     t = anisotropicSample(*mat->colourMap, sample.uv, f);
   }
 

@@ -90,6 +90,12 @@ double centreIfNotFinite(double x, double lo, double hi) { return std::isfinite(
 }  // namespace
 
 SurfaceFrame Surface::frame(double u, double v) const {
+  SurfaceFrame f = frameAlongSuSv(u, v);
+  if (normalSign() < 0) f.N = -f.N;  // Tu, Tv stay: they are orthogonal to either
+  return f;
+}
+
+SurfaceFrame Surface::frameAlongSuSv(double u, double v) const {
   const ParameterDomain d = domain();
   u = centreIfNotFinite(u, d.u0, d.u1);
   v = centreIfNotFinite(v, d.v0, d.v1);

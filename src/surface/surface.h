@@ -52,11 +52,20 @@ class Surface {
   /// A short description for messages ("sphere r=1").
   virtual std::string describe() const = 0;
 
-  /// Position, derivatives, unit normal and tangents at (u, v), finite everywhere (see top).
+  /// +1 when the surface's front (outward) normal is Su x Sv, -1 when it is -(Su x Sv): a
+  /// mirrored placement (TransformedSurface with det < 0) keeps its parameterisation, so its
+  /// hairs, scales and textures are the mirror image, and turns the normal round instead.
+  virtual double normalSign() const { return 1.0; }
+
+  /// Position, derivatives, unit normal (times normalSign()) and tangents at (u, v), finite
+  /// everywhere (see top).
   SurfaceFrame frame(double u, double v) const;
   /// Relative threshold under which |Su x Sv| counts as zero: |Su x Sv| <= eps |Su| |Sv|, or
   /// both derivatives below eps times the surface's scale.
   static constexpr double kDegenerateEpsilon = 1e-10;
+
+ private:
+  SurfaceFrame frameAlongSuSv(double u, double v) const;
 };
 
 }  // namespace wf

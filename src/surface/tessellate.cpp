@@ -71,6 +71,7 @@ TriangleMesh tessellate(const Surface& surface, int resolutionU, int resolutionV
 
   // Triangles in grid order (serial: cheap, and the order is fixed).
   m.triangles.reserve(size_t(2) * nu * nv);
+  const bool flip = surface.normalSign() < 0;
   auto add = [&](uint32_t a, uint32_t b, uint32_t c) {
     const glm::dvec3 e0 = m.positions[b] - m.positions[a], e1 = m.positions[c] - m.positions[a],
                      e2 = m.positions[c] - m.positions[b];
@@ -82,7 +83,8 @@ TriangleMesh tessellate(const Surface& surface, int resolutionU, int resolutionV
     const glm::dvec3 a0 = e0 / s, a1 = e1 / s, a2 = e2 / s;
     const double longest = std::max({glm::dot(a0, a0), glm::dot(a1, a1), glm::dot(a2, a2)});
     if (glm::length(glm::cross(a0, a1)) <= 1e-12 * longest) return;
-    m.triangles.emplace_back(a, b, c);
+    if (flip) m.triangles.emplace_back(a, c, b);  // wound about the front normal
+    else m.triangles.emplace_back(a, b, c);
   };
   for (int j = 0; j < nv; ++j)
     for (int i = 0; i < nu; ++i) {

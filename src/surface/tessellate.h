@@ -22,7 +22,7 @@ std::string tessellationProblem(int resolutionU, int resolutionV);
 /// Per vertex: positions, normals (frame(): the limit normal at poles), tangents (unit Tu),
 /// derivU / derivV (Su, Sv as evaluated, zero at a pole) and uvs (the surface's own u, v).
 /// Each grid cell is two triangles (i,j)-(i+1,j)-(i+1,j+1) and (i,j)-(i+1,j+1)-(i,j+1), wound
-/// counter-clockwise about N = Su x Sv; a triangle collapsed to zero area (a pole, a cusp, a
+/// counter-clockwise about the front normal N (Su x Sv times normalSign()); a triangle collapsed to zero area (a pole, a cusp, a
 /// degenerate cell: |cross| <= 1e-12 x its longest edge squared) is left out.
 /// Vertices are computed in parallel (oneTBB), the result is the same for any thread count.
 /// Throws std::invalid_argument with tessellationProblem()'s message for a bad resolution.

@@ -18,17 +18,13 @@ class TransformedSurface final : public Surface {
   TransformedSurface(std::shared_ptr<const Surface> base, const glm::dmat4& M)
       : base_(std::move(base)), A_(M), t_(M[3]), mirror_(glm::determinant(A_) < 0) {}
   ParameterDomain domain() const override { return base_->domain(); }
-  /// A mirror (det A < 0) would turn A Su x A Sv inward; then u runs backwards
-  /// (S'(u, v) = A S(u0 + u1 - u, v) + t), so that the normal keeps its side (fur grows out).
+  /// A mirror (det A < 0) keeps (u, v) and turns the front normal round (normalSign), so that
+  /// fur leaning along Su, scales pointing along Su and textures come out as the mirror image.
   SurfacePoint evaluate(double u, double v) const override {
-    if (!mirror_) {
-      const SurfacePoint p = base_->evaluate(u, v);
-      return {A_ * p.P + t_, A_ * p.Su, A_ * p.Sv};
-    }
-    const ParameterDomain d = base_->domain();
-    const SurfacePoint p = base_->evaluate(d.u0 + d.u1 - u, v);
-    return {A_ * p.P + t_, -(A_ * p.Su), A_ * p.Sv};
+    const SurfacePoint p = base_->evaluate(u, v);
+    return {A_ * p.P + t_, A_ * p.Su, A_ * p.Sv};
   }
+  double normalSign() const override { return mirror_ ? -base_->normalSign() : base_->normalSign(); }
   std::string describe() const override { return base_->describe() + " (placed)"; }
   const Surface& base() const { return *base_; }
 
