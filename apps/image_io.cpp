@@ -2,15 +2,16 @@
 
 #include "cli.h"
 
-#include <vtkDataArray.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
-#include <vtkPNGReader.h>
 #include <vtkPNGWriter.h>
-#include <vtkPointData.h>
 #include <vtkUnsignedCharArray.h>
 
+#include <png.h>
+
+#include <cstring>
 #include <fstream>
+#include <vector>
 
 #include <algorithm>
 #include <cmath>
@@ -26,53 +27,38 @@ float linearToSrgb(float v) {
   return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
 }
 
-float srgbToLinear(float e) {
-  if (!(e > 0.0f)) return 0.0f;
-  if (e >= 1.0f) return 1.0f;
-  return e <= 0.04045f ? e / 12.92f : std::pow((e + 0.055f) / 1.055f, 2.4f);
-}
-
 wf::ImageRGBA readPng(const std::string& path, size_t maxPixels) {
-  // libpng (through VTK) trusts nothing it has not checked, but VTK's reader reports a bad file
-  // only by its error code and a message on its own output: check the signature first so that
-  // "not a PNG" is one clear line, and let VTK decode.
+  // libpng's simplified API: it checks every chunk, reports a bad file as a message instead of
+  // longjmp-ing through our stack (VTK's PNG reader crashes on a corrupt file), and converts to
+  // 16-bit linear light itself (sRGB or the file's gAMA decoded). Alpha is composited over black.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw UsageError(path + ": is a directory, not a PNG image");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw UsageError(path + ": cannot open the image");
   unsigned char sig[8] = {0};
   in.read(reinterpret_cast<char*>(sig), 8);
-  static const unsigned char png[8] = {0x89, 'P', 'N', 'G', 0x0d, 0x0a, 0x1a, 0x0a};
-  if (in.gcount() != 8 || !std::equal(sig, sig + 8, png)) throw UsageError(path + ": not a PNG image");
+  if (in.gcount() != 8 || png_sig_cmp(sig, 0, 8) != 0) throw UsageError(path + ": not a PNG image");
   in.close();
-  vtkNew<vtkPNGReader> reader;
-  reader->SetFileName(path.c_str());
-  reader->UpdateInformation();
-  int ext[6];
-  reader->GetDataExtent(ext);
-  const long long w = ext[1] - ext[0] + 1, h = ext[3] - ext[2] + 1;
-  if (w <= 0 || h <= 0) throw UsageError(path + ": the PNG has no pixels");
-  if (size_t(w) * size_t(h) > maxPixels)
+  png_image image;
+  std::memset(&image, 0, sizeof image);
+  image.version = PNG_IMAGE_VERSION;
+  if (!png_image_begin_read_from_file(&image, path.c_str()))
+    throw UsageError(path + ": bad PNG (" + std::string(image.message) + ")");
+  const size_t w = image.width, h = image.height;
+  if (w == 0 || h == 0 || w * h > maxPixels) {
+    png_image_free(&image);
     throw UsageError(path + ": the PNG is " + std::to_string(w) + "x" + std::to_string(h) + ", more than the " +
                      std::to_string(maxPixels) + " pixels a texture may have");
-  reader->Update();
-  vtkImageData* data = reader->GetOutput();
-  vtkDataArray* a = data ? data->GetPointData()->GetScalars() : nullptr;
-  if (reader->GetErrorCode() != 0 || !a || a->GetNumberOfTuples() != w * h)
-    throw UsageError(path + ": the PNG could not be decoded (truncated or corrupt)");
-  const int nc = a->GetNumberOfComponents();
-  const double scale = a->GetDataType() == VTK_UNSIGNED_SHORT ? 1.0 / 65535.0 : 1.0 / 255.0;
+  }
+  image.format = PNG_FORMAT_LINEAR_RGB;
+  std::vector<png_uint_16> buffer(PNG_IMAGE_SIZE(image) / sizeof(png_uint_16));
+  if (!png_image_finish_read(&image, nullptr, buffer.data(), 0, nullptr))
+    throw UsageError(path + ": bad PNG (" + std::string(image.message) + ")");  // finish_read frees on failure
   wf::ImageRGBA img{int(w), int(h)};
-  for (long long y = 0; y < h; ++y)
-    for (long long x = 0; x < w; ++x) {
-      const vtkIdType t = vtkIdType((h - 1 - y) * w + x);  // VTK rows start at the bottom
-      auto comp = [&](int c) { return float(a->GetComponent(t, c) * scale); };
-      glm::vec4 p(1.0f);
-      if (nc <= 2) {
-        p = glm::vec4(glm::vec3(srgbToLinear(comp(0))), nc == 2 ? comp(1) : 1.0f);
-      } else {
-        for (int c = 0; c < 3; ++c) p[c] = srgbToLinear(comp(c));
-        p.w = nc >= 4 ? comp(3) : 1.0f;
-      }
-      img.at(int(x), int(y)) = p;
+  for (size_t y = 0; y < h; ++y)
+    for (size_t x = 0; x < w; ++x) {
+      const png_uint_16* p = &buffer[3 * (y * w + x)];
+      img.at(int(x), int(y)) = glm::vec4(p[0] / 65535.0f, p[1] / 65535.0f, p[2] / 65535.0f, 1.0f);
     }
   return img;
 }

@@ -1,5 +1,5 @@
-// Writing the core's linear float images as 8-bit sRGB PNG, and reading PNG textures, through
-// VTK's PNG writer and reader.
+// Writing the core's linear float images as 8-bit sRGB PNG (VTK's PNG writer), and reading PNG
+// textures (libpng's simplified API, which turns every corrupt file into a message).
 #pragma once
 
 #include "core/image.h"
@@ -15,12 +15,10 @@ float linearToSrgb(float linear);
 /// directory and renames, so a failed write leaves nothing half-written. Throws on failure.
 void writePng(const wf::ImageRGBA& image, const std::string& path);
 
-/// Reads an 8- or 16-bit PNG (grey, grey+alpha, RGB or RGBA) as a linear image (sRGB decoded;
-/// alpha kept, 1 when absent), row 0 at the top. At most `maxPixels` pixels. Throws UsageError
-/// naming the file and the problem (missing, not a PNG, truncated, too large).
-wf::ImageRGBA readPng(const std::string& path, size_t maxPixels = size_t(1) << 26);
-
-/// sRGB decoding of one 8-bit-scaled value in [0, 1].
-float srgbToLinear(float encoded);
+/// Reads any PNG libpng reads (grey, palette, RGB, with or without alpha, 1 to 16 bits) as a
+/// linear-light RGB image (alpha composited over black; alpha of the result 1), row 0 at the
+/// top. At most `maxPixels` pixels (default 4096 x 4096). Throws UsageError naming the file and
+/// the problem (missing, a folder, not a PNG, corrupt or truncated, too large).
+wf::ImageRGBA readPng(const std::string& path, size_t maxPixels = size_t(1) << 24);
 
 }  // namespace wfapp

@@ -38,24 +38,34 @@ std::string readText(const std::string& path) {
 }
 
 json parse(const std::string& path, const std::string& text) {
-  try {
-    return json::parse(text, nullptr, true, /*ignore_comments=*/true);
-  } catch (const json::parse_error& e) {
-    // Turn the byte offset into line:column for the one-line message.
+  // Byte offset to "line:column" for the one-line message.
+  auto place = [&](size_t byte) {
     size_t line = 1, col = 1;
-    for (size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
+    for (size_t i = 0; i + 1 < byte && i < text.size(); ++i) {
       if (text[i] == '\n') ++line, col = 1;
       else ++col;
     }
+    return std::to_string(line) + ":" + std::to_string(col);
+  };
+  try {
+    return json::parse(text, nullptr, true, /*ignore_comments=*/true);
+  } catch (const json::parse_error& e) {
     std::string what = e.what();
     const size_t p = what.find("parse error");
     if (p != std::string::npos) what = what.substr(p);
-    throw UsageError(path + ":" + std::to_string(line) + ":" + std::to_string(col) + ": invalid JSON: " + what);
+    throw UsageError(path + ":" + place(e.byte) + ": invalid JSON: " + what);
   } catch (const json::exception& e) {
-    // e.g. a number beyond double range: still bad input, not an internal error.
+    // A number beyond double range ("number overflow parsing '1e400'"): still bad input. The
+    // parser gives no offset; the token it quotes is found in the text instead.
     std::string what = e.what();
     const size_t p = what.find("] ");
     if (p != std::string::npos) what = what.substr(p + 2);
+    const size_t q0 = what.find('\''), q1 = q0 == std::string::npos ? q0 : what.find('\'', q0 + 1);
+    if (q1 != std::string::npos && q1 > q0 + 1) {
+      const std::string token = what.substr(q0 + 1, q1 - q0 - 1);
+      const size_t at = text.find(token);
+      if (at != std::string::npos) throw UsageError(path + ":" + place(at + 1) + ": invalid JSON: " + what);
+    }
     throw UsageError(path + ": invalid JSON: " + what);
   }
 }
@@ -236,7 +246,7 @@ void readLights(const Reader& r, const json& j, const std::string& ptr, wf::Scen
 }
 
 void readMaterials(const Reader& r, const json& j, const std::string& ptr, const std::string& folder,
-                   wf::Scene& scene, std::map<std::string, int>& index) {
+                   SceneBudget& budget, wf::Scene& scene, std::map<std::string, int>& index) {
   if (!j.is_object()) r.fail(ptr, "expected an object of named materials");
   for (auto it = j.begin(); it != j.end(); ++it) {
     const std::string mp = Reader::at(ptr, it.key());
@@ -254,7 +264,7 @@ void readMaterials(const Reader& r, const json& j, const std::string& ptr, const
     if (m.contains("exponent")) mat.phong.exponent = r.number(m["exponent"], Reader::at(mp, "exponent"), 0, wf::kMaxPhongExponent);
     if (m.contains("opacity")) mat.opacity = float(r.number(m["opacity"], Reader::at(mp, "opacity"), 0, 1));
     if (m.contains("reflectance")) mat.chromeReflectance = r.colour(m["reflectance"], Reader::at(mp, "reflectance"));
-    readMaterialExtras(r, m, mp, folder, mat);
+    readMaterialExtras(r, m, mp, folder, budget, mat);
     index[mat.name] = int(scene.materials.size());
     scene.materials.push_back(mat);
   }
@@ -298,7 +308,7 @@ WireSpec readWire(const Reader& r, const json& j, const std::string& ptr, const 
 
 void readObject(const Reader& r, const json& j, const std::string& ptr, const std::string& folder,
                 const std::map<std::string, int>& materials, std::uint32_t index, const SceneOverrides& overrides,
-                wf::Scene& scene) {
+                SceneBudget& budget, wf::Scene& scene) {
   r.keys(j, ptr, {"name", "source", "file", "transform", "surface", "wire", "fur", "scales"});
   const std::string name = j.contains("name") ? r.string(j["name"], Reader::at(ptr, "name")) : ptr;
   if (j.contains("source") == j.contains("file")) r.fail(ptr, "an object needs exactly one of source and file");
@@ -315,7 +325,10 @@ void readObject(const Reader& r, const json& j, const std::string& ptr, const st
     // (fur and isolines work on the surface itself).
     const bool noSurface = j.contains("surface") && j["surface"].is_boolean() && !j["surface"].get<bool>();
     const bool edges = j.contains("wire") && j["wire"].is_object() && j["wire"].contains("from") && j["wire"]["from"] == "edges";
-    if (!noSurface || edges) mesh = wf::tessellate(source);
+    if (!noSurface || edges) {
+      budget.addPrimitives(r, Reader::at(ptr, "source"), 2.0 * source.resolutionU * source.resolutionV, "this tessellation");
+      mesh = wf::tessellate(source);
+    }
   } else {
     std::string f = r.string(j["file"], Reader::at(ptr, "file"));
     std::filesystem::path p(f);
@@ -374,6 +387,7 @@ void readObject(const Reader& r, const json& j, const std::string& ptr, const st
   }
   growth.patch = index;
   growth.time = overrides.time;
+  growth.budget = &budget;
   growth.name = name;
   growth.material = [&](const json& m, const std::string& mp) { return materialRef(r, m, mp, materials); };
   readGrowth(r, j, ptr, growth, scene);
@@ -458,11 +472,13 @@ SceneFile parseScene(const std::string& path, const std::string& text, const std
   else sf.scene.lights = wf::LightRig::studioRig(3), sf.scene.lightsFollowCamera = true;
   if (doc.contains("environment")) r.choice(doc["environment"], "/environment", {"mountains"});
   std::map<std::string, int> materials{{"default", 0}};
-  if (doc.contains("materials")) readMaterials(r, doc["materials"], "/materials", folder, sf.scene, materials);
+  SceneBudget budget;
+  if (doc.contains("materials")) readMaterials(r, doc["materials"], "/materials", folder, budget, sf.scene, materials);
   if (!doc.contains("objects") || !doc["objects"].is_array() || doc["objects"].empty())
     r.fail("/objects", "expected a non-empty list of objects");
   for (size_t i = 0; i < doc["objects"].size(); ++i)
-    readObject(r, doc["objects"][i], Reader::at("/objects", i), folder, materials, std::uint32_t(i), overrides, sf.scene);
+    readObject(r, doc["objects"][i], Reader::at("/objects", i), folder, materials, std::uint32_t(i), overrides, budget,
+               sf.scene);
   readCamera(r, doc.contains("camera") ? doc["camera"] : json::object(), "/camera", sf);
   if (sf.title.empty()) sf.title = std::filesystem::path(path).stem().string();
   return sf;

@@ -15,9 +15,6 @@ namespace wfapp {
 
 namespace {
 
-/// Most hair points one object may grow: about 1.2 GB of points and colours.
-constexpr double kMaxFurPoints = 33554432.0;
-
 /// The surface's area by the midpoint rule on a 64 x 64 grid of |Su x Sv| (an estimate for the
 /// size check; non-finite parts count as zero).
 double approximateArea(const wf::Surface& s) {
@@ -50,6 +47,8 @@ class RangeMap final : public wf::ScalarTexture {
   double value(const glm::dvec2& uv) const override { return lo_ + (hi_ - lo_) * 0.5 * (1.0 + n_->value(uv)); }
   glm::dvec2 gradient(const glm::dvec2& uv) const override { return (hi_ - lo_) * 0.5 * n_->gradient(uv); }
   std::string describe() const override { return "noise map"; }
+  /// The largest value the map takes (noise lies in [-1, 1]).
+  double maximum() const { return std::max(lo_, hi_); }
 
  private:
   std::shared_ptr<const wf::ScalarTexture> n_;
@@ -153,11 +152,11 @@ wf::ScaleParams readScaleParams(const Reader& r, const json& j, const std::strin
   auto num = [&](const char* key, double lo, double hi, double& out) {
     if (j.contains(key)) out = r.number(j[key], Reader::at(ptr, key), lo, hi);
   };
-  num("size", 0, 100, s.size);
-  num("lift", -100, 100, s.lift);
-  num("deflection", 0, 10, s.deflection);
+  num("size", 1e-9, 16, s.size);
+  num("lift", 0, 16, s.lift);
+  num("deflection", 0, 16, s.deflection);
   num("intensity_variation", 0, 1, s.intensityVariation);
-  num("shoulder", 0, 1, s.shoulder);
+  num("shoulder", 1e-9, 1 - 1e-9, s.shoulder);
   if (j.contains("colour")) s.colour = glm::vec3(r.colour(j["colour"], Reader::at(ptr, "colour")));
   if (j.contains("seed")) s.seed = std::uint64_t(r.integer(j["seed"], Reader::at(ptr, "seed"), 0, 2147483647));
   return s;
@@ -174,18 +173,20 @@ void readGrowth(const Reader& r, const json& obj, const std::string& ptr, const 
     const std::string fp = Reader::at(ptr, "fur");
     const json& j = obj["fur"];
     wf::FurParams params = readFurParams(r, j, fp);
+    const int material = j.contains("material") ? ctx.material(j["material"], Reader::at(fp, "material")) : 0;
+    const float opacity = j.contains("opacity") ? float(r.number(j["opacity"], Reader::at(fp, "opacity"), 0, 1)) : 1.0f;
     if (ctx.time) params.time = *ctx.time;
     if (const std::string p = params.problem(); !p.empty()) r.fail(fp, p);
-    // A bound on what one object may grow, checked before anything is allocated: the expected
-    // hair count (grid size, or density times the placed area) times the points per hair.
-    const double hairs = params.placement == wf::FurParams::Placement::Grid
-                             ? double(params.gridU) * double(params.gridV)
-                             : params.density * approximateArea(*ctx.surface);
-    const double points = hairs * double(params.segments + 1);
-    if (!(points <= kMaxFurPoints))
-      r.fail(fp, "this fur would have about " + std::to_string((long long)std::min(points, 9e18)) +
-                     " points, more than the " + std::to_string((long long)kMaxFurPoints) +
-                     " one object may grow (lower grid, density or segments)");
+    // What this fur will make, checked against the scene's budget before anything is grown:
+    // the hair count (grid size, or density at the density map's largest value times the
+    // placed area) times the segments per hair.
+    double hairs = double(params.gridU) * double(params.gridV);
+    if (params.placement == wf::FurParams::Placement::AreaCorrect) {
+      const auto* range = dynamic_cast<const RangeMap*>(params.densityMap.get());
+      const double mapMax = params.densityMap ? (range ? std::max(0.0, range->maximum()) : 1.0) : 1.0;
+      hairs = params.density * mapMax * approximateArea(*ctx.surface);
+    }
+    ctx.budget->addPrimitives(r, fp, hairs * double(params.segments), "this fur");
     wf::Fur fur;
     try {
       fur = wf::growFur(*ctx.surface, params, ctx.patch);
@@ -197,8 +198,8 @@ void readGrowth(const Reader& r, const json& obj, const std::string& ptr, const 
     w.lines = std::move(fur.hairs);
     w.thickness = params.thickness;
     w.style = wf::WireStyle::Shaded;
-    if (j.contains("material")) w.material = ctx.material(j["material"], Reader::at(fp, "material"));
-    if (j.contains("opacity")) w.opacity = float(r.number(j["opacity"], Reader::at(fp, "opacity"), 0, 1));
+    w.material = material;
+    w.opacity = opacity;
     scene.wires.push_back(std::move(w));
   }
   if (obj.contains("scales")) {
@@ -208,8 +209,10 @@ void readGrowth(const Reader& r, const json& obj, const std::string& ptr, const 
     if (const std::string p = params.problem(); !p.empty()) r.fail(sp, p);
     wf::SceneSurface s;
     s.name = ctx.name + " scales";
-    s.mesh = wf::growScales(*ctx.surface, params, ctx.patch);
     if (j.contains("material")) s.material = ctx.material(j["material"], Reader::at(sp, "material"));
+    // Two scales per cell, two triangles each.
+    ctx.budget->addPrimitives(r, Reader::at(sp, "cells"), 4.0 * params.cellsU * params.cellsV, "these scales");
+    s.mesh = wf::growScales(*ctx.surface, params, ctx.patch);
     scene.surfaces.push_back(std::move(s));
   }
 }

@@ -19,6 +19,7 @@ struct GrowthContext {
   std::uint32_t patch = 0;                     ///< the object's index: part of every hair's identity
   std::string name;
   std::optional<double> time;                  ///< overrides every fur's wind time (`--time`)
+  SceneBudget* budget = nullptr;               ///< the scene's budget (required)
   /// Resolves a material name at a JSON pointer (fails the read when unknown).
   std::function<int(const json&, const std::string&)> material;
 };

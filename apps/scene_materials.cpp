@@ -20,13 +20,21 @@ std::string resolve(const std::string& folder, const std::string& file) {
   return p.string();
 }
 
-wf::ImageRGBA readImageAt(const Reader& r, const json& j, const std::string& ptr, const std::string& folder) {
-  const std::string f = r.string(j, ptr);
+wf::ImageRGBA readImageAt(const Reader& r, const std::string& file, const std::string& ptr, SceneBudget& budget) {
   try {
-    return readPng(resolve(folder, f));
+    wf::ImageRGBA img = readPng(file);
+    budget.addTexels(r, ptr, double(img.width) * double(img.height));
+    return img;
   } catch (const UsageError& e) {
     r.fail(ptr, e.what());
   }
+}
+
+// The key under which a decoded image texture is shared: the file as named and its wrapping.
+std::string imageKey(const std::string& file, bool wu, bool wv) {
+  std::error_code ec;
+  const std::filesystem::path a = std::filesystem::absolute(file, ec);
+  return (ec ? std::filesystem::path(file) : a).lexically_normal().string() + (wu ? "|wu" : "|cu") + (wv ? "|wv" : "|cv");
 }
 
 std::pair<bool, bool> readWrap(const Reader& r, const json& j, const std::string& ptr) {
@@ -61,7 +69,7 @@ std::set<std::string> with(std::set<std::string> a, const std::set<std::string>&
 }
 
 std::shared_ptr<const wf::ColourTexture> readTexture(const Reader& r, const json& j, const std::string& ptr,
-                                                     const std::string& folder) {
+                                                     const std::string& folder, SceneBudget& budget) {
   if (!j.is_object() || !j.contains("type")) r.fail(ptr, "a texture needs a type (chequer, image, noise)");
   const std::string type = r.choice(j["type"], Reader::at(ptr, "type"), {"chequer", "image", "noise"});
   if (type == "chequer") {
@@ -86,7 +94,10 @@ std::shared_ptr<const wf::ColourTexture> readTexture(const Reader& r, const json
     r.keys(j, ptr, {"type", "file", "wrap"});
     if (!j.contains("file")) r.fail(ptr, "an image texture needs a file");
     const auto [wu, wv] = readWrap(r, j, ptr);
-    return std::make_shared<wf::ImageTexture>(readImageAt(r, j["file"], Reader::at(ptr, "file"), folder), wu, wv);
+    const std::string fp = Reader::at(ptr, "file"), file = resolve(folder, r.string(j["file"], fp));
+    auto& cached = budget.colourImages[imageKey(file, wu, wv)];
+    if (!cached) cached = std::make_shared<wf::ImageTexture>(readImageAt(r, file, fp, budget), wu, wv);
+    return cached;
   }
   r.keys(j, ptr, with(kNoiseKeys, {"type", "ramp"}));
   auto noise = std::make_shared<wf::NoiseTexture>(readNoise(r, j, ptr));
@@ -112,7 +123,7 @@ std::shared_ptr<const wf::ColourTexture> readTexture(const Reader& r, const json
 }
 
 std::shared_ptr<const wf::ScalarTexture> readBump(const Reader& r, const json& j, const std::string& ptr,
-                                                  const std::string& folder, double& scale) {
+                                                  const std::string& folder, SceneBudget& budget, double& scale) {
   if (!j.is_object() || !j.contains("type")) r.fail(ptr, "a bump map needs a type (noise, image)");
   const std::string type = r.choice(j["type"], Reader::at(ptr, "type"), {"noise", "image"});
   if (j.contains("scale")) scale = r.number(j["scale"], Reader::at(ptr, "scale"), -1e6, 1e6);
@@ -120,7 +131,10 @@ std::shared_ptr<const wf::ScalarTexture> readBump(const Reader& r, const json& j
     r.keys(j, ptr, {"type", "file", "wrap", "scale"});
     if (!j.contains("file")) r.fail(ptr, "an image bump map needs a file");
     const auto [wu, wv] = readWrap(r, j, ptr);
-    return std::make_shared<wf::ImageHeight>(readImageAt(r, j["file"], Reader::at(ptr, "file"), folder), wu, wv);
+    const std::string fp = Reader::at(ptr, "file"), file = resolve(folder, r.string(j["file"], fp));
+    auto& cached = budget.heightImages[imageKey(file, wu, wv)];
+    if (!cached) cached = std::make_shared<wf::ImageHeight>(readImageAt(r, file, fp, budget), wu, wv);
+    return cached;
   }
   r.keys(j, ptr, with(kNoiseKeys, {"type", "scale"}));
   return std::make_shared<wf::NoiseTexture>(readNoise(r, j, ptr));
@@ -162,10 +176,10 @@ const std::set<std::string>& materialExtraKeys() {
 }
 
 void readMaterialExtras(const Reader& r, const json& m, const std::string& mp, const std::string& folder,
-                        wf::Material& mat) {
+                        SceneBudget& budget, wf::Material& mat) {
   if (m.contains("burnish")) readBurnish(r, m["burnish"], Reader::at(mp, "burnish"), mat);
-  if (m.contains("texture")) mat.colourMap = readTexture(r, m["texture"], Reader::at(mp, "texture"), folder);
-  if (m.contains("bump")) mat.bumpMap = readBump(r, m["bump"], Reader::at(mp, "bump"), folder, mat.bumpScale);
+  if (m.contains("texture")) mat.colourMap = readTexture(r, m["texture"], Reader::at(mp, "texture"), folder, budget);
+  if (m.contains("bump")) mat.bumpMap = readBump(r, m["bump"], Reader::at(mp, "bump"), folder, budget, mat.bumpScale);
 }
 
 }  // namespace wfapp

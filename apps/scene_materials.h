@@ -16,6 +16,6 @@ const std::set<std::string>& materialExtraKeys();
 /// Reads burnish (grain, axis, grooves), texture (chequer, image, noise with a colour ramp) and
 /// bump (noise, image) of material `m` at JSON pointer `mp`; files relative to `folder`.
 void readMaterialExtras(const Reader& r, const json& m, const std::string& mp, const std::string& folder,
-                        wf::Material& mat);
+                        SceneBudget& budget, wf::Material& mat);
 
 }  // namespace wfapp

@@ -5,11 +5,15 @@
 
 #include "cli.h"
 
+#include "texture/texture.h"
+
 #include <nlohmann/json.hpp>
 
 #include <glm/glm.hpp>
 
 #include <cmath>
+#include <map>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <string>
@@ -84,6 +88,38 @@ struct Reader {
   bool boolean(const json& j, const std::string& ptr) const {
     if (!j.is_boolean()) fail(ptr, "expected true or false");
     return j.get<bool>();
+  }
+};
+
+/// What one scene may make, checked before it is made: generated primitives (tessellated
+/// triangles, hair segments, scale triangles; the renderer needs a few hundred bytes for each)
+/// and decoded texture texels; and the textures already decoded, shared by every material that
+/// names the same file.
+struct SceneBudget {
+  static constexpr double kMaxPrimitives = 8388608.0;  ///< about 4 GB of renderer memory
+  static constexpr double kMaxTexels = 33554432.0;     ///< about 1.2 GB of texture tables
+  double primitives = 0.0, texels = 0.0;
+  std::map<std::string, std::shared_ptr<const wf::ColourTexture>> colourImages;
+  std::map<std::string, std::shared_ptr<const wf::ScalarTexture>> heightImages;
+
+  /// Counts `count` more primitives for `what` at `ptr`; fails the read past the budget.
+  void addPrimitives(const Reader& r, const std::string& ptr, double count, const std::string& what) {
+    if (!(count >= 0.0) || !(primitives + count <= kMaxPrimitives)) {
+      std::ostringstream m;
+      m.precision(3);
+      m << what << " would make about " << (std::isfinite(count) ? count : 1e300) << " primitives, and the scene "
+        << primitives << " before it: more than the " << kMaxPrimitives
+        << " one scene may make (lower the resolution, grid, density or segments)";
+      r.fail(ptr, m.str());
+    }
+    primitives += count;
+  }
+  /// Counts a decoded image's texels; fails the read past the budget.
+  void addTexels(const Reader& r, const std::string& ptr, double count) {
+    if (!(texels + count <= kMaxTexels))
+      r.fail(ptr, "the scene's images would hold more than " + std::to_string((long long)kMaxTexels) +
+                      " texels in all (use smaller images)");
+    texels += count;
   }
 };
 

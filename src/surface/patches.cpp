@@ -466,9 +466,9 @@ double worstAlignment(const std::vector<LoftSection>& sections, const glm::dvec3
     glm::dvec3 dC(0.0);
     for (int j = 0; j < B.size; ++j) dC += B.d1[j] * sections[size_t(basis.index(B, j))].centre;
     const double l = glm::length(dC);
-    worst = std::max(worst, l > 0 && std::isfinite(l) ? std::abs(glm::dot(dC / l, up)) : 1.0);
+    worst = std::max(worst, l > 0 && std::isfinite(l) ? std::abs(glm::dot(dC / l, up)) : 2.0);
   }
-  return worst;
+  return worst;  // 2: the spine's tangent vanishes somewhere
 }
 
 glm::dvec3 chooseUp(const std::vector<LoftSection>& sections, const glm::dvec3& requested) {
@@ -519,10 +519,13 @@ std::string LoftPatch::problem(const std::vector<LoftSection>& sections, glm::dv
       if (!finite(p)) return "loft section profile points must be finite";
   }
   if (count > 0 && count < 3) return "loft section profiles need at least three points";
+  bool anyRadius = false;
+  for (const LoftSection& s : sections) anyRadius = anyRadius || s.a > 0 || s.b > 0;
+  if (!anyRadius) return "every loft section has radius 0: the loft would be a curve, not a surface";
   if (!finite(up)) return "loft up vector must be finite";
   // cos 8 degrees: closer to parallel than that and the section frame turns fast or flips.
   const double worst = worstAlignment(sections, chooseUp(sections, up));
-  if (worst >= 1.0) return "loft spine has a zero-length tangent (repeated centres?)";
+  if (worst >= 2.0) return "loft spine has a zero-length tangent (repeated centres?)";
   if (worst > 0.99) return "loft spine runs (nearly) parallel to the up vector; choose another up";
   return {};
 }
