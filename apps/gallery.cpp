@@ -127,7 +127,9 @@ int runGallery(const GalleryOptions& opt) {
     }
     const wf::RenderResult r = wf::render(sf.scene, ro);
     writePng(r.image, dir + "/" + stem + ".png");
-    const json st = statsJson(r.stats, ro, false);
+    json st = statsJson(r.stats, ro, false);
+    st["seconds"]["generate"] = sf.generateSeconds;
+    st["generated"] = {{"hairs", sf.hairsGrown}, {"scales", sf.scalesGrown}};
     sceneStats[stem] = st;
     const auto& e = st["error_estimate"];
     std::string err = "coverage exact per fragment (hiding by " + ro.mask.name() + " masks, 1/" +
@@ -135,6 +137,9 @@ int runGallery(const GalleryOptions& opt) {
                       sci(e["map_max"].get<double>() + e["sphere_max"].get<double>()) + ", orthographic view " +
                       sci(e["orthographic_max"].get<double>()) + "; " + std::to_string(r.stats.abuffer.fragments) +
                       " fragments, " + std::to_string(r.stats.pseudoReflectanceMaps) + " maps built";
+    if (sf.hairsGrown + sf.scalesGrown > 0)
+      err += "; grew " + std::to_string(sf.hairsGrown) + " hairs and " + std::to_string(sf.scalesGrown) + " scales in " +
+             std::to_string(int(std::lround(sf.generateSeconds * 1e3))) + " ms (not in the render time)";
     std::string title = sf.title;
     if (!sf.paperImage.empty()) title = sf.paperImage + ". " + title;
     entries.push_back({stem + ".png", title, sf.caption, r.stats.total, err});

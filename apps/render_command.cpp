@@ -205,6 +205,8 @@ int runRender(const RenderCommandOptions& o) {
   const auto tw = std::chrono::steady_clock::now();
   writePng(r.image, o.output);
   stats["seconds"]["read_input"] = readSeconds;
+  stats["seconds"]["generate"] = sf.generateSeconds;  // fur and scales, part of read_input
+  stats["generated"] = {{"hairs", sf.hairsGrown}, {"scales", sf.scalesGrown}};
   stats["seconds"]["write_png"] = secondsSince(tw);
   stats["peak_rss_bytes"] = peakRssBytes();
   if (!o.statsPath.empty()) {

@@ -479,6 +479,9 @@ SceneFile parseScene(const std::string& path, const std::string& text, const std
   for (size_t i = 0; i < doc["objects"].size(); ++i)
     readObject(r, doc["objects"][i], Reader::at("/objects", i), folder, materials, std::uint32_t(i), overrides, budget,
                sf.scene);
+  sf.generateSeconds = budget.generateSeconds;
+  sf.hairsGrown = budget.hairs;
+  sf.scalesGrown = budget.scales;
   readCamera(r, doc.contains("camera") ? doc["camera"] : json::object(), "/camera", sf);
   if (sf.title.empty()) sf.title = std::filesystem::path(path).stem().string();
   return sf;

@@ -19,6 +19,9 @@ struct SceneFile {
   wf::MaskLayout mask{8, 4};
   int budget = 64;
   int viewGrid = 1;  ///< view-direction tables per side (image.view_grid)
+  /// Seconds spent growing fur and scales, and counts of what was grown (part of reading).
+  double generateSeconds = 0.0;
+  std::size_t hairsGrown = 0, scalesGrown = 0;
   /// The camera was framed from the bounds (no eye given): reframe() fits it to another size.
   bool framed = false;
   glm::dvec3 frameDirection{0.55, -0.75, 0.45};

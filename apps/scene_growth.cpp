@@ -7,6 +7,7 @@
 #include "texture/textures.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <exception>
 #include <memory>
@@ -188,11 +189,14 @@ void readGrowth(const Reader& r, const json& obj, const std::string& ptr, const 
     }
     ctx.budget->addPrimitives(r, fp, hairs * double(params.segments), "this fur");
     wf::Fur fur;
+    const auto t0 = std::chrono::steady_clock::now();
     try {
       fur = wf::growFur(*ctx.surface, params, ctx.patch);
     } catch (const std::exception& e) {
       r.fail(fp, e.what());
     }
+    ctx.budget->generateSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    ctx.budget->hairs += fur.hairs.polylineCount();
     wf::SceneWire w;
     w.name = ctx.name + " fur";
     w.lines = std::move(fur.hairs);
@@ -212,7 +216,10 @@ void readGrowth(const Reader& r, const json& obj, const std::string& ptr, const 
     if (j.contains("material")) s.material = ctx.material(j["material"], Reader::at(sp, "material"));
     // Two scales per cell, two triangles each.
     ctx.budget->addPrimitives(r, Reader::at(sp, "cells"), 4.0 * params.cellsU * params.cellsV, "these scales");
+    const auto t0 = std::chrono::steady_clock::now();
     s.mesh = wf::growScales(*ctx.surface, params, ctx.patch);
+    ctx.budget->generateSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    ctx.budget->scales += s.mesh.triangles.size() / 2;
     scene.surfaces.push_back(std::move(s));
   }
 }

@@ -99,6 +99,8 @@ struct SceneBudget {
   static constexpr double kMaxPrimitives = 8388608.0;  ///< about 4 GB of renderer memory
   static constexpr double kMaxTexels = 33554432.0;     ///< about 1.2 GB of texture tables
   double primitives = 0.0, texels = 0.0;
+  double generateSeconds = 0.0;            ///< time spent growing fur and scales
+  std::size_t hairs = 0, scales = 0;       ///< what was grown
   std::map<std::string, std::shared_ptr<const wf::ColourTexture>> colourImages;
   std::map<std::string, std::shared_ptr<const wf::ScalarTexture>> heightImages;
 
