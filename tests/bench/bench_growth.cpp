@@ -6,6 +6,10 @@
 // - BM_FurAreaCorrect: the same number of hairs (about 1M) placed per unit area (rejection by
 //   |Su x Sv|, each root planned twice: counting and filling).
 // - BM_FurGridCurved4: the grid with 4-segment hairs bent by gravity and wind and curled.
+// - BM_NaiveGridStraight: the peer, the same hairs as a plain serial loop would make them
+//   (std::mt19937 jitter, push_back per point, normal from Su x Sv): the ratio to
+//   BM_FurGridStraight is what the generator's design buys.
+// - BM_FurGridStraightTorusPatch: BM_FurGridStraight on the library's own TorusPatch.
 //
 // The surface is an analytic torus defined here (a virtual evaluate with four sines and cosines,
 // like the patches of src/surface), so the numbers measure the generator, not a patch library.
@@ -13,13 +17,16 @@
 //
 // Run: bench_growth --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include "growth/fur.h"
+#include "surface/patches.h"
 #include "surface/surface.h"
 
 #include <benchmark/benchmark.h>
 #include <glm/glm.hpp>
 
 #include <cmath>
+#include <random>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -101,5 +108,52 @@ void BM_FurGridCurved4(benchmark::State& state) {
 BENCHMARK(BM_FurGridCurved4)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
+
+void BM_NaiveGridStraight(benchmark::State& state) {
+  const BenchTorus torus(1.0, 0.35);
+  const int n = 1000;
+  std::uint64_t hairs = 0;
+  for (auto _ : state) {
+    std::vector<glm::dvec3> points;
+    std::vector<glm::vec3> colours;
+    std::vector<std::uint32_t> starts{0};
+    std::mt19937_64 rng(1);
+    std::uniform_real_distribution<double> U(0.0, 1.0);
+    const wf::ParameterDomain d = torus.domain();
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const double u = d.u0 + (i + U(rng)) * d.du() / n, v = d.v0 + (j + U(rng)) * d.dv() / n;
+        const wf::SurfacePoint sp = torus.evaluate(u, v);
+        const glm::dvec3 N = glm::normalize(glm::cross(sp.Su, sp.Sv));
+        const double len = 0.05 * (1.0 + 0.2 * (2.0 * U(rng) - 1.0));
+        const float c = float(1.0 + 0.1 * (2.0 * U(rng) - 1.0));
+        points.push_back(sp.P);
+        points.push_back(sp.P + len * N);
+        colours.push_back(glm::vec3(0.3f, 0.2f, 0.12f) * c);
+        colours.push_back(glm::vec3(0.55f, 0.42f, 0.3f) * c);
+        starts.push_back(std::uint32_t(points.size()));
+      }
+    hairs = starts.size() - 1;
+    benchmark::DoNotOptimize(points.data());
+  }
+  report(state, hairs);
+}
+BENCHMARK(BM_NaiveGridStraight)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_FurGridStraightTorusPatch(benchmark::State& state) {
+  const wf::TorusPatch torus(1.0, 0.35);
+  wf::FurParams p;
+  p.gridU = 1000;
+  p.gridV = 1000;
+  p.length = 0.05;
+  std::uint64_t hairs = 0;
+  for (auto _ : state) {
+    wf::Fur fur = wf::growFur(torus, p, 0);
+    hairs = fur.counts.hairs;
+    benchmark::DoNotOptimize(fur.hairs.points.data());
+  }
+  report(state, hairs);
+}
+BENCHMARK(BM_FurGridStraightTorusPatch)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK_MAIN();
