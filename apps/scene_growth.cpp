@@ -2,6 +2,8 @@
 // paper grows on its patches (§4.2), grown on the object's placed surface.
 #include "scene_growth.h"
 
+#include "scene_materials.h"
+
 #include "growth/fur.h"
 #include "growth/scales.h"
 #include "texture/textures.h"
@@ -57,17 +59,8 @@ class RangeMap final : public wf::ScalarTexture {
 };
 
 std::shared_ptr<const wf::ScalarTexture> readScalarMap(const Reader& r, const json& j, const std::string& ptr) {
-  r.keys(j, ptr, {"octaves", "frequency", "seed", "periodic", "range"});
-  wf::NoiseParams n;
-  if (j.contains("octaves")) n.octaves = r.integer(j["octaves"], Reader::at(ptr, "octaves"), 1, 16);
-  if (j.contains("frequency")) n.frequency = r.number(j["frequency"], Reader::at(ptr, "frequency"), 1e-6, 1e6);
-  if (j.contains("seed")) n.seed = std::uint64_t(r.integer(j["seed"], Reader::at(ptr, "seed"), 0, 2147483647));
-  if (j.contains("periodic")) {
-    const std::string pp = Reader::at(ptr, "periodic");
-    if (!j["periodic"].is_array() || j["periodic"].size() != 2) r.fail(pp, "expected [periodic in u, periodic in v]");
-    n.periodicU = r.boolean(j["periodic"][0], Reader::at(pp, 0));
-    n.periodicV = r.boolean(j["periodic"][1], Reader::at(pp, 1));
-  }
+  r.keys(j, ptr, {"octaves", "frequency", "lacunarity", "gain", "seed", "periodic", "range"});
+  const wf::NoiseParams n = readNoiseParams(r, j, ptr);
   glm::dvec2 range(0.0, 1.0);
   if (j.contains("range")) range = pair(r, j["range"], Reader::at(ptr, "range"), -1e6, 1e6);
   return std::make_shared<RangeMap>(std::make_shared<wf::NoiseTexture>(n), range.x, range.y);

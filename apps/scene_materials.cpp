@@ -45,22 +45,6 @@ std::pair<bool, bool> readWrap(const Reader& r, const json& j, const std::string
   return {r.boolean(j["wrap"][0], Reader::at(wp, 0)), r.boolean(j["wrap"][1], Reader::at(wp, 1))};
 }
 
-wf::NoiseParams readNoise(const Reader& r, const json& j, const std::string& ptr) {
-  wf::NoiseParams n;
-  if (j.contains("octaves")) n.octaves = r.integer(j["octaves"], Reader::at(ptr, "octaves"), 1, 16);
-  if (j.contains("frequency")) n.frequency = r.number(j["frequency"], Reader::at(ptr, "frequency"), 1e-6, 1e6);
-  if (j.contains("lacunarity")) n.lacunarity = r.number(j["lacunarity"], Reader::at(ptr, "lacunarity"), 1.0, 16.0);
-  if (j.contains("gain")) n.gain = r.number(j["gain"], Reader::at(ptr, "gain"), 0.0, 1.0);
-  if (j.contains("seed")) n.seed = std::uint64_t(r.integer(j["seed"], Reader::at(ptr, "seed"), 0, 2147483647));
-  if (j.contains("periodic")) {
-    const std::string pp = Reader::at(ptr, "periodic");
-    if (!j["periodic"].is_array() || j["periodic"].size() != 2) r.fail(pp, "expected [periodic in u, periodic in v]");
-    n.periodicU = r.boolean(j["periodic"][0], Reader::at(pp, 0));
-    n.periodicV = r.boolean(j["periodic"][1], Reader::at(pp, 1));
-  }
-  return n;
-}
-
 const std::set<std::string> kNoiseKeys = {"octaves", "frequency", "lacunarity", "gain", "seed", "periodic"};
 
 std::set<std::string> with(std::set<std::string> a, const std::set<std::string>& b) {
@@ -100,7 +84,7 @@ std::shared_ptr<const wf::ColourTexture> readTexture(const Reader& r, const json
     return cached;
   }
   r.keys(j, ptr, with(kNoiseKeys, {"type", "ramp"}));
-  auto noise = std::make_shared<wf::NoiseTexture>(readNoise(r, j, ptr));
+  auto noise = std::make_shared<wf::NoiseTexture>(readNoiseParams(r, j, ptr));
   std::vector<wf::RampStop> stops = {{-1.0, glm::vec3(0.1f)}, {1.0, glm::vec3(0.9f)}};
   if (j.contains("ramp")) {
     const std::string rp = Reader::at(ptr, "ramp");
@@ -137,7 +121,7 @@ std::shared_ptr<const wf::ScalarTexture> readBump(const Reader& r, const json& j
     return cached;
   }
   r.keys(j, ptr, with(kNoiseKeys, {"type", "scale"}));
-  return std::make_shared<wf::NoiseTexture>(readNoise(r, j, ptr));
+  return std::make_shared<wf::NoiseTexture>(readNoiseParams(r, j, ptr));
 }
 
 void readBurnish(const Reader& r, const json& j, const std::string& ptr, wf::Material& mat) {
@@ -169,6 +153,22 @@ void readBurnish(const Reader& r, const json& j, const std::string& ptr, wf::Mat
 }
 
 }  // namespace
+
+wf::NoiseParams readNoiseParams(const Reader& r, const json& j, const std::string& ptr) {
+  wf::NoiseParams n;
+  if (j.contains("octaves")) n.octaves = r.integer(j["octaves"], Reader::at(ptr, "octaves"), 1, 16);
+  if (j.contains("frequency")) n.frequency = r.number(j["frequency"], Reader::at(ptr, "frequency"), 1e-6, 1e6);
+  if (j.contains("lacunarity")) n.lacunarity = r.number(j["lacunarity"], Reader::at(ptr, "lacunarity"), 1.0, 16.0);
+  if (j.contains("gain")) n.gain = r.number(j["gain"], Reader::at(ptr, "gain"), 0.0, 1.0);
+  if (j.contains("seed")) n.seed = std::uint64_t(r.integer(j["seed"], Reader::at(ptr, "seed"), 0, 2147483647));
+  if (j.contains("periodic")) {
+    const std::string pp = Reader::at(ptr, "periodic");
+    if (!j["periodic"].is_array() || j["periodic"].size() != 2) r.fail(pp, "expected [periodic in u, periodic in v]");
+    n.periodicU = r.boolean(j["periodic"][0], Reader::at(pp, 0));
+    n.periodicV = r.boolean(j["periodic"][1], Reader::at(pp, 1));
+  }
+  return n;
+}
 
 const std::set<std::string>& materialExtraKeys() {
   static const std::set<std::string> keys = {"burnish", "texture", "bump"};

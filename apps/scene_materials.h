@@ -4,11 +4,16 @@
 #include "scene_reader.h"
 
 #include "render/scene.h"
+#include "texture/textures.h"
 
 #include <set>
 #include <string>
 
 namespace wfapp {
+
+/// Fractal noise parameters (octaves, frequency, lacunarity, gain, seed, periodic) of object `j`
+/// at `ptr`, for textures, bumps and fur maps; the caller checks which keys `j` may have.
+wf::NoiseParams readNoiseParams(const Reader& r, const json& j, const std::string& ptr);
 
 /// The keys readMaterialExtras reads.
 const std::set<std::string>& materialExtraKeys();

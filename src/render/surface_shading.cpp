@@ -93,6 +93,21 @@ Footprint footprintOf(const PreparedScene& ps, const Primitive& prim, double x, 
   return f;
 }
 
+// The exact path's diffuse and specular parts: `model` of the whole material into D (S = 0), or,
+// when a colour map splits the material, of its diffuse and its specular part.
+template <class Model>
+void exactParts(const ShaderSlot& slot, Model&& model, glm::dvec3& D, glm::dvec3& S) {
+  if (!slot.split) {
+    D = model(slot.phong);
+    return;
+  }
+  PhongMaterial d = slot.phong, s = slot.phong;
+  d.specular = glm::dvec3(0.0);
+  s.diffuse = glm::dvec3(0.0);
+  D = model(d);
+  S = model(s);
+}
+
 // A texture's box filter covers the axis-aligned box around the pixel's (u, v) parallelogram,
 // which over-blurs a long, oblique footprint (a surface seen at a grazing angle). The footprint
 // is cut into up to kMaxTextureTaps pieces along its longer side, each box-filtered, and the
@@ -201,14 +216,8 @@ glm::vec3 shadeSurfaceFragment(const PreparedScene& ps, const Primitive& prim, d
     if (maps && slot.wireTables) {
       D = glm::dvec3(slot.wireTables->lookup(T, x, y));
       if (slot.split && slot.wireSpecular) S = glm::dvec3(slot.wireSpecular->lookup(T, x, y));
-    } else if (slot.split) {
-      PhongMaterial d = slot.phong, s = slot.phong;
-      d.specular = glm::dvec3(0.0);
-      s.diffuse = glm::dvec3(0.0);
-      D = cylinderRadianceExact(T, V, d, ps.eyeLights, 1e-8);
-      S = cylinderRadianceExact(T, V, s, ps.eyeLights, 1e-8);
     } else {
-      D = cylinderRadianceExact(T, V, slot.phong, ps.eyeLights, 1e-8);
+      exactParts(slot, [&](const PhongMaterial& m) { return cylinderRadianceExact(T, V, m, ps.eyeLights, 1e-8); }, D, S);
     }
   } else if (slot.kind == ShaderSlot::Kind::SurfaceChrome) {
     if (maps && slot.surfaceTables) {
@@ -221,14 +230,8 @@ glm::vec3 shadeSurfaceFragment(const PreparedScene& ps, const Primitive& prim, d
     if (maps && slot.surfaceTables) {
       D = glm::dvec3(slot.surfaceTables->lookup(N, x, y));
       if (slot.split && slot.surfaceSpecular) S = glm::dvec3(slot.surfaceSpecular->lookup(N, x, y));
-    } else if (slot.split) {
-      PhongMaterial d = slot.phong, s = slot.phong;
-      d.specular = glm::dvec3(0.0);
-      s.diffuse = glm::dvec3(0.0);
-      D = phongRadiance(N, V, d, ps.eyeLights);
-      S = phongRadiance(N, V, s, ps.eyeLights);
     } else {
-      D = phongRadiance(N, V, slot.phong, ps.eyeLights);
+      exactParts(slot, [&](const PhongMaterial& m) { return phongRadiance(N, V, m, ps.eyeLights); }, D, S);
     }
   }
   const glm::dvec3 L = g * (t * D + S);

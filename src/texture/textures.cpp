@@ -41,6 +41,24 @@ std::int64_t positiveMod(std::int64_t i, std::int64_t n) {
   return r < 0 ? r + n : r;
 }
 
+// The four texels around (u, v) of a width x height image (v = 0 the bottom row, row 0 of the
+// texels the top), wrapped or clamped per axis, and the bilinear weights (tx, ty) between them.
+struct BilinearTaps {
+  std::int64_t i0, i1, j0, j1;
+  double tx, ty;
+};
+
+BilinearTaps bilinearTaps(const glm::dvec2& uv, std::int64_t width, std::int64_t height, bool wrapU, bool wrapV) {
+  const double u = wrapU ? uv.x - std::floor(uv.x) : std::clamp(uv.x, -1.0, 2.0);
+  const double v = wrapV ? uv.y - std::floor(uv.y) : std::clamp(uv.y, -1.0, 2.0);
+  const double fx = u * double(width) - 0.5, fy = (1.0 - v) * double(height) - 0.5;
+  const double ix = std::floor(fx), iy = std::floor(fy);
+  auto column = [&](std::int64_t i) { return wrapU ? positiveMod(i, width) : std::clamp<std::int64_t>(i, 0, width - 1); };
+  auto row = [&](std::int64_t j) { return wrapV ? positiveMod(j, height) : std::clamp<std::int64_t>(j, 0, height - 1); };
+  return {column(std::int64_t(ix)), column(std::int64_t(ix) + 1), row(std::int64_t(iy)), row(std::int64_t(iy) + 1),
+          fx - ix, fy - iy};
+}
+
 /// Brings the texel interval [a, b] of an axis of n texels into a range where the integral
 /// stays accurate, without changing the mean over it (wrap: shift by whole periods; clamp:
 /// beyond the edge the axis is constant). Spans beyond kMaxSpans periods are cut to that
@@ -184,19 +202,7 @@ glm::dvec3 ImageTexture::boxMeanTexels(double x0, double x1, double y0, double y
 glm::vec3 ImageTexture::bilinear(const glm::dvec2& uv) const {
   if (width_ == 0) return glm::vec3(0.0f);
   if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return glm::vec3(mean_);
-  const double u = wrapU_ ? uv.x - std::floor(uv.x) : std::clamp(uv.x, -1.0, 2.0);
-  const double v = wrapV_ ? uv.y - std::floor(uv.y) : std::clamp(uv.y, -1.0, 2.0);
-  const double fx = u * width_ - 0.5, fy = (1.0 - v) * height_ - 0.5;
-  const double ix = std::floor(fx), iy = std::floor(fy);
-  const double tx = fx - ix, ty = fy - iy;
-  auto column = [&](std::int64_t i) {
-    return wrapU_ ? positiveMod(i, width_) : std::clamp<std::int64_t>(i, 0, width_ - 1);
-  };
-  auto row = [&](std::int64_t j) {
-    return wrapV_ ? positiveMod(j, height_) : std::clamp<std::int64_t>(j, 0, height_ - 1);
-  };
-  const std::int64_t i0 = column(std::int64_t(ix)), i1 = column(std::int64_t(ix) + 1);
-  const std::int64_t j0 = row(std::int64_t(iy)), j1 = row(std::int64_t(iy) + 1);
+  const auto [i0, i1, j0, j1, tx, ty] = bilinearTaps(uv, width_, height_, wrapU_, wrapV_);
   auto at = [&](std::int64_t i, std::int64_t j) {
     return glm::dvec3(texels_[size_t(j) * size_t(width_) + size_t(i)]);
   };
@@ -433,19 +439,7 @@ double ImageHeight::evaluate(const glm::dvec2& uv, glm::dvec2* gradient) const {
   if (gradient) *gradient = glm::dvec2(0.0);
   if (width_ == 0) return offset_;
   if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return offset_ + scale_ * meanHeight_;
-  const double u = wrapU_ ? uv.x - std::floor(uv.x) : std::clamp(uv.x, -1.0, 2.0);
-  const double v = wrapV_ ? uv.y - std::floor(uv.y) : std::clamp(uv.y, -1.0, 2.0);
-  const double fx = u * width_ - 0.5, fy = (1.0 - v) * height_ - 0.5;
-  const double ix = std::floor(fx), iy = std::floor(fy);
-  const double tx = fx - ix, ty = fy - iy;
-  auto column = [&](std::int64_t i) {
-    return wrapU_ ? positiveMod(i, width_) : std::clamp<std::int64_t>(i, 0, width_ - 1);
-  };
-  auto row = [&](std::int64_t j) {
-    return wrapV_ ? positiveMod(j, height_) : std::clamp<std::int64_t>(j, 0, height_ - 1);
-  };
-  const std::int64_t i0 = column(std::int64_t(ix)), i1 = column(std::int64_t(ix) + 1);
-  const std::int64_t j0 = row(std::int64_t(iy)), j1 = row(std::int64_t(iy) + 1);
+  const auto [i0, i1, j0, j1, tx, ty] = bilinearTaps(uv, width_, height_, wrapU_, wrapV_);
   auto at = [&](std::int64_t i, std::int64_t j) {
     return luminance_[size_t(j) * size_t(width_) + size_t(i)];
   };

@@ -52,20 +52,26 @@ void report(benchmark::State& state, std::uint64_t hairs) {
   state.counters["hairs"] = double(hairs);
 }
 
-void BM_FurGridStraight(benchmark::State& state) {
-  const BenchTorus torus(1.0, 0.35);
-  wf::FurParams p;
-  p.gridU = 1000;
-  p.gridV = 1000;
-  p.length = 0.05;
+// Grows `p` on `surface` once per iteration and reports hairs per second.
+void grow(benchmark::State& state, const wf::Surface& surface, const wf::FurParams& p) {
   std::uint64_t hairs = 0;
   for (auto _ : state) {
-    wf::Fur fur = wf::growFur(torus, p, 0);
+    wf::Fur fur = wf::growFur(surface, p, 0);
     hairs = fur.counts.hairs;
     benchmark::DoNotOptimize(fur.hairs.points.data());
   }
   report(state, hairs);
 }
+
+wf::FurParams straightGrid() {
+  wf::FurParams p;
+  p.gridU = 1000;
+  p.gridV = 1000;
+  p.length = 0.05;
+  return p;
+}
+
+void BM_FurGridStraight(benchmark::State& state) { grow(state, BenchTorus(1.0, 0.35), straightGrid()); }
 BENCHMARK(BM_FurGridStraight)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_FurAreaCorrect(benchmark::State& state) {
@@ -76,34 +82,18 @@ void BM_FurAreaCorrect(benchmark::State& state) {
   p.cellsU = 128;
   p.cellsV = 64;
   p.length = 0.05;
-  std::uint64_t hairs = 0;
-  for (auto _ : state) {
-    wf::Fur fur = wf::growFur(torus, p, 0);
-    hairs = fur.counts.hairs;
-    benchmark::DoNotOptimize(fur.hairs.points.data());
-  }
-  report(state, hairs);
+  grow(state, torus, p);
 }
 BENCHMARK(BM_FurAreaCorrect)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_FurGridCurved4(benchmark::State& state) {
-  const BenchTorus torus(1.0, 0.35);
-  wf::FurParams p;
-  p.gridU = 1000;
-  p.gridV = 1000;
-  p.length = 0.05;
+  wf::FurParams p = straightGrid();
   p.segments = 4;
   p.gravity = 0.8;
   p.curlAmplitude = 0.05;
   p.windStrength = 0.3;
   p.time = 0.25;
-  std::uint64_t hairs = 0;
-  for (auto _ : state) {
-    wf::Fur fur = wf::growFur(torus, p, 0);
-    hairs = fur.counts.hairs;
-    benchmark::DoNotOptimize(fur.hairs.points.data());
-  }
-  report(state, hairs);
+  grow(state, BenchTorus(1.0, 0.35), p);
 }
 BENCHMARK(BM_FurGridCurved4)->Unit(benchmark::kMillisecond)->UseRealTime();
 
@@ -140,20 +130,7 @@ void BM_NaiveGridStraight(benchmark::State& state) {
 }
 BENCHMARK(BM_NaiveGridStraight)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-void BM_FurGridStraightTorusPatch(benchmark::State& state) {
-  const wf::TorusPatch torus(1.0, 0.35);
-  wf::FurParams p;
-  p.gridU = 1000;
-  p.gridV = 1000;
-  p.length = 0.05;
-  std::uint64_t hairs = 0;
-  for (auto _ : state) {
-    wf::Fur fur = wf::growFur(torus, p, 0);
-    hairs = fur.counts.hairs;
-    benchmark::DoNotOptimize(fur.hairs.points.data());
-  }
-  report(state, hairs);
-}
+void BM_FurGridStraightTorusPatch(benchmark::State& state) { grow(state, wf::TorusPatch(1.0, 0.35), straightGrid()); }
 BENCHMARK(BM_FurGridStraightTorusPatch)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK_MAIN();
