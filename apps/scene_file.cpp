@@ -388,6 +388,7 @@ void readObject(const Reader& r, const json& j, const std::string& ptr, const st
   growth.patch = index;
   growth.time = overrides.time;
   growth.budget = &budget;
+  growth.folder = folder;
   growth.name = name;
   growth.material = [&](const json& m, const std::string& mp) { return materialRef(r, m, mp, materials); };
   readGrowth(r, j, ptr, growth, scene);

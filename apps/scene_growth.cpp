@@ -66,11 +66,11 @@ std::shared_ptr<const wf::ScalarTexture> readScalarMap(const Reader& r, const js
   return std::make_shared<RangeMap>(std::make_shared<wf::NoiseTexture>(n), range.x, range.y);
 }
 
-wf::FurParams readFurParams(const Reader& r, const json& j, const std::string& ptr) {
-  r.keys(j, ptr, {"placement", "grid", "jitter", "density", "density_map", "orientation", "unit_tangents",
+wf::FurParams readFurParams(const Reader& r, const json& j, const std::string& ptr, const GrowthContext& ctx) {
+  r.keys(j, ptr, {"placement", "grid", "jitter", "density", "density_map", "orientation", "orientation_map", "unit_tangents",
                   "length", "length_mode", "length_per_su", "length_variation", "length_map", "segments", "gravity",
                   "gravity_direction", "curl", "clumping", "clumps", "wind", "root_colour", "tip_colour",
-                  "intensity_variation", "regions", "thickness", "material", "seed", "opacity"});
+                  "root_colour_map", "intensity_variation", "regions", "thickness", "material", "seed", "opacity"});
   wf::FurParams f;
   auto num = [&](const char* key, double lo, double hi, double& out) {
     if (j.contains(key)) out = r.number(j[key], Reader::at(ptr, key), lo, hi);
@@ -84,6 +84,17 @@ wf::FurParams readFurParams(const Reader& r, const json& j, const std::string& p
   num("density", 0, 1e15, f.density);
   if (j.contains("density_map")) f.densityMap = readScalarMap(r, j["density_map"], Reader::at(ptr, "density_map"));
   if (j.contains("orientation")) f.orientation = r.vec3(j["orientation"], Reader::at(ptr, "orientation"), 1e6);
+  if (j.contains("orientation_map")) {
+    // Maps replacing a, b or c of the orientation where given (a combing pattern over the patch).
+    const std::string op = Reader::at(ptr, "orientation_map");
+    const json& o = j["orientation_map"];
+    r.keys(o, op, {"a", "b", "c"});
+    if (o.contains("a")) f.orientationMapA = readScalarMap(r, o["a"], Reader::at(op, "a"));
+    if (o.contains("b")) f.orientationMapB = readScalarMap(r, o["b"], Reader::at(op, "b"));
+    if (o.contains("c")) f.orientationMapC = readScalarMap(r, o["c"], Reader::at(op, "c"));
+  }
+  if (j.contains("root_colour_map"))
+    f.rootColourMap = readColourTexture(r, j["root_colour_map"], Reader::at(ptr, "root_colour_map"), ctx.folder, *ctx.budget);
   if (j.contains("unit_tangents")) f.unitTangents = r.boolean(j["unit_tangents"], Reader::at(ptr, "unit_tangents"));
   num("length", 0, 1e12, f.length);
   if (j.contains("length_mode")) {
@@ -166,7 +177,7 @@ void readGrowth(const Reader& r, const json& obj, const std::string& ptr, const 
   if (obj.contains("fur")) {
     const std::string fp = Reader::at(ptr, "fur");
     const json& j = obj["fur"];
-    wf::FurParams params = readFurParams(r, j, fp);
+    wf::FurParams params = readFurParams(r, j, fp, ctx);
     const int material = j.contains("material") ? ctx.material(j["material"], Reader::at(fp, "material")) : 0;
     const float opacity = j.contains("opacity") ? float(r.number(j["opacity"], Reader::at(fp, "opacity"), 0, 1)) : 1.0f;
     if (ctx.time) params.time = *ctx.time;

@@ -20,6 +20,7 @@ struct GrowthContext {
   std::string name;
   std::optional<double> time;                  ///< overrides every fur's wind time (`--time`)
   SceneBudget* budget = nullptr;               ///< the scene's budget (required)
+  std::string folder = ".";                    ///< where the scene's relative file names start
   /// Resolves a material name at a JSON pointer (fails the read when unknown).
   std::function<int(const json&, const std::string&)> material;
 };

@@ -52,60 +52,6 @@ std::set<std::string> with(std::set<std::string> a, const std::set<std::string>&
   return a;
 }
 
-std::shared_ptr<const wf::ColourTexture> readTexture(const Reader& r, const json& j, const std::string& ptr,
-                                                     const std::string& folder, SceneBudget& budget) {
-  if (!j.is_object() || !j.contains("type")) r.fail(ptr, "a texture needs a type (chequer, image, noise)");
-  const std::string type = r.choice(j["type"], Reader::at(ptr, "type"), {"chequer", "image", "noise"});
-  if (type == "chequer") {
-    r.keys(j, ptr, {"type", "squares", "colours"});
-    int su = 8, sv = 8;
-    if (j.contains("squares")) {
-      const std::string sp = Reader::at(ptr, "squares");
-      if (!j["squares"].is_array() || j["squares"].size() != 2) r.fail(sp, "expected [squares along u, along v]");
-      su = r.integer(j["squares"][0], Reader::at(sp, 0), 1, 1 << 20);
-      sv = r.integer(j["squares"][1], Reader::at(sp, 1), 1, 1 << 20);
-    }
-    glm::dvec3 a(0.9), b(0.1);
-    if (j.contains("colours")) {
-      const std::string cp = Reader::at(ptr, "colours");
-      if (!j["colours"].is_array() || j["colours"].size() != 2) r.fail(cp, "expected [colour, colour]");
-      a = r.colour(j["colours"][0], Reader::at(cp, 0));
-      b = r.colour(j["colours"][1], Reader::at(cp, 1));
-    }
-    return std::make_shared<wf::ChequerTexture>(su, sv, glm::vec3(a), glm::vec3(b));
-  }
-  if (type == "image") {
-    r.keys(j, ptr, {"type", "file", "wrap"});
-    if (!j.contains("file")) r.fail(ptr, "an image texture needs a file");
-    const auto [wu, wv] = readWrap(r, j, ptr);
-    const std::string fp = Reader::at(ptr, "file"), file = resolve(folder, r.string(j["file"], fp));
-    auto& cached = budget.colourImages[imageKey(file, wu, wv)];
-    if (!cached) cached = std::make_shared<wf::ImageTexture>(readImageAt(r, file, fp, budget), wu, wv);
-    return cached;
-  }
-  r.keys(j, ptr, with(kNoiseKeys, {"type", "ramp"}));
-  auto noise = std::make_shared<wf::NoiseTexture>(readNoiseParams(r, j, ptr));
-  std::vector<wf::RampStop> stops = {{-1.0, glm::vec3(0.1f)}, {1.0, glm::vec3(0.9f)}};
-  if (j.contains("ramp")) {
-    const std::string rp = Reader::at(ptr, "ramp");
-    if (!j["ramp"].is_array() || j["ramp"].size() < 2) r.fail(rp, "expected at least two [value, colour] stops");
-    stops.clear();
-    for (size_t i = 0; i < j["ramp"].size(); ++i) {
-      const json& st = j["ramp"][i];
-      const std::string sp = Reader::at(rp, i);
-      if (!st.is_array() || st.size() != 2) r.fail(sp, "expected [value, colour]");
-      const double pos = r.number(st[0], Reader::at(sp, 0), -1e6, 1e6);
-      if (!stops.empty() && pos < stops.back().position) r.fail(Reader::at(sp, 0), "ramp values must not decrease");
-      stops.push_back({pos, glm::vec3(r.colour(st[1], Reader::at(sp, 1)))});
-    }
-  }
-  // Stops are given at noise values; the ramp takes them at t = (value - low) / (high - low).
-  const double lo = stops.front().position, hi = stops.back().position;
-  const double span = hi > lo ? hi - lo : 1.0;
-  for (wf::RampStop& st : stops) st.position = (st.position - lo) / span;
-  return std::make_shared<wf::RampTexture>(noise, stops, lo, lo + span);
-}
-
 std::shared_ptr<const wf::ScalarTexture> readBump(const Reader& r, const json& j, const std::string& ptr,
                                                   const std::string& folder, SceneBudget& budget, double& scale) {
   if (!j.is_object() || !j.contains("type")) r.fail(ptr, "a bump map needs a type (noise, image)");
@@ -170,6 +116,60 @@ wf::NoiseParams readNoiseParams(const Reader& r, const json& j, const std::strin
   return n;
 }
 
+std::shared_ptr<const wf::ColourTexture> readColourTexture(const Reader& r, const json& j, const std::string& ptr,
+                                                     const std::string& folder, SceneBudget& budget) {
+  if (!j.is_object() || !j.contains("type")) r.fail(ptr, "a texture needs a type (chequer, image, noise)");
+  const std::string type = r.choice(j["type"], Reader::at(ptr, "type"), {"chequer", "image", "noise"});
+  if (type == "chequer") {
+    r.keys(j, ptr, {"type", "squares", "colours"});
+    int su = 8, sv = 8;
+    if (j.contains("squares")) {
+      const std::string sp = Reader::at(ptr, "squares");
+      if (!j["squares"].is_array() || j["squares"].size() != 2) r.fail(sp, "expected [squares along u, along v]");
+      su = r.integer(j["squares"][0], Reader::at(sp, 0), 1, 1 << 20);
+      sv = r.integer(j["squares"][1], Reader::at(sp, 1), 1, 1 << 20);
+    }
+    glm::dvec3 a(0.9), b(0.1);
+    if (j.contains("colours")) {
+      const std::string cp = Reader::at(ptr, "colours");
+      if (!j["colours"].is_array() || j["colours"].size() != 2) r.fail(cp, "expected [colour, colour]");
+      a = r.colour(j["colours"][0], Reader::at(cp, 0));
+      b = r.colour(j["colours"][1], Reader::at(cp, 1));
+    }
+    return std::make_shared<wf::ChequerTexture>(su, sv, glm::vec3(a), glm::vec3(b));
+  }
+  if (type == "image") {
+    r.keys(j, ptr, {"type", "file", "wrap"});
+    if (!j.contains("file")) r.fail(ptr, "an image texture needs a file");
+    const auto [wu, wv] = readWrap(r, j, ptr);
+    const std::string fp = Reader::at(ptr, "file"), file = resolve(folder, r.string(j["file"], fp));
+    auto& cached = budget.colourImages[imageKey(file, wu, wv)];
+    if (!cached) cached = std::make_shared<wf::ImageTexture>(readImageAt(r, file, fp, budget), wu, wv);
+    return cached;
+  }
+  r.keys(j, ptr, with(kNoiseKeys, {"type", "ramp"}));
+  auto noise = std::make_shared<wf::NoiseTexture>(readNoiseParams(r, j, ptr));
+  std::vector<wf::RampStop> stops = {{-1.0, glm::vec3(0.1f)}, {1.0, glm::vec3(0.9f)}};
+  if (j.contains("ramp")) {
+    const std::string rp = Reader::at(ptr, "ramp");
+    if (!j["ramp"].is_array() || j["ramp"].size() < 2) r.fail(rp, "expected at least two [value, colour] stops");
+    stops.clear();
+    for (size_t i = 0; i < j["ramp"].size(); ++i) {
+      const json& st = j["ramp"][i];
+      const std::string sp = Reader::at(rp, i);
+      if (!st.is_array() || st.size() != 2) r.fail(sp, "expected [value, colour]");
+      const double pos = r.number(st[0], Reader::at(sp, 0), -1e6, 1e6);
+      if (!stops.empty() && pos < stops.back().position) r.fail(Reader::at(sp, 0), "ramp values must not decrease");
+      stops.push_back({pos, glm::vec3(r.colour(st[1], Reader::at(sp, 1)))});
+    }
+  }
+  // Stops are given at noise values; the ramp takes them at t = (value - low) / (high - low).
+  const double lo = stops.front().position, hi = stops.back().position;
+  const double span = hi > lo ? hi - lo : 1.0;
+  for (wf::RampStop& st : stops) st.position = (st.position - lo) / span;
+  return std::make_shared<wf::RampTexture>(noise, stops, lo, lo + span);
+}
+
 const std::set<std::string>& materialExtraKeys() {
   static const std::set<std::string> keys = {"burnish", "texture", "bump"};
   return keys;
@@ -178,7 +178,7 @@ const std::set<std::string>& materialExtraKeys() {
 void readMaterialExtras(const Reader& r, const json& m, const std::string& mp, const std::string& folder,
                         SceneBudget& budget, wf::Material& mat) {
   if (m.contains("burnish")) readBurnish(r, m["burnish"], Reader::at(mp, "burnish"), mat);
-  if (m.contains("texture")) mat.colourMap = readTexture(r, m["texture"], Reader::at(mp, "texture"), folder, budget);
+  if (m.contains("texture")) mat.colourMap = readColourTexture(r, m["texture"], Reader::at(mp, "texture"), folder, budget);
   if (m.contains("bump")) mat.bumpMap = readBump(r, m["bump"], Reader::at(mp, "bump"), folder, budget, mat.bumpScale);
 }
 

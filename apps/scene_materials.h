@@ -15,6 +15,11 @@ namespace wfapp {
 /// at `ptr`, for textures, bumps and fur maps; the caller checks which keys `j` may have.
 wf::NoiseParams readNoiseParams(const Reader& r, const json& j, const std::string& ptr);
 
+/// A colour texture (chequer, image, noise with a ramp: docs/scenes.md) at `ptr`; image files
+/// relative to `folder`, decoded once per scene and counted in `budget`.
+std::shared_ptr<const wf::ColourTexture> readColourTexture(const Reader& r, const json& j, const std::string& ptr,
+                                                           const std::string& folder, SceneBudget& budget);
+
 /// The keys readMaterialExtras reads.
 const std::set<std::string>& materialExtraKeys();
 
