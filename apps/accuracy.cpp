@@ -434,6 +434,8 @@ int runAccuracy(const AccuracyOptions& opt) {
   doc["abuffer"] = abufferStudy(opt.quick, progress, abufferPlots);
   std::printf("\nTextures and grooves finer than a pixel: box filter against the reference's samples:\n");
   doc["textures"] = texturesStudy(opt.quick, progress, abufferPlots);
+  std::printf("\nTessellation resolution of a smooth surface against 768 x 512 (exact shading):\n");
+  doc["tessellation"] = tessellationStudy(opt.quick, progress, abufferPlots);
 
   if (!opt.plotsDir.empty()) {
     progress.say("plots into " + opt.plotsDir);

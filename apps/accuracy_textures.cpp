@@ -5,7 +5,8 @@
 // integral. Three scenes where the pattern is finer than a pixel over much of the image: a
 // torus with a 128 x 64 chequer, a sphere turned with 400 grooves, a bump-mapped torus. For each:
 // the A-buffer filtered and point-sampled (the baseline), and the reference at n = 2, 4, 8
-// against the reference at n = 16, error against time on the same axes.
+// against the reference at n = 16, error against time on the same axes. Also the tessellation
+// resolution of a smooth surface, against a much finer tessellation.
 #include "accuracy_textures.h"
 
 #include "render_command.h"
@@ -16,6 +17,7 @@
 #include "texture/textures.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <memory>
 
@@ -82,6 +84,60 @@ wf::Scene bumpScene() {
 }
 
 }  // namespace
+
+// Tessellation resolution: the jug of images 2 and 8 (a smooth surface of revolution) rendered
+// with exact shading at rising (u, v) resolution against the same at 768 x 512, so that the
+// difference is the polygon approximation alone (silhouette facets, interpolated normals).
+json tessellationStudy(bool quick, const Progress& progress, std::vector<std::pair<std::string, PlotSpec>>& plots) {
+  progress.say("tessellation study: jug against 768 x 512");
+  const int W = quick ? 160 : 320, H = quick ? 160 : 320;
+  auto jug = [](int nu, int nv) {
+    wf::Scene s = baseScene();
+    wf::Material m;
+    m.phong = {glm::dvec3(0.75, 0.3, 0.15), glm::dvec3(0.6), 40};
+    s.materials = {wf::Material{}, m};
+    wf::ParametricSource lathe;
+    lathe.type = wf::ParametricSource::Type::Lathe;
+    lathe.profile = {{0.0, -1.0}, {0.55, -1.0}, {0.62, -0.9}, {0.7, -0.6}, {0.72, -0.3}, {0.66, 0.0},
+                     {0.5, 0.3},  {0.36, 0.55}, {0.32, 0.75}, {0.36, 0.9}, {0.42, 1.0}};
+    lathe.resolutionU = nu;
+    lathe.resolutionV = nv;
+    s.surfaces.push_back({"jug", wf::tessellate(lathe), 1});
+    s.camera = wf::frameSphere(glm::dvec3(0.0), 1.25, 1.0, wf::Camera::Projection::Perspective, {0.3, -1.0, 0.35});
+    return s;
+  };
+  wf::RenderOptions o;
+  o.width = W;
+  o.height = H;
+  o.shading = wf::ShadingPath::Exact;
+  const wf::RenderResult fine = wf::render(jug(768, 512), o);
+  json out = json::array();
+  PlotSpec spec{"Tessellation of a smooth surface (jug): error against time, exact shading (labels: u x v)",
+                "render time incl. tessellation [ms]", "RGBA error vs 768 x 512", true, true, {}, {}};
+  PlotSeries rms{"RMS", {}, {}, {}, "linespoints"}, mx{"max", {}, {}, {}, "linespoints dt 2"};
+  for (auto [nu, nv] : quick ? std::vector<std::pair<int, int>>{{24, 16}, {96, 64}}
+                             : std::vector<std::pair<int, int>>{{12, 8}, {24, 16}, {48, 32}, {96, 64}, {192, 128}}) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const wf::Scene s = jug(nu, nv);
+    const double tess = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const wf::RenderResult r = wf::render(s, o);
+    const ImageError e = imageError(r.image, fine.image);
+    const double secs = tess + r.stats.total;
+    out.push_back({{"resolution", {nu, nv}}, {"triangles", r.stats.triangles}, {"seconds", secs},
+                   {"tessellation_seconds", tess}, {"rgba_rms", e.rms}, {"rgba_max", e.max}});
+    const std::string label = std::to_string(nu) + "x" + std::to_string(nv);
+    rms.x.push_back(secs * 1e3);
+    rms.y.push_back(std::max(e.rms, 1e-7));
+    rms.labels.push_back(label);
+    mx.x.push_back(secs * 1e3);
+    mx.y.push_back(std::max(e.max, 1e-7));
+    std::printf("  jug %-8s %6zu triangles: %7.2f ms (tessellation %5.2f ms)  RGBA rms %.2e max %.2e\n", label.c_str(),
+                r.stats.triangles, secs * 1e3, tess * 1e3, e.rms, e.max);
+  }
+  spec.series = {rms, mx};
+  plots.emplace_back("tessellation.png", spec);
+  return out;
+}
 
 json texturesStudy(bool quick, const Progress& progress, std::vector<std::pair<std::string, PlotSpec>>& plots) {
   json out;

@@ -16,4 +16,8 @@ namespace wfapp {
 nlohmann::ordered_json texturesStudy(bool quick, const Progress& progress,
                                      std::vector<std::pair<std::string, PlotSpec>>& plots);
 
+/// Tessellation resolution of a smooth surface against a much finer one (exact shading).
+nlohmann::ordered_json tessellationStudy(bool quick, const Progress& progress,
+                                         std::vector<std::pair<std::string, PlotSpec>>& plots);
+
 }  // namespace wfapp

@@ -397,6 +397,20 @@ glm::dvec2 RevolutionPatch::profile(double v, glm::dvec2* derivative) const {
   return p;
 }
 
+std::vector<double> RevolutionPatch::creasesV() const {
+  std::vector<double> out;
+  if (!(length_ > 0)) return out;
+  // Corner k (an interior point) is where segment k starts: its first arc-length interval.
+  for (size_t i = 1; i < table_.size(); ++i) {
+    const int k = table_[i].segment;
+    if (k != table_[i - 1].segment && size_t(k) < corners_.size() && corners_[size_t(k)]) {
+      const double v = table_[i].s0 / length_;
+      if (v > 0.0 && v < 1.0) out.push_back(v);
+    }
+  }
+  return out;
+}
+
 SurfacePoint RevolutionPatch::evaluate(double u, double v) const {
   u = toDomain(u, 0.0, 1.0, true);
   glm::dvec2 d;

@@ -102,6 +102,8 @@ class RevolutionPatch final : public Surface {
   /// The points as used (duplicates merged) and which of them are corners.
   const std::vector<glm::dvec2>& points() const { return points_; }
   const std::vector<bool>& corners() const { return corners_; }
+  /// The v of every interior corner of the profile.
+  std::vector<double> creasesV() const override;
 
  private:
   struct Interval {  // one arc-length table interval of one Bezier segment

@@ -13,6 +13,7 @@
 #include <glm/glm.hpp>
 
 #include <string>
+#include <vector>
 
 namespace wf {
 
@@ -56,6 +57,10 @@ class Surface {
   /// mirrored placement (TransformedSurface with det < 0) keeps its parameterisation, so its
   /// hairs, scales and textures are the mirror image, and turns the normal round instead.
   virtual double normalSign() const { return 1.0; }
+  /// Values of v strictly inside the domain where the surface is creased: S is continuous but
+  /// its derivatives jump (a lathe profile's corner, a jug's base rim). Tessellation puts a
+  /// doubled row of vertices there, each with its own side's normal, so the crease stays crisp.
+  virtual std::vector<double> creasesV() const { return {}; }
 
   /// Position, derivatives, unit normal (times normalSign()) and tangents at (u, v), finite
   /// everywhere (see top).

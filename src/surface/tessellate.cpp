@@ -21,8 +21,38 @@ std::string tessellationProblem(int resolutionU, int resolutionV) {
 
 TriangleMesh tessellate(const Surface& surface, int resolutionU, int resolutionV) {
   if (const std::string p = tessellationProblem(resolutionU, resolutionV); !p.empty()) throw std::invalid_argument(p);
-  const int nu = resolutionU, nv = resolutionV, cols = nu + 1, rows = nv + 1;
+  const int nu = resolutionU, cols = nu + 1;
   const ParameterDomain d = surface.domain();
+  // Parameter of grid line k of n: exact at both ends.
+  auto param = [](double a, double b, int k, int n) { return k == n ? b : a + (b - a) * (double(k) / n); };
+  // The rows: resolutionV + 1 evenly in v, plus two at every crease (one per side, same
+  // positions, each with its side's normal; a grid row within 1e-9 of a crease gives way).
+  struct Row {
+    double v;
+    int side;  // -1: the crease seen from below, +1: from above, 0: a regular row
+  };
+  std::vector<Row> rowList;
+  {
+    std::vector<double> creases;
+    for (double c : surface.creasesV())
+      if (std::isfinite(c) && c > d.v0 && c < d.v1) creases.push_back(c);
+    std::sort(creases.begin(), creases.end());
+    creases.erase(std::unique(creases.begin(), creases.end()), creases.end());
+    size_t next = 0;
+    for (int j = 0; j <= resolutionV; ++j) {
+      const double v = param(d.v0, d.v1, j, resolutionV);
+      bool replaced = false;
+      while (next < creases.size() && creases[next] <= v + 1e-9 * d.dv()) {
+        replaced = replaced || std::abs(creases[next] - v) <= 1e-9 * d.dv();
+        rowList.push_back({creases[next], -1});
+        rowList.push_back({creases[next], +1});
+        ++next;
+      }
+      if (!replaced || j == 0 || j == resolutionV) rowList.push_back({v, 0});
+    }
+  }
+  const int nv = int(rowList.size()) - 1, rows = nv + 1;
+  if (double(rows) * double(cols) > kMaxTessellationVertices) throw std::invalid_argument(tessellationProblem(nu, nv));
   const size_t count = size_t(cols) * size_t(rows);
   TriangleMesh m;
   m.positions.resize(count);
@@ -31,12 +61,12 @@ TriangleMesh tessellate(const Surface& surface, int resolutionU, int resolutionV
   m.derivU.resize(count);
   m.derivV.resize(count);
   m.uvs.resize(count);
-  // Parameter of grid line k of n: exact at both ends.
-  auto param = [](double a, double b, int k, int n) { return k == n ? b : a + (b - a) * (double(k) / n); };
   auto vertex = [&](size_t at, int i, int j) {
-    const double u = param(d.u0, d.u1, i, nu), v = param(d.v0, d.v1, j, nv);
-    const SurfaceFrame f = surface.frame(u, v);
-    m.positions[at] = f.P;
+    const double u = param(d.u0, d.u1, i, nu), v = rowList[size_t(j)].v;
+    const int side = rowList[size_t(j)].side;
+    // At a crease: the position there, the frame just to its side (the one-sided limit).
+    const SurfaceFrame f = surface.frame(u, side == 0 ? v : v + side * 1e-9 * d.dv());
+    m.positions[at] = side == 0 ? f.P : surface.frame(u, v).P;
     m.normals[at] = f.N;
     m.tangents[at] = f.Tu;
     m.derivU[at] = f.Su;
@@ -58,7 +88,7 @@ TriangleMesh tessellate(const Surface& surface, int resolutionU, int resolutionV
       if (d.periodicU) {  // the seam column: the first column's geometry, u = u1
         const size_t to = size_t(j) * cols + nu;
         copyVertex(to, size_t(j) * cols);
-        m.uvs[to] = glm::dvec2(d.u1, param(d.v0, d.v1, j, nv));
+        m.uvs[to] = glm::dvec2(d.u1, rowList[size_t(j)].v);
       }
     }
   });

@@ -19,6 +19,9 @@ std::string tessellationProblem(int resolutionU, int resolutionV);
 /// domain, vertex (i, j) at index j (resolutionU + 1) + i. Seam vertices are duplicated so that
 /// the uvs run continuously (u = u1 on the last column), with positions (and every other
 /// attribute) copied bit for bit from the first column/row of a periodic direction: no cracks.
+/// At each of the surface's creasesV() two more rows are put in, at the crease itself, one with
+/// the frame just below it and one with the frame just above (the same positions): the
+/// triangles between them have no area and are left out, so each side keeps its own normals.
 /// Per vertex: positions, normals (frame(): the limit normal at poles), tangents (unit Tu),
 /// derivU / derivV (Su, Sv as evaluated, zero at a pole) and uvs (the surface's own u, v).
 /// Each grid cell is two triangles (i,j)-(i+1,j)-(i+1,j+1) and (i,j)-(i+1,j+1)-(i,j+1), wound

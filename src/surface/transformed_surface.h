@@ -25,6 +25,7 @@ class TransformedSurface final : public Surface {
     return {A_ * p.P + t_, A_ * p.Su, A_ * p.Sv};
   }
   double normalSign() const override { return mirror_ ? -base_->normalSign() : base_->normalSign(); }
+  std::vector<double> creasesV() const override { return base_->creasesV(); }
   std::string describe() const override { return base_->describe() + " (placed)"; }
   const Surface& base() const { return *base_; }
 
