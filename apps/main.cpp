@@ -2,6 +2,7 @@
 #include "accuracy.h"
 #include "cli.h"
 #include "gallery.h"
+#include "export_command.h"
 #include "render_command.h"
 
 #include <vtkLogger.h>
@@ -29,7 +30,10 @@ constexpr const char* kUsage =
     "           [--time T]\n"
     "           [--view-grid N] [--measure-error] [--quiet]\n"
     "                                               INPUT: scene .json, or .vtp .vtk .stl .obj .ply; none: built-in scene\n"
-    "  view, export                                  not in this version yet\n"
+    "  export   INPUT -o OUT.vtp|.vtk|.obj|.ply [--time T] [--quiet]\n"
+    "                                               the scene's geometry as drawn (tessellations, scales, wires,\n"
+    "                                               fur) with normals, tangents, (u, v) and colours\n"
+    "  view                                          not in this version yet\n"
     "  --help, --version\n";
 
 std::string need(const std::vector<std::string>& a, size_t& i) {
@@ -116,6 +120,7 @@ int run(const std::vector<std::string>& a) {
     }
     return wfapp::runRender(o);
   }
+  if (cmd == "export") return wfapp::runExport(std::vector<std::string>(a.begin() + 1, a.end()));
   if (cmd == "view" || cmd == "export") {
     std::cerr << "wirefur: '" << cmd << "' is not in this version yet\n";
     return 1;

@@ -1,0 +1,240 @@
+#include "export_command.h"
+
+#include "cli.h"
+#include "render_command.h"
+#include "scene_file.h"
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkFloatArray.h>
+#include <vtkIntArray.h>
+#include <vtkNew.h>
+#include <vtkOBJWriter.h>
+#include <vtkPLYWriter.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataWriter.h>
+#include <vtkStringArray.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkXMLPolyDataWriter.h>
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+
+namespace wfapp {
+
+namespace {
+
+unsigned char toByte(float c) { return (unsigned char)std::lround(255.0f * std::clamp(std::isfinite(c) ? c : 0.0f, 0.0f, 1.0f)); }
+
+glm::dvec3 unitOrZero(const glm::dvec3& v) {
+  const double l = glm::length(v);
+  return l > 0 && std::isfinite(l) ? v / l : glm::dvec3(0.0);
+}
+
+}  // namespace
+
+vtkSmartPointer<vtkPolyData> sceneToPolyData(const wf::Scene& scene) {
+  size_t nPoints = 0;
+  for (const wf::SceneSurface& s : scene.surfaces) nPoints += s.mesh.positions.size();
+  for (const wf::SceneWire& w : scene.wires) nPoints += w.lines.points.size();
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(vtkIdType(nPoints));
+  vtkNew<vtkFloatArray> normals, tangents, tcoords;
+  normals->SetName("Normals");
+  normals->SetNumberOfComponents(3);
+  normals->SetNumberOfTuples(vtkIdType(nPoints));
+  tangents->SetName("Tangents");
+  tangents->SetNumberOfComponents(3);
+  tangents->SetNumberOfTuples(vtkIdType(nPoints));
+  tcoords->SetName("TCoords");
+  tcoords->SetNumberOfComponents(2);
+  tcoords->SetNumberOfTuples(vtkIdType(nPoints));
+  vtkNew<vtkUnsignedCharArray> colours;
+  colours->SetName("Colors");
+  colours->SetNumberOfComponents(3);
+  colours->SetNumberOfTuples(vtkIdType(nPoints));
+  vtkNew<vtkCellArray> polys, lines;
+  vtkNew<vtkIntArray> polyObject, lineObject;
+  vtkNew<vtkDoubleArray> polyThickness, lineThickness;
+  vtkNew<vtkStringArray> names;
+  names->SetName("ObjectNames");
+
+  vtkIdType next = 0;
+  int object = 0;
+  auto setPoint = [&](vtkIdType id, const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3& t, const glm::dvec2& uv,
+                      const glm::vec3& c) {
+    points->SetPoint(id, p.x, p.y, p.z);
+    const float nf[3] = {float(n.x), float(n.y), float(n.z)}, tf[3] = {float(t.x), float(t.y), float(t.z)};
+    const float uvf[2] = {float(uv.x), float(uv.y)};
+    normals->SetTypedTuple(id, nf);
+    tangents->SetTypedTuple(id, tf);
+    tcoords->SetTypedTuple(id, uvf);
+    const unsigned char cb[3] = {toByte(c.x), toByte(c.y), toByte(c.z)};
+    colours->SetTypedTuple(id, cb);
+  };
+  for (const wf::SceneSurface& s : scene.surfaces) {
+    const wf::TriangleMesh& m = s.mesh;
+    const size_t nv = m.positions.size();
+    const vtkIdType base = next;
+    for (size_t i = 0; i < nv; ++i) {
+      const glm::dvec3 n = m.normals.size() == nv ? m.normals[i] : glm::dvec3(0.0);
+      const glm::dvec3 t = m.derivU.size() == nv ? unitOrZero(m.derivU[i])
+                                                 : (m.tangents.size() == nv ? m.tangents[i] : glm::dvec3(0.0));
+      setPoint(next++, m.positions[i], n, t, m.uvs.size() == nv ? m.uvs[i] : glm::dvec2(0.0),
+               m.colours.size() == nv ? m.colours[i] : glm::vec3(1.0f));
+    }
+    for (const glm::uvec3& tri : m.triangles) {
+      if (tri.x >= nv || tri.y >= nv || tri.z >= nv) continue;
+      const vtkIdType ids[3] = {base + tri.x, base + tri.y, base + tri.z};
+      polys->InsertNextCell(3, ids);
+      polyObject->InsertNextValue(object);
+      polyThickness->InsertNextValue(0.0);
+    }
+    names->InsertNextValue(s.name);
+    ++object;
+  }
+  for (const wf::SceneWire& w : scene.wires) {
+    const wf::PolylineSet& L = w.lines;
+    const vtkIdType base = next;
+    const bool hasColours = L.colours.size() == L.points.size();
+    for (size_t k = 0; k < L.points.size(); ++k) setPoint(next++, L.points[k], glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec2(0.0),
+                                                           hasColours ? L.colours[k] : w.colour);
+    for (size_t li = 0; li < L.polylineCount(); ++li) {
+      const size_t a = L.starts[li], b = std::min<size_t>(L.starts[li + 1], L.points.size());
+      if (b < a + 2) continue;
+      lines->InsertNextCell(vtkIdType(b - a));
+      for (size_t k = a; k < b; ++k) {
+        lines->InsertCellPoint(base + vtkIdType(k));
+        // The polyline's direction at each point (central where it can be).
+        const glm::dvec3 t = unitOrZero(L.points[std::min(k + 1, b - 1)] - L.points[k > a ? k - 1 : a]);
+        const float tf[3] = {float(t.x), float(t.y), float(t.z)};
+        tangents->SetTypedTuple(base + vtkIdType(k), tf);
+      }
+      lineObject->InsertNextValue(object);
+      lineThickness->InsertNextValue(w.thicknessInPixels ? 0.0 : w.thickness);
+    }
+    names->InsertNextValue(w.name);
+    ++object;
+  }
+  auto pd = vtkSmartPointer<vtkPolyData>::New();
+  pd->SetPoints(points);
+  pd->SetPolys(polys);
+  pd->SetLines(lines);
+  pd->GetPointData()->SetNormals(normals);
+  pd->GetPointData()->SetTangents(tangents);
+  pd->GetPointData()->SetTCoords(tcoords);
+  pd->GetPointData()->SetScalars(colours);
+  // Cell data runs over vertices, lines, polygons, strips in that order: lines first.
+  vtkNew<vtkIntArray> objectIds;
+  objectIds->SetName("ObjectId");
+  vtkNew<vtkDoubleArray> thickness;
+  thickness->SetName("Thickness");
+  for (vtkIdType i = 0; i < lineObject->GetNumberOfTuples(); ++i) {
+    objectIds->InsertNextValue(lineObject->GetValue(i));
+    thickness->InsertNextValue(lineThickness->GetValue(i));
+  }
+  for (vtkIdType i = 0; i < polyObject->GetNumberOfTuples(); ++i) {
+    objectIds->InsertNextValue(polyObject->GetValue(i));
+    thickness->InsertNextValue(polyThickness->GetValue(i));
+  }
+  pd->GetCellData()->AddArray(objectIds);
+  pd->GetCellData()->AddArray(thickness);
+  pd->GetFieldData()->AddArray(names);
+  return pd;
+}
+
+int runExport(const std::vector<std::string>& a) {
+  std::string input, output;
+  SceneOverrides overrides;
+  for (size_t i = 0; i < a.size(); ++i) {
+    auto need = [&]() -> std::string {
+      if (i + 1 >= a.size()) throw UsageError("option " + a[i] + " needs a value");
+      return a[++i];
+    };
+    if (a[i] == "-o" || a[i] == "--out") output = need();
+    else if (a[i] == "--time") {
+      const std::string v = need();
+      char* end = nullptr;
+      const double t = std::strtod(v.c_str(), &end);
+      if (v.empty() || *end != '\0' || !std::isfinite(t) || std::abs(t) > 1e9)
+        throw UsageError("option --time: expected a number in [-1e9, 1e9], got '" + v + "'");
+      overrides.time = t;
+    } else if (a[i] == "--quiet") {
+    } else if (!a[i].empty() && a[i][0] == '-') throw UsageError("export: unknown option '" + a[i] + "'");
+    else if (input.empty()) input = a[i];
+    else throw UsageError("export: more than one input ('" + input + "' and '" + a[i] + "')");
+  }
+  if (input.empty()) throw UsageError("export: no INPUT (a scene .json or a mesh / polyline file)");
+  if (output.empty()) throw UsageError("export: no output (-o OUT.vtp|.vtk|.obj|.ply)");
+  std::string ext = std::filesystem::path(output).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != ".vtp" && ext != ".vtk" && ext != ".obj" && ext != ".ply")
+    throw UsageError(output + ": the output must be .vtp, .vtk, .obj or .ply");
+  const std::filesystem::path target(output), parent = target.parent_path();
+  std::error_code ec;
+  if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
+    throw UsageError(output + ": the folder " + parent.string() + " does not exist");
+  if (std::filesystem::is_directory(target, ec)) throw UsageError(output + ": is a folder");
+
+  const SceneFile sf = loadInput(input, "", overrides);
+  const vtkSmartPointer<vtkPolyData> pd = sceneToPolyData(sf.scene);
+  if (ext == ".ply" && pd->GetNumberOfLines() > 0)
+    std::cerr << "wirefur: warning: " << output << ": PLY holds no lines: " << pd->GetNumberOfLines()
+              << " wire and hair polylines are left out (use .vtp, .vtk or .obj)\n";
+
+  // Written under a temporary name beside the target and renamed: nothing half-written.
+  std::string tmpName = target.filename().string();
+  tmpName.insert(0, 1, '.');
+  tmpName += ".tmp" + ext;
+  const std::filesystem::path tmp = parent / tmpName;
+  int error = 0;
+  if (ext == ".vtp") {
+    vtkNew<vtkXMLPolyDataWriter> w;
+    w->SetFileName(tmp.string().c_str());
+    w->SetInputData(pd);
+    w->SetDataModeToAppended();
+    w->SetCompressorTypeToZLib();
+    error = w->Write() == 1 ? 0 : 1;
+  } else if (ext == ".vtk") {
+    vtkNew<vtkPolyDataWriter> w;
+    w->SetFileName(tmp.string().c_str());
+    w->SetInputData(pd);
+    w->SetFileTypeToBinary();
+    error = w->Write() == 1 ? 0 : 1;
+  } else if (ext == ".obj") {
+    vtkNew<vtkOBJWriter> w;
+    w->SetFileName(tmp.string().c_str());
+    w->SetInputData(pd);
+    error = w->Write() == 1 ? 0 : 1;
+  } else {
+    vtkNew<vtkPLYWriter> w;
+    w->SetFileName(tmp.string().c_str());
+    w->SetInputData(pd);
+    w->SetFileTypeToBinary();
+    w->SetArrayName("Colors");
+    error = w->Write() == 1 ? 0 : 1;
+  }
+  if (error || !std::filesystem::exists(tmp)) {
+    std::filesystem::remove(tmp, ec);
+    throw std::runtime_error(output + ": cannot write");
+  }
+  std::filesystem::rename(tmp, target, ec);
+  if (ec) {
+    const std::string why = ec.message();
+    std::filesystem::remove(tmp, ec);
+    throw std::runtime_error(output + ": cannot write (" + why + ")");
+  }
+  return 0;
+}
+
+}  // namespace wfapp

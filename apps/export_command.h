@@ -1,0 +1,28 @@
+// `wirefur export INPUT -o OUT.vtp|.vtk|.obj|.ply`: the geometry a scene draws (tessellated
+// surfaces, scales, wires, fur) as one vtkPolyData, written by VTK's writers for use in other
+// tools (docs/cli.md).
+#pragma once
+
+#include "render/scene.h"
+
+#include <vtkSmartPointer.h>
+
+#include <string>
+#include <vector>
+
+class vtkPolyData;
+
+namespace wfapp {
+
+/// The scene's surfaces (triangles) and wires (polylines) in world space, one vtkPolyData:
+/// point arrays "Normals" (surfaces; zero on wires), "Tangents" (surfaces: dS/du or the mesh's
+/// tangents; wires: the polyline direction), "TCoords" ((u, v); zero where there are none),
+/// "Colors" (RGB, the vertex colours that multiply the shading); cell arrays "ObjectId" (index
+/// of the surface, then of the wire, in the scene), "Thickness" (a wire's diameter in world
+/// units, 0 for surfaces and pixel-wide wires); field data "ObjectNames".
+vtkSmartPointer<vtkPolyData> sceneToPolyData(const wf::Scene& scene);
+
+/// Runs the command; returns the exit status.
+int runExport(const std::vector<std::string>& args);
+
+}  // namespace wfapp
