@@ -38,8 +38,9 @@ void mergeInto(Fragment& g, const Fragment& f) {
   g.zmin = std::min(g.zmin, f.zmin);
   g.zmax = std::max(g.zmax, f.zmax);
   g.area = std::min(1.0f, a);
-  g.mask |= f.mask;
-  g.standInMask = g.standInMask && f.standInMask;
+  const MaskBits sampled = (g.mask & ~g.standInBits) | (f.mask & ~f.standInBits);
+  g.standInBits = (g.standInBits | f.standInBits) & ~sampled;
+  g.mask = sampled | g.standInBits;
 }
 }  // namespace
 
@@ -85,7 +86,7 @@ std::size_t TileABuffer::bytes() const {
 }
 
 bool TileABuffer::isSolid(const Fragment& f) const {
-  return f.opacity >= 1.0f && f.area >= kSolidArea && f.mask == layout_.full() && !f.standInMask;
+  return f.opacity >= 1.0f && f.area >= kSolidArea && f.mask == layout_.full() && f.standInBits == 0;
 }
 
 std::int32_t TileABuffer::allocNode() {
@@ -262,13 +263,15 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
   const size_t pixelIndex = size_t(y) * size_t(w_) + size_t(x);
   if (f.mask == 0) {
     f.mask = MaskBits(1) << std::clamp(centroidSubpixel, 0, layout_.samples() - 1);
-    f.standInMask = true;
+    f.standInBits = f.mask;
   }
   // Merge with a recent piece of the same object.
   std::int32_t* link = &p.head;
   for (int look = 0; f.mayMerge && *link >= 0 && look < kMergeLookBack; ++look) {
     Node& n = nodes_[size_t(*link)];
-    if (n.f.tag == f.tag && ((n.f.mask & f.mask) == 0 || n.f.standInMask || f.standInMask) &&
+    // Pieces of one surface never share a sampled subpixel (shared edges split samples); two
+    // layers of one object (a silhouette fold) do, and stay apart.
+    if (n.f.tag == f.tag && ((n.f.mask & ~n.f.standInBits) & (f.mask & ~f.standInBits)) == 0 &&
         depthRangesTouch(n.f, f)) {
       mergeInto(n.f, f);
       ++local_.merged;

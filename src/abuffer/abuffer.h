@@ -47,7 +47,12 @@ struct Fragment {
   glm::vec3 colour{0.0f};    ///< radiance (not premultiplied)
   MaskBits mask = 0;         ///< subpixel samples covered
   std::uint32_t tag = 0;     ///< object id: pieces with the same tag may merge
-  bool standInMask = false;  ///< mask is the centroid's subpixel, not a sampled mask
+  /// Bits of `mask` that stand in for coverage no sample saw (a piece smaller than a subpixel
+  /// gets its centroid's subpixel). A merge drops a stand-in bit once a sampled piece of the
+  /// same object covers that subpixel, so that the merged mask converges to the sampled union and
+  /// its bit count to the merged area (otherwise many tiny pieces leave the object's fragment
+  /// more bits than area, hiding only part of what is behind it).
+  MaskBits standInBits = 0;
   bool mayMerge = true;      ///< false for an object of one piece (a one-segment hair): skips the merge search
 };
 
