@@ -1,0 +1,182 @@
+/**
+ * @class   vtkWireFurTangentShading
+ * @brief   eye-space tangents and pseudo-reflectance-map colours of polylines, for plain VTK mappers
+ *
+ * Input: vtkPolyData whose lines (VTK_LINE and VTK_POLY_LINE cells) are wires, fur or grain in
+ * world space. Output: a shallow copy of the input with these point arrays added:
+ *   - "Tangents" (float, 3): the unit world-space tangent, set as the active tangents;
+ *   - "EyeTangents" (float, 3): the same tangent in the eye space of the camera (camera at the
+ *     origin looking down -z, viewer on +z: the space the maps are built in);
+ *   - "ShadedRadiance" (float, 3): linear RGB radiance of the wire drawn as a thin cylinder of
+ *     that axis (Miller 1988, section 2.2), unclamped;
+ *   - "ShadedColor" (unsigned char, 3): ShadedRadiance clamped to [0, 1] and sRGB-encoded, set as
+ *     the active scalars, so a vtkPolyDataMapper shows it as it is (or select it with
+ *     ScalarModeToUsePointFieldData + SelectColorArray("ShadedColor")).
+ *
+ * Tangent at a point: the normalised sum of the unit directions of its incoming and outgoing
+ * segments (one-sided at the ends of an open line; a closed polyline, first point id = last, wraps
+ * around). Zero-length segments are skipped (a repeated point takes the tangent of the points
+ * around it); segments touching a NaN / Inf point are not used. A point shared by several cells
+ * sums the cells' tangents, each with the sign that agrees with the first cell's (T and -T are the
+ * same cylinder). Where incoming and outgoing cancel (a hairpin) the incoming direction is used.
+ * A point with no usable segment gets (0, 0, 0) and is counted in DegeneratePoints; it shades as
+ * a cylinder seen end-on (the core's convention). A point with a NaN or Inf coordinate gets the
+ * tangent (0, 0, 0) and black, is counted in NonFinitePoints, and one warning gives the count.
+ *
+ * Eye space is given by Camera's view transform (eye-from-world = its rotation part; Camera's
+ * model transform is not used). Without a Camera the Renderer's active camera is used, and
+ * without either a default vtkCamera (at (0, 0, 1) looking at the origin, +y up).
+ *
+ * Lights (converted to directional lights in eye space, direction towards the light):
+ *   - without a Renderer: the studio rig of LightCount lights fixed to the viewer (the rig of
+ *     vtkWireFurMapSource and the core's pictures), plus Ambient;
+ *   - with a Renderer: its vtkLights that are switched on, intensity = Intensity * DiffuseColor,
+ *     plus Ambient. A Headlight shines along the view axis (eye direction (0, 0, 1)); a CameraLight's
+ *     Position - FocalPoint is already an eye-space direction (VTK's light coordinates: camera at
+ *     (0, 0, 1) looking at the origin); a SceneLight's transformed Position - FocalPoint is a world
+ *     direction, rotated into eye space. Positional lights and spot lights are taken as directional
+ *     lights along their axis (the map assumes lights at infinity); attenuation, cone and specular
+ *     colour are ignored. A renderer with no lights at all and AutomaticLightCreation on gets the
+ *     white headlight of intensity 1 that VTK would create when it renders.
+ *
+ * Shading: by default one lookup per point in a PseudoReflectanceMap (the paper's orthographic
+ * assumption: view vector (0, 0, 1) in eye space). The map is a member, rebuilt only when the
+ * material, the eye-space lights or the map options change (paper: "recomputed if the camera
+ * rotates or moves relative to the lights"): a camera moving with its lights (studio rig, headlight,
+ * camera lights) or a camera only translated among scene lights reuses it. MapBuilds counts the
+ * builds. At each build ErrorEstimate is set to the largest difference (any RGB component) between
+ * the map and the exact cylinder integral (view (0, 0, 1)) over 192 tangents spread evenly over
+ * the sphere. With ExactShading on, every point is shaded by the exact integral
+ * (cylinderRadianceExact, relative tolerance ExactTolerance) at its true view vector (perspective
+ * correct), no map is built, and ErrorEstimate is 0. Empty input gives an empty output and no error.
+ *
+ * Defaults: Camera = none, Renderer = none, Diffuse = (0.55, 0.1, 0.06), Specular = (1, 1, 1),
+ * Exponent = 20, Ambient = (0.05, 0.05, 0.05), LightCount = 3, ExactShading = off,
+ * ExactTolerance = 1e-8, MapResolution = 128, MapSamples = 64.
+ *
+ * The Renderer is held by a weak reference (it usually owns the actor that shows this output).
+ */
+#ifndef vtkWireFurTangentShading_h
+#define vtkWireFurTangentShading_h
+
+#include "WireFurFiltersModule.h"
+#include "vtkPolyDataAlgorithm.h"
+#include "vtkSmartPointer.h"
+#include "vtkWeakPointer.h"
+
+class vtkCamera;
+class vtkRenderer;
+
+class WIREFURFILTERS_EXPORT vtkWireFurTangentShading : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkWireFurTangentShading* New();
+  vtkTypeMacro(vtkWireFurTangentShading, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// The camera whose eye space the tangents and shading are computed in. Default none (the
+  /// Renderer's active camera, else a default vtkCamera).
+  void SetCamera(vtkCamera* camera);
+  vtkCamera* GetCamera();
+  ///@}
+
+  ///@{
+  /// The renderer whose lights shade the wires (held weakly). Default none: the studio rig.
+  void SetRenderer(vtkRenderer* renderer);
+  vtkRenderer* GetRenderer();
+  ///@}
+
+  ///@{
+  /// The Phong material. Defaults: diffuse (0.55, 0.1, 0.06), specular (1, 1, 1), exponent 20
+  /// (0 ... 1e6).
+  vtkSetVector3Macro(Diffuse, double);
+  vtkGetVector3Macro(Diffuse, double);
+  vtkSetVector3Macro(Specular, double);
+  vtkGetVector3Macro(Specular, double);
+  vtkSetClampMacro(Exponent, double, 0.0, 1e6);
+  vtkGetMacro(Exponent, double);
+  ///@}
+
+  ///@{
+  /// Ambient light (linear RGB), added to either kind of lights. Default (0.05, 0.05, 0.05).
+  vtkSetVector3Macro(Ambient, double);
+  vtkGetVector3Macro(Ambient, double);
+  ///@}
+
+  ///@{
+  /// Lights of the studio rig fixed to the viewer, used without a Renderer (1 ... 7). Default 3.
+  vtkSetClampMacro(LightCount, int, 1, 7);
+  vtkGetMacro(LightCount, int);
+  ///@}
+
+  ///@{
+  /// Shade every point by the exact cylinder integral at its true view vector instead of the
+  /// map. Default off.
+  vtkSetMacro(ExactShading, vtkTypeBool);
+  vtkGetMacro(ExactShading, vtkTypeBool);
+  vtkBooleanMacro(ExactShading, vtkTypeBool);
+  ///@}
+
+  ///@{
+  /// Relative tolerance of the exact path's specular quadrature (1e-14 ... 1e-2). Default 1e-8.
+  vtkSetClampMacro(ExactTolerance, double, 1e-14, 1e-2);
+  vtkGetMacro(ExactTolerance, double);
+  ///@}
+
+  ///@{
+  /// Texel nodes per side of each pseudo-reflectance map (8 ... 4096). Default 128.
+  vtkSetClampMacro(MapResolution, int, 8, 4096);
+  vtkGetMacro(MapResolution, int);
+  ///@}
+
+  ///@{
+  /// Normals averaged across the cylinder for a map texel (1 ... 65536). Default 64.
+  vtkSetClampMacro(MapSamples, int, 1, 65536);
+  vtkGetMacro(MapSamples, int);
+  ///@}
+
+  /// How many times the map has been built by this filter.
+  int GetMapBuilds();
+  /// Seconds the last map build took (0 before the first).
+  double GetMapSeconds();
+  /// Largest map-versus-exact difference measured at the last map build (0 with ExactShading).
+  vtkGetMacro(ErrorEstimate, double);
+  /// Points of the last execution with a NaN or Inf coordinate.
+  vtkGetMacro(NonFinitePoints, vtkIdType);
+  /// Finite points of the last execution with no usable segment (tangent (0, 0, 0)).
+  vtkGetMacro(DegeneratePoints, vtkIdType);
+
+  /// Includes the camera's and the renderer's lights' modification times.
+  vtkMTimeType GetMTime() override;
+
+protected:
+  vtkWireFurTangentShading();
+  ~vtkWireFurTangentShading() override;
+
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  vtkSmartPointer<vtkCamera> Camera;
+  vtkWeakPointer<vtkRenderer> Renderer;
+  double Diffuse[3] = { 0.55, 0.1, 0.06 };
+  double Specular[3] = { 1.0, 1.0, 1.0 };
+  double Exponent = 20.0;
+  double Ambient[3] = { 0.05, 0.05, 0.05 };
+  int LightCount = 3;
+  vtkTypeBool ExactShading = 0;
+  double ExactTolerance = 1e-8;
+  int MapResolution = 128;
+  int MapSamples = 64;
+  double ErrorEstimate = 0.0;
+  vtkIdType NonFinitePoints = 0;
+  vtkIdType DegeneratePoints = 0;
+
+private:
+  vtkWireFurTangentShading(const vtkWireFurTangentShading&) = delete;
+  void operator=(const vtkWireFurTangentShading&) = delete;
+
+  class vtkInternals;
+  vtkInternals* Internals;
+};
+
+#endif
