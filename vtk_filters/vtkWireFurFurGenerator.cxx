@@ -1,0 +1,266 @@
+#include "vtkWireFurFurGenerator.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkObjectFactory.h"
+#include "vtkParametricFunction.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkTypeUInt64Array.h"
+#include "vtkUnsignedCharArray.h"
+
+#include "growth/fur.h"
+#include "wf_vtk_surfaces.h"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+
+vtkStandardNewMacro(vtkWireFurFurGenerator);
+vtkCxxSetObjectMacro(vtkWireFurFurGenerator, ParametricFunction, vtkParametricFunction);
+
+
+vtkWireFurFurGenerator::vtkWireFurFurGenerator()
+{
+  this->SetNumberOfInputPorts(1);
+}
+
+vtkWireFurFurGenerator::~vtkWireFurFurGenerator()
+{
+  this->SetParametricFunction(nullptr);
+}
+
+vtkMTimeType vtkWireFurFurGenerator::GetMTime()
+{
+  vtkMTimeType t = this->Superclass::GetMTime();
+  if (this->ParametricFunction)
+  {
+    t = std::max(t, this->ParametricFunction->GetMTime());
+  }
+  return t;
+}
+
+int vtkWireFurFurGenerator::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+  return 1;
+}
+
+int vtkWireFurFurGenerator::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* output = vtkPolyData::GetData(outputVector);
+  output->Initialize();
+  vtkPolyData* input =
+    this->ParametricFunction ? nullptr : vtkPolyData::GetData(inputVector[0], 0);
+
+  // Problems are reported and give an empty output; the pipeline goes on (return 1).
+  std::string problem;
+  const std::shared_ptr<const wf::Surface> surface =
+    wf::vtkio::growthSurface(this->ParametricFunction, input, problem);
+  if (!surface)
+  {
+    vtkErrorMacro(<< problem);
+    return 1;
+  }
+
+  wf::FurParams p;
+  p.seed = this->Seed;
+  p.placement = this->Placement == AreaCorrect ? wf::FurParams::Placement::AreaCorrect
+                                               : wf::FurParams::Placement::Grid;
+  p.gridU = this->GridU;
+  p.gridV = this->GridV;
+  p.jitter = this->Jitter;
+  p.density = this->Density;
+  p.cellsU = this->CellsU;
+  p.cellsV = this->CellsV;
+  p.orientation = glm::dvec3(this->Orientation[0], this->Orientation[1], this->Orientation[2]);
+  p.unitTangents = this->UnitTangents != 0;
+  p.lengthMode = this->LengthMode == Paper ? wf::FurParams::LengthMode::Paper
+    : this->LengthMode == ProportionalToSu ? wf::FurParams::LengthMode::ProportionalToSu
+                                           : wf::FurParams::LengthMode::Fixed;
+  p.length = this->Length;
+  p.lengthPerSu = this->LengthPerSu;
+  p.lengthVariation = this->LengthVariation;
+  p.intensityVariation = this->IntensityVariation;
+  p.segments = this->Segments;
+  p.gravity = this->Gravity;
+  p.gravityDirection =
+    glm::dvec3(this->GravityDirection[0], this->GravityDirection[1], this->GravityDirection[2]);
+  p.curlAmplitude = this->CurlAmplitude;
+  p.curlFrequency = this->CurlFrequency;
+  p.clumping = this->Clumping;
+  p.clumpCellsU = this->ClumpCellsU;
+  p.clumpCellsV = this->ClumpCellsV;
+  p.windDirection =
+    glm::dvec3(this->WindDirection[0], this->WindDirection[1], this->WindDirection[2]);
+  p.windStrength = this->WindStrength;
+  p.windSway = this->WindSway;
+  p.windFrequency = this->WindFrequency;
+  p.time = this->Time;
+  p.rootColour = glm::vec3(glm::dvec3(this->RootColor[0], this->RootColor[1], this->RootColor[2]));
+  p.tipColour = glm::vec3(glm::dvec3(this->TipColor[0], this->TipColor[1], this->TipColor[2]));
+  p.thickness = this->Thickness;
+  if (const std::string why = p.problem(); !why.empty())
+  {
+    vtkErrorMacro(<< "invalid fur parameters: " << why);
+    return 1;
+  }
+
+  this->UpdateProgress(0.0);
+  if (this->GetAbortExecute())
+  {
+    return 1;
+  }
+  wf::Fur fur;
+  try
+  {
+    fur = wf::growFur(*surface, p, this->PatchIndex);
+  }
+  catch (const std::exception& e)
+  {
+    vtkErrorMacro(<< "fur on " << surface->describe() << ": " << e.what());
+    return 1;
+  }
+  this->UpdateProgress(0.8);
+  if (this->GetAbortExecute())
+  {
+    return 1;
+  }
+  vtkDebugMacro(<< "fur on " << surface->describe() << ": " << fur.counts.hairs << " hairs of "
+                << fur.counts.rootsTried << " roots (" << fur.counts.skippedDegenerate
+                << " not on the surface, " << fur.counts.skippedZeroLength << " zero length)");
+
+  const vtkIdType nPoints = vtkIdType(fur.hairs.points.size());
+  const vtkIdType nHairs = vtkIdType(fur.hairs.polylineCount());
+
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(nPoints);
+  vtkNew<vtkUnsignedCharArray> colors;
+  colors->SetName("Colors");
+  colors->SetNumberOfComponents(3);
+  colors->SetNumberOfTuples(nPoints);
+  const bool haveColours = fur.hairs.colours.size() == fur.hairs.points.size();
+  auto* xyz = vtkDoubleArray::SafeDownCast(points->GetData())->GetPointer(0);
+  unsigned char* rgb = colors->GetPointer(0);
+  wf::vtkio::parallelFor(0, nPoints, [&](std::int64_t begin, std::int64_t end) {
+    for (vtkIdType i = vtkIdType(begin); i < vtkIdType(end); ++i)
+    {
+      const glm::dvec3& q = fur.hairs.points[size_t(i)];
+      xyz[3 * i] = q.x;
+      xyz[3 * i + 1] = q.y;
+      xyz[3 * i + 2] = q.z;
+      const glm::vec3 c = haveColours ? fur.hairs.colours[size_t(i)] : glm::vec3(1.0f);
+      rgb[3 * i] = wf::vtkio::srgb8(c.x);
+      rgb[3 * i + 1] = wf::vtkio::srgb8(c.y);
+      rgb[3 * i + 2] = wf::vtkio::srgb8(c.z);
+    }
+  });
+  this->UpdateProgress(0.9);
+
+  vtkNew<vtkIdTypeArray> offsets, connectivity;
+  offsets->SetNumberOfTuples(nHairs + 1);
+  connectivity->SetNumberOfTuples(nPoints);
+  vtkNew<vtkTypeUInt64Array> ids;
+  ids->SetName("HairId");
+  ids->SetNumberOfTuples(nHairs);
+  vtkNew<vtkDoubleArray> rootUv;
+  rootUv->SetName("RootUV");
+  rootUv->SetNumberOfComponents(2);
+  rootUv->SetNumberOfTuples(nHairs);
+  for (vtkIdType h = 0; h <= nHairs; ++h)
+  {
+    offsets->SetValue(h, nHairs > 0 ? vtkIdType(fur.hairs.starts[size_t(h)]) : 0);
+  }
+  wf::vtkio::parallelFor(0, nPoints, [&](std::int64_t begin, std::int64_t end) {
+    for (vtkIdType i = vtkIdType(begin); i < vtkIdType(end); ++i)
+    {
+      connectivity->SetValue(i, i);
+    }
+  });
+  for (vtkIdType h = 0; h < nHairs; ++h)
+  {
+    ids->SetValue(h, fur.ids[size_t(h)]);
+    rootUv->SetTypedTuple(h, &fur.rootUvs[size_t(h)].x);
+  }
+  vtkNew<vtkCellArray> lines;
+  if (nHairs > 0)
+  {
+    lines->SetData(offsets, connectivity);
+  }
+
+  vtkNew<vtkDoubleArray> thickness;
+  thickness->SetName("Thickness");
+  thickness->SetNumberOfTuples(1);
+  thickness->SetValue(0, fur.thickness);
+
+  output->SetPoints(points);
+  output->SetLines(lines);
+  output->GetPointData()->SetScalars(colors);
+  output->GetCellData()->AddArray(ids);
+  output->GetCellData()->AddArray(rootUv);
+  output->GetFieldData()->AddArray(thickness);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+void vtkWireFurFurGenerator::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  auto v3 = [&](const char* name, const double* v) {
+    os << indent << name << ": " << v[0] << " " << v[1] << " " << v[2] << "\n";
+  };
+  os << indent << "ParametricFunction: ";
+  if (this->ParametricFunction)
+  {
+    os << this->ParametricFunction->GetClassName() << " (" << this->ParametricFunction << ")\n";
+  }
+  else
+  {
+    os << "(none)\n";
+  }
+  os << indent << "Placement: " << (this->Placement == AreaCorrect ? "AreaCorrect" : "Grid") << "\n";
+  os << indent << "GridU: " << this->GridU << "\n";
+  os << indent << "GridV: " << this->GridV << "\n";
+  os << indent << "Jitter: " << this->Jitter << "\n";
+  os << indent << "Density: " << this->Density << "\n";
+  os << indent << "CellsU: " << this->CellsU << "\n";
+  os << indent << "CellsV: " << this->CellsV << "\n";
+  v3("Orientation", this->Orientation);
+  os << indent << "UnitTangents: " << (this->UnitTangents ? "On" : "Off") << "\n";
+  os << indent << "LengthMode: "
+     << (this->LengthMode == Paper ? "Paper"
+           : this->LengthMode == ProportionalToSu ? "ProportionalToSu"
+                                                  : "Fixed")
+     << "\n";
+  os << indent << "Length: " << this->Length << "\n";
+  os << indent << "LengthPerSu: " << this->LengthPerSu << "\n";
+  os << indent << "LengthVariation: " << this->LengthVariation << "\n";
+  os << indent << "IntensityVariation: " << this->IntensityVariation << "\n";
+  os << indent << "Segments: " << this->Segments << "\n";
+  os << indent << "Gravity: " << this->Gravity << "\n";
+  v3("GravityDirection", this->GravityDirection);
+  os << indent << "CurlAmplitude: " << this->CurlAmplitude << "\n";
+  os << indent << "CurlFrequency: " << this->CurlFrequency << "\n";
+  os << indent << "Clumping: " << this->Clumping << "\n";
+  os << indent << "ClumpCellsU: " << this->ClumpCellsU << "\n";
+  os << indent << "ClumpCellsV: " << this->ClumpCellsV << "\n";
+  v3("WindDirection", this->WindDirection);
+  os << indent << "WindStrength: " << this->WindStrength << "\n";
+  os << indent << "WindSway: " << this->WindSway << "\n";
+  os << indent << "WindFrequency: " << this->WindFrequency << "\n";
+  os << indent << "Time: " << this->Time << "\n";
+  v3("RootColor", this->RootColor);
+  v3("TipColor", this->TipColor);
+  os << indent << "Thickness: " << this->Thickness << "\n";
+  os << indent << "Seed: " << this->Seed << "\n";
+  os << indent << "PatchIndex: " << this->PatchIndex << "\n";
+}

@@ -1,0 +1,169 @@
+// Adapters from VTK data to the core's one surface concept (src/surface/surface.h, DESIGN.md "One
+// surface concept"): a vtkParametricFunction (exact derivatives where the function gives them) and
+// a triangle mesh with texture coordinates (piecewise linear, derivatives constant per triangle).
+// The fur and scale generators and the burnish filter of this module only ever see wf::Surface.
+//
+// Thread safety. The core generators call Surface::evaluate from oneTBB threads.
+// - vtkParametricFunction::Evaluate is not const. The closed-form functions VTK ships
+//   (vtkParametricTorus, ...Ellipsoid, ...Klein, ...: see kConcurrentParametricClasses in the .cxx)
+//   only read their parameters in Evaluate, so they are called concurrently. Any other class (a
+//   user subclass, vtkParametricSpline whose splines rebuild themselves lazily, vtkParametricRandomHills
+//   which reads a vtkDoubleArray through its shared tuple buffer) is called under a mutex: exact, but
+//   serial. The class name is matched exactly, so a subclass of vtkParametricTorus takes the mutex.
+// - MeshSurface copies the mesh into its own arrays when built and is read-only afterwards.
+// Neither adapter may outlive a change of its VTK object: build a new one per RequestData.
+#pragma once
+
+#include "surface/surface.h"
+
+#include <glm/glm.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "WireFurFiltersModule.h"  // exported for the module's tests
+#include "vtkSmartPointer.h"
+
+class vtkDataArray;
+class vtkParametricFunction;
+class vtkPolyData;
+
+namespace wf::vtkio {
+
+/// A vtkParametricFunction as a wf::Surface. Domain MinimumU..MaximumU x MinimumV..MaximumV,
+/// periodic where JoinU / JoinV (TwistU / TwistV are not modelled: the wrap is plain). Outside the
+/// domain (u, v) is clamped, or wrapped where periodic.
+///
+/// Derivatives: VTK's DerivativesAvailable flag is not reliable (vtkParametricTorus documents 0 and
+/// fills Duvw exactly). So the adapter probes: at 9 interior points it compares Duvw with central
+/// differences; when they agree (relative 1e-4) the function's own derivatives are used (exact),
+/// otherwise central differences of the point with step h = 1e-5 of the domain (one-sided at the
+/// border), error O(h^2) relative to the surface's curvature: exactDerivatives() says which.
+class WIREFURFILTERS_EXPORT ParametricFunctionSurface final : public Surface {
+ public:
+  explicit ParametricFunctionSurface(vtkParametricFunction* function);
+  ~ParametricFunctionSurface() override;
+
+  /// Empty when usable; else one line (no function, a domain bound NaN / infinite, an empty domain).
+  const std::string& problem() const { return problem_; }
+  ParameterDomain domain() const override { return domain_; }
+  SurfacePoint evaluate(double u, double v) const override;
+  std::string describe() const override;
+
+  bool exactDerivatives() const { return exact_; }
+  /// True when Evaluate is called from several threads at once (see top), false under a mutex.
+  bool concurrent() const { return concurrent_; }
+
+ private:
+  void raw(double u, double v, double P[3], double D[9]) const;
+  glm::dvec3 point(double u, double v) const;
+  glm::dvec2 wrap(double u, double v) const;
+
+  vtkSmartPointer<vtkParametricFunction> function_;
+  ParameterDomain domain_;
+  std::string problem_;
+  bool exact_ = false, concurrent_ = false;
+  mutable std::mutex mutex_;
+};
+
+/// A triangle mesh with texture coordinates as a wf::Surface over texture space: (u, v) are the
+/// mesh's texture coordinates, the domain their bounding box (not periodic). evaluate(u, v) finds
+/// the triangle holding (u, v) in texture space (a uniform grid over the uv triangles, about one
+/// triangle per cell), P by barycentric interpolation, and Su = dP/du, Sv = dP/dv from that
+/// triangle's affine map (constant per triangle). On a shared edge the triangle with the largest
+/// smallest barycentric coordinate wins (then the lower index): deterministic.
+///
+/// Where (u, v) lies in no triangle (a hole in the uv layout, the corner of the bounding box outside
+/// a round chart) the point is NaN and Su = Sv = 0: the generators skip such roots (fur counts them
+/// in FurCounts::skippedDegenerate, scales leave them out). Where the layout overlaps itself (a
+/// mirrored or repeated chart) one of the overlapping triangles is used.
+///
+/// Polygons are fanned from their first vertex (convex polygons: vtkPlaneSource, vtkDiskSource
+/// quads), strips split. Left out of the lookup: triangles of zero area in uv or in space (below
+/// 1e-12 of the squared bounding-box diagonal: the joined corner of a closed layout), and
+/// triangles wound in uv against the majority (by uv area) — a seam that wraps back across the
+/// layout (vtkParametricFunctionSource with JoinU joins s = 1 to s = 0: without this rule those
+/// slivers cover the whole row in uv and put the roots on the seam) or the mirrored half of an
+/// overlapping layout (vtkCylinderSource's u runs 1 -> 0 -> 1); a fold-over of a distorted uv map
+/// becomes a hole.
+class WIREFURFILTERS_EXPORT MeshSurface final : public Surface {
+ public:
+  /// Texture coordinates: the active TCoords, else a point array named "TCoords" or
+  /// "TextureCoordinates" with at least 2 components. gridCells 0 picks about one cell per triangle.
+  explicit MeshSurface(vtkPolyData* mesh, int gridCells = 0);
+
+  /// Empty when usable; else one line (no texture coordinates, a NaN point or texture coordinate,
+  /// no triangle with a non-zero uv area).
+  const std::string& problem() const { return problem_; }
+  ParameterDomain domain() const override { return domain_; }
+  SurfacePoint evaluate(double u, double v) const override;
+  std::string describe() const override;
+
+  std::size_t triangleCount() const { return triangles_.size(); }
+  /// The triangle holding (u, v) and its barycentric coordinates; false when none does.
+  bool locate(double u, double v, std::size_t& triangle, glm::dvec3& barycentric) const;
+
+ private:
+  struct Triangle {
+    std::uint32_t v[3];
+    glm::dvec3 Su, Sv;       ///< dP/du, dP/dv of the triangle's affine map
+    glm::dmat2 toBary;       ///< (u, v) - uv[v0] -> (b1, b2)
+    glm::dvec2 lo, hi;       ///< uv bounding box
+  };
+  std::vector<glm::dvec3> positions_;
+  std::vector<glm::dvec2> uvs_;
+  std::vector<Triangle> triangles_;
+  ParameterDomain domain_;
+  int nx_ = 1, ny_ = 1;
+  std::vector<std::uint32_t> cellStart_, cellTriangles_;  ///< CSR: triangles overlapping each cell
+  std::string problem_;
+};
+
+/// Parallel loop body(first, last) over [begin, end) in blocks, on oneTBB directly. vtkSMPTools (whose
+/// Debian backend is the same oneTBB) is the VTK idiom, but VTK 9.1's vtkSMPTools.h does not compile
+/// as C++20 with GCC 12 (a template-id as constructor name, vtkSMPTools.h:106; CWG 2237). Call it
+/// from the filter's own thread; the body must not call UpdateProgress (not thread-safe).
+template <class Body>
+void parallelFor(std::int64_t begin, std::int64_t end, Body&& body) {
+  if (end <= begin) return;
+  tbb::parallel_for(tbb::blocked_range<std::int64_t>(begin, end, 1024),
+                    [&](const tbb::blocked_range<std::int64_t>& r) { body(r.begin(), r.end()); });
+}
+
+/// A linear colour value as 8-bit sRGB (IEC 61966-2-1), clamped to [0, 1]; NaN -> 0. The module's
+/// 8-bit "Colors" arrays are sRGB, as VTK shows them and as vtkWireFurRenderPass decodes them.
+WIREFURFILTERS_EXPORT unsigned char srgb8(float linear);
+
+/// The texture coordinate array of `mesh` as MeshSurface picks it (see there), or nullptr.
+WIREFURFILTERS_EXPORT vtkDataArray* textureCoordinates(vtkPolyData* mesh);
+
+/// The triangles of the polygons and strips of `mesh` (fanned, split), as point id triples.
+WIREFURFILTERS_EXPORT std::vector<glm::uvec3> triangulate(vtkPolyData* mesh);
+
+/// Index of the first point of `mesh` with a NaN or infinite coordinate, or -1.
+WIREFURFILTERS_EXPORT std::int64_t firstNonFinitePoint(vtkPolyData* mesh);
+
+/// The surface a generator grows on: `function` when set, else `mesh` (which needs texture
+/// coordinates). nullptr and a one-line `problem` when neither is usable.
+WIREFURFILTERS_EXPORT std::shared_ptr<const Surface> growthSurface(vtkParametricFunction* function, vtkPolyData* mesh,
+                                             std::string& problem);
+
+/// Burnish grain (paper §2.2; the core renderer's rule, src/render/surface_shading.cpp): the grain
+/// direction at a point, in the tangent plane of unit normal N, unit length. U: along Su; V: along
+/// Sv; Radial: away from the axis; Circular: around it (axisDirection x radial offset). Where that
+/// direction vanishes or is along N (on the axis, a zero derivative) the result is a fixed
+/// perpendicular of N; with N zero the direction itself is normalised, or (1, 0, 0). Never NaN.
+enum class Grain { U = 0, V = 1, Radial = 2, Circular = 3 };
+WIREFURFILTERS_EXPORT glm::dvec3 grainTangent(Grain grain, const glm::dvec3& P, const glm::dvec3& N, const glm::dvec3& Su,
+                        const glm::dvec3& Sv, const glm::dvec3& axisPoint, const glm::dvec3& unitAxis);
+/// The groove coordinate of the core (render/scene.h, Burnish::grooves): v for grain U, u for grain
+/// V, the turn about the axis in [0, 1) for radial grain, the distance from the axis for circular.
+WIREFURFILTERS_EXPORT double grooveCoordinate(Grain grain, const glm::dvec3& P, const glm::dvec2& uv, const glm::dvec3& axisPoint,
+                        const glm::dvec3& unitAxis);
+
+}  // namespace wf::vtkio
