@@ -28,6 +28,8 @@ std::string RenderOptions::problem() const {
   if (map.samples < 1 || map.samples > 65536) return "map samples must be 1 ... 65536";
   if (sphereResolution < 8 || sphereResolution > 8192) return "sphere resolution must be 8 ... 8192";
   if (viewGrid < 1 || viewGrid > 16) return "view grid must be 1 ... 16";
+  if (opaqueDepth && opaqueDepth->size() != size_t(width) * size_t(height))
+    return "opaque depth must hold width x height values";
   return {};
 }
 
@@ -206,6 +208,22 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
       }
       TileABuffer& buf = buffers.local();
       buf.reset(tx1 - tx0, ty1 - ty0);
+      // The external opaque depth (RenderOptions::opaqueDepth): its farthest value over the
+      // tile rejects whole primitives behind it, its per-pixel value single fragments.
+      const float* opaque = options.opaqueDepth ? options.opaqueDepth->data() : nullptr;
+      float opaqueTileMax = INFINITY;
+      if (opaque) {
+        opaqueTileMax = 0.0f;
+        for (int y = ty0; y < ty1 && opaqueTileMax < INFINITY; ++y)
+          for (int x = tx0; x < tx1; ++x) {
+            const float d = opaque[size_t(y) * size_t(options.width) + size_t(x)];
+            if (!(d <= opaqueTileMax)) opaqueTileMax = std::isnan(d) ? INFINITY : d;
+          }
+      }
+      auto opaqueAt = [&](int x, int y) {
+        const float d = opaque[size_t(y) * size_t(options.width) + size_t(x)];
+        return std::isnan(d) ? INFINITY : d;
+      };
       // Front to back by nearest depth (ties by primitive order: a strict order, so the same
       // whatever the thread count), so that the exact occlusion test discards most of what lies
       // behind before it is rasterised.
@@ -217,7 +235,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
         const TileBins::Item& item = order[oi];
         // Hierarchical occlusion first, from the bin item alone: is the primitive behind
         // everything over its bounding box?
-        if (item.zlo >= buf.regionOcclusionDepth(item.x0, item.y0, item.x1, item.y1)) {
+        if (item.zlo >= buf.regionOcclusionDepth(item.x0, item.y0, item.x1, item.y1) || item.zlo >= opaqueTileMax) {
           ++occludedPrims.local();
           continue;
         }
@@ -228,7 +246,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
         }
         const Primitive& prim = ps.primitives[item.index];
         auto occluded = [&](int x, int y, double zmin) {
-          if (!(zmin >= buf.occlusionDepth(x - tx0, y - ty0))) return false;
+          if (!(zmin >= buf.occlusionDepth(x - tx0, y - ty0)) && !(opaque && zmin >= opaqueAt(x, y))) return false;
           buf.countCulled(x - tx0, y - ty0);
           return true;
         };
@@ -240,6 +258,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
         rasterizePolygon(ps, prim, tx0, ty0, tx1, ty1, options.mask, occludedRow, occluded, [&](const PixelCoverage& pc) {
           Fragment f;
           depthRange(ps, prim, pc, f.zmin, f.zmax, f.zkey);
+          if (opaque && !(f.zkey < opaqueAt(pc.x, pc.y))) return;  // behind the external surface
           f.area = float(pc.area);
           f.mask = pc.mask;
           f.opacity = prim.opacity;

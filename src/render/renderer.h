@@ -46,6 +46,14 @@ struct RenderOptions {
   /// point-sampled at the fragment's centroid (false: the unfiltered baseline of the accuracy
   /// study). The reference renderer always point-samples at every sub-sample.
   bool filterTextures = true;
+  /// External opaque depth (optional, not owned): width * height view depths d = -z_eye, row 0
+  /// at the top, +inf (or NaN) where nothing opaque lies. It stands for an opaque surface drawn
+  /// elsewhere (OpenGL, by vtkWireFurRenderPass) that the image is composited over: a fragment
+  /// counts only if its depth at the shading point (the centroid of its coverage, `zkey`) is
+  /// nearer than the opaque depth at its pixel; otherwise it is dropped before shading. One
+  /// depth per pixel, so the edge of that opaque surface across a fragment is not antialiased
+  /// (the surface drawn elsewhere is not either). render() only; renderReference ignores it.
+  const std::vector<float>* opaqueDepth = nullptr;
   int referenceSamples = 16;  ///< brute-force reference: n x n stratified samples per pixel
   std::uint64_t referenceSeed = 1;
   /// Empty when usable; otherwise what is wrong.
