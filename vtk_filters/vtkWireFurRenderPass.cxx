@@ -1,0 +1,414 @@
+#include "vtkWireFurRenderPass.h"
+
+#include "wf_render_pass_scene.h"
+
+#include "render/renderer.h"
+
+#include "vtkActor.h"
+#include "vtkActor2D.h"
+#include "vtkCamera.h"
+#include "vtkInformation.h"
+#include "vtkInformationDoubleKey.h"
+#include "vtkInformationIntegerKey.h"
+#include "vtkMatrix4x4.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkOpenGLFramebufferObject.h"
+#include "vtkOpenGLQuadHelper.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLShaderCache.h"
+#include "vtkOpenGLState.h"
+#include "vtkProp.h"
+#include "vtkRenderState.h"
+#include "vtkRenderStepsPass.h"
+#include "vtkRenderer.h"
+#include "vtkShaderProgram.h"
+#include "vtkSmartPointer.h"
+#include "vtkTextureObject.h"
+#include "vtk_glew.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <memory>
+#include <vector>
+
+vtkStandardNewMacro(vtkWireFurRenderPass);
+vtkInformationKeyMacro(vtkWireFurRenderPass, WIREFUR, Integer);
+vtkInformationKeyMacro(vtkWireFurRenderPass, WIREFUR_WIRE_THICKNESS, Double);
+vtkInformationKeyMacro(vtkWireFurRenderPass, WIREFUR_WIRE_STYLE, Integer);
+
+namespace {
+
+const char* kCopyVS = R"(//VTK::System::Dec
+in vec4 ndCoordIn;
+in vec2 texCoordIn;
+out vec2 texCoord;
+void main()
+{
+  gl_Position = ndCoordIn;
+  texCoord = texCoordIn;
+}
+)";
+
+// Texel for pixel: the quad spans the viewport, so the texel under a fragment is
+// floor(texCoord x size) (texCoord is (i + 0.5) / size at pixel centres; no filtering).
+const char* kCopyFS = R"(//VTK::System::Dec
+in vec2 texCoord;
+uniform sampler2D source;
+//VTK::Output::Dec
+void main(void)
+{
+  ivec2 size = textureSize(source, 0);
+  ivec2 p = clamp(ivec2(floor(texCoord * vec2(size))), ivec2(0), size - ivec2(1));
+  gl_FragData[0] = texelFetch(source, p, 0);
+}
+)";
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+class vtkWireFurRenderPass::vtkInternals
+{
+public:
+  std::vector<wfvtk::ActorPiece> Pieces;  ///< conversion cache, in marked-prop order
+  wf::Scene Scene;                        ///< the pieces assembled (camera and lights per frame)
+  std::vector<vtkProp*> DelegateProps, OverlayProps;
+  std::vector<vtkActor*> Marked;
+  std::vector<float> WindowDepth, ViewDepth;
+  std::vector<unsigned char> Colour;
+  float SrgbToLinear[256];
+  vtkSmartPointer<vtkTextureObject> Texture;
+  vtkSmartPointer<vtkOpenGLFramebufferObject> Resolve;  ///< multisampled framebuffers resolve here
+  std::unique_ptr<vtkOpenGLQuadHelper> Quad;
+
+  vtkInternals()
+  {
+    for (int i = 0; i < 256; ++i)
+      this->SrgbToLinear[i] = wfvtk::srgbToLinear(float(i) / 255.0f);
+  }
+
+  /// Converts what changed; true when the assembled scene was rebuilt.
+  bool UpdateScene()
+  {
+    bool changed = this->Pieces.size() != this->Marked.size();
+    this->Pieces.resize(this->Marked.size());
+    for (size_t i = 0; i < this->Marked.size(); ++i)
+    {
+      vtkActor* actor = this->Marked[i];
+      wfvtk::ActorPiece& p = this->Pieces[i];
+      if (p.actor.GetPointer() == actor && p.signature == wfvtk::actorSignature(actor))
+        continue;
+      p = wfvtk::convertActor(actor);
+      changed = true;
+    }
+    if (changed)
+      this->Scene = wfvtk::assembleScene(this->Pieces);
+    return changed;
+  }
+
+  /// Reads the colour and depth of the viewport (x, y, w, h) of the framebuffer being drawn,
+  /// resolving a multisampled one first. False when it cannot.
+  bool ReadBack(vtkOpenGLRenderWindow* renWin, int x, int y, int w, int h)
+  {
+    vtkOpenGLState* ostate = renWin->GetState();
+    GLint drawFb = 0, samples = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &drawFb);
+    glGetIntegerv(GL_SAMPLES, &samples);
+    ostate->PushFramebufferBindings();
+    ostate->vtkglBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(drawFb));
+    int rx = x, ry = y;
+    if (samples > 0)
+    {
+      if (!this->Resolve)
+        this->Resolve = vtkSmartPointer<vtkOpenGLFramebufferObject>::New();
+      this->Resolve->SetContext(renWin);
+      int size[2] = { 0, 0 };
+      this->Resolve->GetLastSize(size);
+      if (size[0] != w || size[1] != h || this->Resolve->GetFBOIndex() == 0)
+      {
+        ostate->PushFramebufferBindings();
+        this->Resolve->PopulateFramebuffer(w, h, true, 1, VTK_UNSIGNED_CHAR, true, 32, 0);
+        ostate->PopFramebufferBindings();
+      }
+      ostate->vtkglBindFramebuffer(GL_DRAW_FRAMEBUFFER, this->Resolve->GetFBOIndex());
+      {
+        // The blit is clipped by the scissor box, which the delegate may leave anywhere.
+        vtkOpenGLState::ScopedglEnableDisable scissorTest(ostate, GL_SCISSOR_TEST);
+        ostate->vtkglDisable(GL_SCISSOR_TEST);
+        glBlitFramebuffer(x, y, x + w, y + h, 0, 0, w, h, GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+      }
+      ostate->vtkglBindFramebuffer(GL_READ_FRAMEBUFFER, this->Resolve->GetFBOIndex());
+      rx = ry = 0;
+      drawFb = GLint(this->Resolve->GetFBOIndex());
+    }
+    ostate->vtkglReadBuffer(drawFb != 0 ? GL_COLOR_ATTACHMENT0 : GL_BACK);
+    this->Colour.resize(size_t(w) * size_t(h) * 4);
+    this->WindowDepth.resize(size_t(w) * size_t(h));
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(rx, ry, w, h, GL_RGBA, GL_UNSIGNED_BYTE, this->Colour.data());
+    glReadPixels(rx, ry, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, this->WindowDepth.data());
+    const bool ok = glGetError() == GL_NO_ERROR;
+    ostate->PopFramebufferBindings();
+    return ok;
+  }
+
+  /// out = core + (1 - core alpha) x delegate, in linear light; untouched where the core drew
+  /// nothing (so those pixels stay bit for bit the delegate's).
+  void Composite(const wf::ImageRGBA& core, int w, int h)
+  {
+    for (int y = 0; y < h; ++y)
+    {
+      unsigned char* row = this->Colour.data() + size_t(y) * size_t(w) * 4;  // bottom-up
+      for (int x = 0; x < w; ++x)
+      {
+        const glm::vec4 c = core.at(x, h - 1 - y);  // core row 0 is the top
+        if (!(c.w > 0.0f) && !(c.x > 0.0f) && !(c.y > 0.0f) && !(c.z > 0.0f))
+          continue;
+        unsigned char* o = row + size_t(x) * 4;
+        const float t = 1.0f - std::clamp(c.w, 0.0f, 1.0f);
+        for (int k = 0; k < 3; ++k)
+        {
+          const float lin = c[k] + t * this->SrgbToLinear[o[k]];
+          o[k] = static_cast<unsigned char>(std::lround(255.0f * wfvtk::linearToSrgb(lin)));
+        }
+        const float a = c.w + t * (float(o[3]) / 255.0f);
+        o[3] = static_cast<unsigned char>(std::lround(255.0f * std::clamp(a, 0.0f, 1.0f)));
+      }
+    }
+  }
+
+  /// Draws Colour over the viewport (x, y, w, h): no blending, no depth test or write.
+  void WriteBack(vtkOpenGLRenderWindow* renWin, int x, int y, int w, int h)
+  {
+    vtkOpenGLState* ostate = renWin->GetState();
+    if (!this->Texture)
+      this->Texture = vtkSmartPointer<vtkTextureObject>::New();
+    this->Texture->SetContext(renWin);
+    this->Texture->Create2DFromRaw(unsigned(w), unsigned(h), 4, VTK_UNSIGNED_CHAR, this->Colour.data());
+    this->Texture->SetMinificationFilter(vtkTextureObject::Nearest);
+    this->Texture->SetMagnificationFilter(vtkTextureObject::Nearest);
+    if (!this->Quad)
+      this->Quad = std::make_unique<vtkOpenGLQuadHelper>(renWin, kCopyVS, kCopyFS, "");
+    else
+      renWin->GetShaderCache()->ReadyShaderProgram(this->Quad->Program);
+    if (!this->Quad->Program)
+      return;
+    vtkOpenGLState::ScopedglEnableDisable depthTest(ostate, GL_DEPTH_TEST);
+    vtkOpenGLState::ScopedglEnableDisable blend(ostate, GL_BLEND);
+    vtkOpenGLState::ScopedglDepthMask depthMask(ostate);
+    vtkOpenGLState::ScopedglViewport viewport(ostate);
+    vtkOpenGLState::ScopedglScissor scissor(ostate);
+    vtkOpenGLState::ScopedglColorMask colorMask(ostate);
+    ostate->vtkglDisable(GL_DEPTH_TEST);
+    ostate->vtkglDisable(GL_BLEND);
+    ostate->vtkglDepthMask(GL_FALSE);
+    ostate->vtkglViewport(x, y, w, h);
+    ostate->vtkglScissor(x, y, w, h);
+    ostate->vtkglColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    this->Texture->Activate();
+    this->Quad->Program->SetUniformi("source", this->Texture->GetTextureUnit());
+    this->Quad->Render();
+    this->Texture->Deactivate();
+  }
+};
+
+vtkWireFurRenderPass::vtkWireFurRenderPass()
+  : Internals(new vtkInternals)
+{
+  vtkNew<vtkRenderStepsPass> steps;
+  this->SetDelegatePass(steps);
+}
+
+vtkWireFurRenderPass::~vtkWireFurRenderPass()
+{
+  this->SetDelegatePass(nullptr);
+  delete this->Internals;
+}
+
+void vtkWireFurRenderPass::SetDelegatePass(vtkRenderPass* pass)
+{
+  vtkSetObjectBodyMacro(DelegatePass, vtkRenderPass, pass);
+}
+
+void vtkWireFurRenderPass::SetMaskSize(int width, int height)
+{
+  const wf::MaskLayout layout{ width, height };
+  if (!layout.valid())
+  {
+    vtkErrorMacro(<< "mask must be 4x4, 8x4 or 8x8, not " << width << "x" << height);
+    return;
+  }
+  if (this->MaskWidth != width || this->MaskHeight != height)
+  {
+    this->MaskWidth = width;
+    this->MaskHeight = height;
+    this->Modified();
+  }
+}
+
+void vtkWireFurRenderPass::Mark(vtkProp* prop, bool marked)
+{
+  if (!prop)
+    return;
+  vtkInformation* keys = prop->GetPropertyKeys();
+  if (!keys)
+  {
+    if (!marked)
+      return;
+    vtkNew<vtkInformation> fresh;
+    prop->SetPropertyKeys(fresh);
+    keys = fresh;
+  }
+  if (marked)
+    keys->Set(WIREFUR(), 1);
+  else
+    keys->Remove(WIREFUR());
+  prop->Modified();
+}
+
+bool vtkWireFurRenderPass::IsMarked(vtkProp* prop)
+{
+  vtkInformation* keys = prop ? prop->GetPropertyKeys() : nullptr;
+  return keys && keys->Has(WIREFUR()) && keys->Get(WIREFUR()) == 1;
+}
+
+void vtkWireFurRenderPass::Render(const vtkRenderState* s)
+{
+  const auto t0 = std::chrono::steady_clock::now();
+  this->NumberOfRenderedProps = 0;
+  vtkInternals& in = *this->Internals;
+  vtkRenderer* ren = s->GetRenderer();
+
+  // Split the props: marked (ours), 2-D overlay (after the composite), the rest (delegate).
+  in.Marked.clear();
+  in.DelegateProps.clear();
+  in.OverlayProps.clear();
+  bool anyMarked = false;
+  for (int i = 0; i < s->GetPropArrayCount(); ++i)
+  {
+    vtkProp* p = s->GetPropArray()[i];
+    if (IsMarked(p))
+    {
+      anyMarked = true;
+      if (vtkActor* a = vtkActor::SafeDownCast(p); a && a->GetMapper())
+        in.Marked.push_back(a);
+    }
+    else if (vtkActor2D::SafeDownCast(p))
+      in.OverlayProps.push_back(p);
+    else
+      in.DelegateProps.push_back(p);
+  }
+  this->LastMarkedProps = int(in.Marked.size());
+  this->LastCoreSeconds = 0.0;
+
+  if (!anyMarked)  // nothing of ours: the delegate alone, with the renderer's own state
+  {
+    if (this->DelegatePass)
+    {
+      this->DelegatePass->Render(s);
+      this->NumberOfRenderedProps = this->DelegatePass->GetNumberOfRenderedProps();
+    }
+    this->LastRenderSeconds = secondsSince(t0);
+    return;
+  }
+
+  if (this->DelegatePass)
+  {
+    vtkRenderState ds(ren);
+    ds.SetPropArrayAndCount(in.DelegateProps.empty() ? nullptr : in.DelegateProps.data(),
+                            int(in.DelegateProps.size()));
+    ds.SetFrameBuffer(s->GetFrameBuffer());
+    ds.SetRequiredKeys(s->GetRequiredKeys());
+    this->DelegatePass->Render(&ds);
+    this->NumberOfRenderedProps = this->DelegatePass->GetNumberOfRenderedProps();
+  }
+
+  vtkOpenGLRenderWindow* renWin = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
+  vtkCamera* camera = ren->GetActiveCamera();
+  int w = 0, h = 0, x = 0, y = 0;
+  ren->GetTiledSizeAndOrigin(&w, &h, &x, &y);
+  if (renWin && camera && w > 0 && h > 0 && !in.Marked.empty())
+  {
+    in.UpdateScene();
+    if (in.ReadBack(renWin, x, y, w, h))
+    {
+      wfvtk::viewDepthFromWindowDepth(in.WindowDepth, w, h,
+        camera->GetProjectionTransformMatrix(double(w) / double(h), -1, 1), in.ViewDepth);
+      in.Scene.camera = wfvtk::convertCamera(camera, w, h);
+      in.Scene.lights = wfvtk::convertLights(ren, camera, this->Ambient);
+      in.Scene.lightsFollowCamera = false;
+      wf::RenderOptions options;
+      options.width = w;
+      options.height = h;
+      options.mask = wf::MaskLayout{ this->MaskWidth, this->MaskHeight };
+      options.budget = this->Budget;
+      options.threads = this->Threads;
+      options.opaqueDepth = &in.ViewDepth;
+      try
+      {
+        const wf::RenderResult r = wf::render(in.Scene, options);
+        this->LastCoreSeconds = r.stats.total;
+        this->LastErrorEstimate =
+          std::max({ r.stats.mapError, r.stats.sphereError, r.stats.orthographicError });
+        this->LastCoverageError = r.stats.coverageQuantisation;
+        this->LastFragments = vtkTypeInt64(r.stats.abuffer.fragments);
+        in.Composite(r.image, w, h);
+        in.WriteBack(renWin, x, y, w, h);
+
+        this->NumberOfRenderedProps += int(in.Marked.size());
+      }
+      catch (const std::exception& e)
+      {
+        vtkErrorMacro(<< "the A-buffer render failed: " << e.what());
+      }
+    }
+    else
+    {
+      vtkErrorMacro(<< "cannot read back the delegate's colour and depth");
+    }
+  }
+
+  // 2-D props as vtkRenderStepsPass would draw them (a text actor lays out its text in the
+  // opaque step), after the composite so that they stay on top.
+  for (vtkProp* p : in.OverlayProps)
+    p->RenderOpaqueGeometry(ren);
+  for (vtkProp* p : in.OverlayProps)
+    this->NumberOfRenderedProps += p->RenderOverlay(ren);
+  this->LastRenderSeconds = secondsSince(t0);
+}
+
+void vtkWireFurRenderPass::ReleaseGraphicsResources(vtkWindow* w)
+{
+  if (this->DelegatePass)
+    this->DelegatePass->ReleaseGraphicsResources(w);
+  vtkInternals& in = *this->Internals;
+  if (in.Quad)
+  {
+    in.Quad->ReleaseGraphicsResources(w);
+    in.Quad.reset();
+  }
+  if (in.Texture)
+    in.Texture->ReleaseGraphicsResources(w);
+  if (in.Resolve)
+    in.Resolve->ReleaseGraphicsResources(w);
+}
+
+void vtkWireFurRenderPass::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "DelegatePass: " << (this->DelegatePass ? this->DelegatePass->GetClassName() : "(none)") << "\n";
+  os << indent << "Mask: " << this->MaskWidth << "x" << this->MaskHeight << "\n";
+  os << indent << "Budget: " << this->Budget << "\n";
+  os << indent << "Threads: " << this->Threads << "\n";
+  os << indent << "Ambient: (" << this->Ambient[0] << ", " << this->Ambient[1] << ", " << this->Ambient[2] << ")\n";
+  os << indent << "LastRenderSeconds: " << this->LastRenderSeconds << "\n";
+  os << indent << "LastCoreSeconds: " << this->LastCoreSeconds << "\n";
+  os << indent << "LastErrorEstimate: " << this->LastErrorEstimate << "\n";
+  os << indent << "LastCoverageError: " << this->LastCoverageError << "\n";
+  os << indent << "LastMarkedProps: " << this->LastMarkedProps << "\n";
+}

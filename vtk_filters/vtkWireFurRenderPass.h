@@ -1,0 +1,152 @@
+/**
+ * @class   vtkWireFurRenderPass
+ * @brief   renders the props marked for it through WireFur's A-buffer over what the delegate drew
+ *
+ * A vtkRenderPass for vtkOpenGLRenderer::SetPass. The delegate pass (default: a
+ * vtkRenderStepsPass, VTK's ordinary steps: camera, lights, opaque, translucent, volumes,
+ * overlay) draws every prop that is NOT marked, with OpenGL. The marked vtkActors are then
+ * rendered by the core's A-buffer renderer (Miller 1988, section 3: exact coverage, resolved
+ * in depth order, wires shaded through the pseudo-reflectance map) and composited, antialiased,
+ * over the delegate's colour, hidden where the delegate's depth buffer holds a nearer surface.
+ *
+ * Marking: `vtkWireFurRenderPass::Mark(prop)` sets the integer key WIREFUR() to 1 in the prop's
+ * PropertyKeys. Marked props are hidden from the delegate by giving it a render state whose
+ * prop array leaves them out (no prop is modified, so no MTime changes and no re-render of
+ * anything else). With no marked prop in the frame the delegate gets the renderer's state
+ * unchanged: nothing extra is done.
+ *
+ * Conversion of a marked vtkActor (its mapper's vtkPolyData input): lines and polylines become
+ * a wire, shaded by default (WIREFUR_WIRE_STYLE(): 0 shaded, 1 plain, 2 depth-cued), of
+ * diameter WIREFUR_WIRE_THICKNESS() in world units when that key is set, else the property's
+ * LineWidth in pixels; polygons and strips become a triangle surface with the point normals
+ * and texture coordinates when present. Material: diffuse colour x Diffuse, specular colour x
+ * Specular, SpecularPower, Opacity (colours taken as linear). Mapped 8-bit point colours
+ * (sRGB-encoded) multiply. The actor's matrix is applied. Lights: the renderer's switched-on
+ * vtkLights as directional lights (headlight, camera light, scene light; positional lights
+ * from their position towards their focal point). Camera: the active vtkCamera for the
+ * renderer's viewport (view angle or parallel scale, clipping range).
+ *
+ * Depth: the delegate's depth buffer is read back, turned into view depth with the camera's
+ * projection, and given to the core as an opaque depth (wf::RenderOptions::opaqueDepth): a
+ * fragment counts only where it is nearer than the OpenGL surface at its pixel.
+ * Colour: out = core + (1 - core alpha) x delegate colour, in linear light (the 8-bit colour
+ * buffer is taken as sRGB-encoded, as WireFur writes its PNGs), drawn back over the viewport
+ * with a full-viewport quad; the depth buffer is left as the delegate drew it. 2-D props
+ * (vtkActor2D: text, scalar bars) are drawn after the composite so they stay on top.
+ *
+ * The conversion of the marked actors is cached and redone only for actors whose MTime (or
+ * their property's, keys', mapper's or input's) changed. The core's shading tables are built
+ * by each core render (only those the scene needs).
+ *
+ * Known limits: translucent OpenGL geometry does not hide marked props (only the opaque depth
+ * is used); marked props other than vtkActor with a vtkPolyData input are drawn by nobody.
+ *
+ * Defaults: MaskWidth x MaskHeight = 8 x 4, Budget = 64, Threads = 0 (all cores),
+ * Ambient = (0, 0, 0), Delegate = a vtkRenderStepsPass.
+ */
+#ifndef vtkWireFurRenderPass_h
+#define vtkWireFurRenderPass_h
+
+#include "WireFurFiltersModule.h"
+#include "vtkRenderPass.h"
+
+class vtkInformationDoubleKey;
+class vtkInformationIntegerKey;
+class vtkProp;
+
+class WIREFURFILTERS_EXPORT vtkWireFurRenderPass : public vtkRenderPass
+{
+public:
+  static vtkWireFurRenderPass* New();
+  vtkTypeMacro(vtkWireFurRenderPass, vtkRenderPass);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /// Key in a prop's PropertyKeys: 1 = drawn by this pass, not by the delegate.
+  static vtkInformationIntegerKey* WIREFUR();
+  /// Optional key: wire diameter in world units (default: the property's LineWidth in pixels).
+  static vtkInformationDoubleKey* WIREFUR_WIRE_THICKNESS();
+  /// Optional key: wire style, 0 shaded (default), 1 plain (diffuse colour), 2 depth-cued.
+  static vtkInformationIntegerKey* WIREFUR_WIRE_STYLE();
+
+  /// Marks (or unmarks) a prop for this pass (creates its PropertyKeys when it has none).
+  static void Mark(vtkProp* prop, bool marked = true);
+  /// True when the prop carries WIREFUR() = 1.
+  static bool IsMarked(vtkProp* prop);
+
+  /// Draws the props that are not marked with the delegate, then the marked ones through the
+  /// A-buffer, composited over it.
+  void Render(const vtkRenderState* s) override;
+  void ReleaseGraphicsResources(vtkWindow* w) override;
+
+  ///@{
+  /// The pass that draws everything not marked. Default: a vtkRenderStepsPass.
+  virtual void SetDelegatePass(vtkRenderPass* pass);
+  vtkGetObjectMacro(DelegatePass, vtkRenderPass);
+  ///@}
+
+  ///@{
+  /// Coverage mask of the A-buffer: 4 x 4, 8 x 4 (default) or 8 x 8 subpixels. Other sizes are
+  /// refused with an error.
+  void SetMaskSize(int width, int height);
+  vtkGetMacro(MaskWidth, int);
+  vtkGetMacro(MaskHeight, int);
+  ///@}
+
+  ///@{
+  /// Fragments kept exactly per pixel (1 ... 65535); the rest blend into a tail. Default 64.
+  vtkSetClampMacro(Budget, int, 1, 65535);
+  vtkGetMacro(Budget, int);
+  ///@}
+
+  ///@{
+  /// Threads of the core render (0: all cores). Default 0.
+  vtkSetClampMacro(Threads, int, 0, 1024);
+  vtkGetMacro(Threads, int);
+  ///@}
+
+  ///@{
+  /// Ambient radiance of the core's light rig (linear RGB). Default (0, 0, 0).
+  vtkSetVector3Macro(Ambient, double);
+  vtkGetVector3Macro(Ambient, double);
+  ///@}
+
+  /// Seconds the last Render took in all (delegate, conversion, A-buffer, composite).
+  vtkGetMacro(LastRenderSeconds, double);
+  /// Seconds of the last core A-buffer render alone (0 when no prop was marked).
+  vtkGetMacro(LastCoreSeconds, double);
+  /// The largest shading error bound of the last core render (radiance, linear; the maps,
+  /// reflectance spheres and the orthographic-view approximation, whichever is worst).
+  vtkGetMacro(LastErrorEstimate, double);
+  /// Coverage quantisation of the last core render: 1 / subpixels of the mask.
+  vtkGetMacro(LastCoverageError, double);
+  /// Fragments of the last core render.
+  vtkGetMacro(LastFragments, vtkTypeInt64);
+  /// Marked actors drawn by the last Render.
+  vtkGetMacro(LastMarkedProps, int);
+
+protected:
+  vtkWireFurRenderPass();
+  ~vtkWireFurRenderPass() override;
+
+  vtkRenderPass* DelegatePass = nullptr;
+  int MaskWidth = 8;
+  int MaskHeight = 4;
+  int Budget = 64;
+  int Threads = 0;
+  double Ambient[3] = { 0.0, 0.0, 0.0 };
+  double LastRenderSeconds = 0.0;
+  double LastCoreSeconds = 0.0;
+  double LastErrorEstimate = 0.0;
+  double LastCoverageError = 0.0;
+  vtkTypeInt64 LastFragments = 0;
+  int LastMarkedProps = 0;
+
+private:
+  vtkWireFurRenderPass(const vtkWireFurRenderPass&) = delete;
+  void operator=(const vtkWireFurRenderPass&) = delete;
+
+  class vtkInternals;
+  vtkInternals* Internals;
+};
+
+#endif

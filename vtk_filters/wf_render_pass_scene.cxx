@@ -1,0 +1,318 @@
+#include "wf_render_pass_scene.h"
+
+#include "vtkWireFurRenderPass.h"
+
+#include <vtkActor.h>
+#include <vtkAlgorithm.h>
+#include <vtkCamera.h>
+#include <vtkCellArray.h>
+#include <vtkDataArray.h>
+#include <vtkIdList.h>
+#include <vtkInformation.h>
+#include <vtkLight.h>
+#include <vtkLightCollection.h>
+#include <vtkMapper.h>
+#include <vtkMatrix4x4.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkProperty.h>
+#include <vtkRenderer.h>
+#include <vtkUnsignedCharArray.h>
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace wfvtk {
+
+namespace {
+
+glm::dvec3 vec(const double v[3]) { return {v[0], v[1], v[2]}; }
+
+vtkPolyData* actorInput(vtkActor* actor) {
+  vtkMapper* mapper = actor->GetMapper();
+  if (!mapper) return nullptr;
+  if (vtkAlgorithm* producer = mapper->GetNumberOfInputConnections(0) > 0 ? mapper->GetInputAlgorithm() : nullptr)
+    producer->Update();
+  return vtkPolyData::SafeDownCast(mapper->GetInputDataObject(0, 0));
+}
+
+// 8-bit sRGB -> linear, once.
+const float* srgbTable() {
+  static const auto table = [] {
+    std::vector<float> t(256);
+    for (int i = 0; i < 256; ++i) t[size_t(i)] = srgbToLinear(float(i) / 255.0f);
+    return t;
+  }();
+  return table.data();
+}
+
+}  // namespace
+
+float srgbToLinear(float v) {
+  if (!(v > 0.0f)) return 0.0f;
+  if (v >= 1.0f) return 1.0f;
+  return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+}
+
+float linearToSrgb(float v) {
+  if (!(v > 0.0f)) return 0.0f;
+  if (v >= 1.0f) return 1.0f;
+  return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+}
+
+vtkMTimeType actorSignature(vtkActor* actor) {
+  vtkMTimeType t = actor->GetMTime();  // includes property, texture and user transform
+  if (vtkInformation* keys = actor->GetPropertyKeys()) t = std::max(t, keys->GetMTime());
+  if (vtkMapper* mapper = actor->GetMapper()) {
+    t = std::max(t, mapper->GetMTime());
+    if (vtkPolyData* pd = actorInput(actor)) t = std::max(t, pd->GetMTime());
+  }
+  return t;
+}
+
+ActorPiece convertActor(vtkActor* actor) {
+  ActorPiece piece;
+  piece.actor = actor;
+  piece.signature = actorSignature(actor);
+  vtkProperty* prop = actor->GetProperty();
+  wf::Material& m = piece.material;
+  m.name = "actor";
+  // vtkProperty colours are taken as linear Phong coefficients (the core's materials).
+  double dc[3], sc[3];
+  prop->GetDiffuseColor(dc);
+  prop->GetSpecularColor(sc);
+  m.phong.diffuse = vec(dc) * prop->GetDiffuse();
+  m.phong.specular = vec(sc) * prop->GetSpecular();
+  m.phong.exponent = prop->GetSpecularPower();
+  m.opacity = float(std::clamp(prop->GetOpacity(), 0.0, 1.0));
+
+  vtkPolyData* pd = actorInput(actor);
+  if (!pd || pd->GetNumberOfPoints() == 0) return piece;
+
+  // World positions (the actor's matrix) and normals (its inverse transpose).
+  vtkNew<vtkMatrix4x4> matrix;
+  actor->GetMatrix(matrix);
+  glm::dmat4 M(1.0);
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) M[c][r] = matrix->GetElement(r, c);
+  const glm::dmat3 N = glm::transpose(glm::inverse(glm::dmat3(M)));
+  const vtkIdType np = pd->GetNumberOfPoints();
+  std::vector<glm::dvec3> points(static_cast<size_t>(np));
+  for (vtkIdType i = 0; i < np; ++i) {
+    double p[3];
+    pd->GetPoint(i, p);
+    points[size_t(i)] = glm::dvec3(M * glm::dvec4(p[0], p[1], p[2], 1.0));
+  }
+  // Mapped point colours (direct 8-bit colours or through the lookup table).
+  std::vector<glm::vec3> colours;
+  if (vtkMapper* mapper = actor->GetMapper(); mapper && mapper->GetScalarVisibility()) {
+    int cellFlag = 0;
+    vtkUnsignedCharArray* c = mapper->MapScalars(pd, 1.0, cellFlag);
+    if (c && cellFlag == 0 && c->GetNumberOfTuples() == np && c->GetNumberOfComponents() >= 3) {
+      const float* lin = srgbTable();
+      colours.resize(size_t(np));
+      const int nc = c->GetNumberOfComponents();
+      const unsigned char* d = c->GetPointer(0);
+      for (vtkIdType i = 0; i < np; ++i)
+        colours[size_t(i)] = {lin[d[i * nc]], lin[d[i * nc + 1]], lin[d[i * nc + 2]]};
+    }
+  }
+
+  // Lines and polylines -> one wire.
+  vtkInformation* keys = actor->GetPropertyKeys();
+  if (pd->GetNumberOfLines() > 0) {
+    wf::SceneWire w;
+    w.name = "lines";
+    w.material = 0;
+    w.opacity = m.opacity;
+    w.colour = glm::vec3(vec(dc));
+    const int style = keys && keys->Has(vtkWireFurRenderPass::WIREFUR_WIRE_STYLE())
+                          ? keys->Get(vtkWireFurRenderPass::WIREFUR_WIRE_STYLE()) : 0;
+    w.style = style == 1 ? wf::WireStyle::Plain : style == 2 ? wf::WireStyle::DepthCued : wf::WireStyle::Shaded;
+    if (keys && keys->Has(vtkWireFurRenderPass::WIREFUR_WIRE_THICKNESS())) {
+      w.thickness = keys->Get(vtkWireFurRenderPass::WIREFUR_WIRE_THICKNESS());
+      w.thicknessInPixels = false;
+    } else {
+      w.thickness = prop->GetLineWidth();
+      w.thicknessInPixels = true;
+    }
+    const bool withColours = !colours.empty();
+    vtkCellArray* lines = pd->GetLines();
+    vtkNew<vtkIdList> ids;
+    w.lines.points.reserve(size_t(lines->GetNumberOfConnectivityIds()));
+    if (withColours) w.lines.colours.reserve(size_t(lines->GetNumberOfConnectivityIds()));
+    std::vector<glm::dvec3> line;
+    for (lines->InitTraversal(); lines->GetNextCell(ids);) {
+      if (ids->GetNumberOfIds() < 2) continue;
+      line.clear();
+      for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k) {
+        const vtkIdType id = ids->GetId(k);
+        line.push_back(points[size_t(id)]);
+        if (withColours) w.lines.colours.push_back(colours[size_t(id)]);
+      }
+      w.lines.add(line);
+    }
+    if (w.lines.polylineCount() > 0) piece.wires.push_back(std::move(w));
+  }
+
+  // Polygons (fans) and strips -> one triangle mesh over all the points.
+  if (pd->GetNumberOfPolys() > 0 || pd->GetNumberOfStrips() > 0) {
+    wf::SceneSurface s;
+    s.name = "polys";
+    s.material = 0;
+    wf::TriangleMesh& mesh = s.mesh;
+    mesh.positions = points;
+    if (vtkDataArray* normals = pd->GetPointData()->GetNormals(); normals && normals->GetNumberOfComponents() == 3) {
+      mesh.normals.resize(size_t(np));
+      for (vtkIdType i = 0; i < np; ++i) {
+        double n[3];
+        normals->GetTuple(i, n);
+        mesh.normals[size_t(i)] = N * vec(n);
+      }
+    }
+    if (vtkDataArray* tc = pd->GetPointData()->GetTCoords(); tc && tc->GetNumberOfComponents() >= 2) {
+      mesh.uvs.resize(size_t(np));
+      for (vtkIdType i = 0; i < np; ++i) mesh.uvs[size_t(i)] = {tc->GetComponent(i, 0), tc->GetComponent(i, 1)};
+    }
+    mesh.colours = colours;
+    auto add = [&](vtkIdType a, vtkIdType b, vtkIdType c) {
+      mesh.triangles.push_back({std::uint32_t(a), std::uint32_t(b), std::uint32_t(c)});
+    };
+    vtkNew<vtkIdList> ids;
+    vtkCellArray* polys = pd->GetPolys();
+    for (polys->InitTraversal(); polys->GetNextCell(ids);)
+      for (vtkIdType k = 1; k + 1 < ids->GetNumberOfIds(); ++k) add(ids->GetId(0), ids->GetId(k), ids->GetId(k + 1));
+    vtkCellArray* strips = pd->GetStrips();
+    for (strips->InitTraversal(); strips->GetNextCell(ids);)
+      for (vtkIdType k = 0; k + 2 < ids->GetNumberOfIds(); ++k) {
+        if (k % 2 == 0) add(ids->GetId(k), ids->GetId(k + 1), ids->GetId(k + 2));
+        else add(ids->GetId(k + 1), ids->GetId(k), ids->GetId(k + 2));
+      }
+    if (!mesh.triangles.empty()) piece.surfaces.push_back(std::move(s));
+  }
+  return piece;
+}
+
+wf::Scene assembleScene(const std::vector<ActorPiece>& pieces) {
+  wf::Scene scene;
+  scene.materials.clear();
+  for (const ActorPiece& p : pieces) {
+    if (p.surfaces.empty() && p.wires.empty()) continue;
+    const int mi = int(scene.materials.size());
+    scene.materials.push_back(p.material);
+    for (wf::SceneSurface s : p.surfaces) {
+      s.material = mi;
+      scene.surfaces.push_back(std::move(s));
+    }
+    for (wf::SceneWire w : p.wires) {
+      w.material = mi;
+      scene.wires.push_back(std::move(w));
+    }
+  }
+  if (scene.materials.empty()) scene.materials.emplace_back();
+  scene.background = glm::vec4(0.0f);  // premultiplied over nothing: composited afterwards
+  return scene;
+}
+
+wf::Camera convertCamera(vtkCamera* camera, int width, int height) {
+  wf::Camera c;
+  double p[3], f[3], up[3], range[2];
+  camera->GetPosition(p);
+  camera->GetFocalPoint(f);
+  camera->GetViewUp(up);
+  camera->GetClippingRange(range);
+  c.eye = vec(p);
+  c.target = vec(f);
+  c.up = vec(up);
+  c.nearPlane = range[0];
+  c.farPlane = range[1];
+  if (camera->GetParallelProjection()) {
+    c.projection = wf::Camera::Projection::Orthographic;
+    c.orthoHeight = 2.0 * camera->GetParallelScale();
+  } else {
+    c.projection = wf::Camera::Projection::Perspective;
+    double angle = camera->GetViewAngle();
+    if (camera->GetUseHorizontalViewAngle()) {
+      const double aspect = double(width) / double(std::max(1, height));
+      angle = glm::degrees(2.0 * std::atan(std::tan(glm::radians(angle) / 2.0) / aspect));
+    }
+    c.fovYDegrees = angle;
+  }
+  return c;
+}
+
+wf::LightRig convertLights(vtkRenderer* renderer, vtkCamera* camera, const double ambient[3]) {
+  wf::LightRig rig;
+  rig.ambient = vec(ambient);
+  double p[3], f[3];
+  camera->GetPosition(p);
+  camera->GetFocalPoint(f);
+  const glm::dvec3 back = glm::normalize(vec(p) - vec(f));  // towards the viewer
+  // Eye space -> world: VTK's camera-light frame has the camera at (0, 0, 1) looking at the
+  // origin, +y up: the same axes as the core's eye space (viewer on +z).
+  double upv[3];
+  camera->GetViewUp(upv);
+  const glm::dvec3 right = glm::normalize(glm::cross(vec(upv), back));
+  const glm::dvec3 up = glm::cross(back, right);
+  const glm::dmat3 worldFromEye(right, up, back);
+  int lit = 0;
+  vtkLightCollection* lights = renderer->GetLights();
+  vtkCollectionSimpleIterator it;
+  lights->InitTraversal(it);
+  while (vtkLight* light = lights->GetNextLight(it)) {
+    if (!light->GetSwitch()) continue;
+    double c[3];
+    light->GetDiffuseColor(c);
+    wf::DirectionalLight d;
+    d.intensity = vec(c) * light->GetIntensity();
+    if (light->LightTypeIsHeadlight()) {
+      d.direction = back;
+    } else {
+      double lp[3], lf[3];
+      light->GetPosition(lp);
+      light->GetFocalPoint(lf);
+      glm::dvec3 dir = vec(lp) - vec(lf);
+      if (light->LightTypeIsCameraLight()) {
+        dir = worldFromEye * dir;
+      } else {  // scene light: its own transform (if any) applied
+        light->GetTransformedPosition(lp);
+        light->GetTransformedFocalPoint(lf);
+        dir = vec(lp) - vec(lf);
+      }
+      if (!(glm::length(dir) > 0)) continue;
+      d.direction = glm::normalize(dir);
+    }
+    rig.lights.push_back(d);
+    ++lit;
+  }
+  if (lit == 0 && lights->GetNumberOfItems() == 0) rig.lights.push_back({back, glm::dvec3(1.0)});
+  return rig;
+}
+
+void viewDepthFromWindowDepth(const std::vector<float>& windowDepth, int width, int height,
+                              vtkMatrix4x4* P, std::vector<float>& viewDepth) {
+  viewDepth.assign(size_t(width) * size_t(height), std::numeric_limits<float>::infinity());
+  const double p22 = P->GetElement(2, 2), p23 = P->GetElement(2, 3);
+  const double p32 = P->GetElement(3, 2), p33 = P->GetElement(3, 3);
+  for (int y = 0; y < height; ++y) {
+    const float* src = windowDepth.data() + size_t(height - 1 - y) * size_t(width);
+    float* dst = viewDepth.data() + size_t(y) * size_t(width);
+    for (int x = 0; x < width; ++x) {
+      const double zw = src[x];
+      if (!(zw < 1.0)) continue;  // cleared: nothing opaque here
+      // z_ndc = (p22 z + p23) / (p32 z + p33), solved for the eye-space z (negative in front).
+      const double zn = 2.0 * zw - 1.0;
+      const double den = zn * p32 - p22;
+      const double z = den != 0.0 ? (p23 - zn * p33) / den : -std::numeric_limits<double>::infinity();
+      const double d = -z;
+      dst[x] = d > 0.0 && std::isfinite(d) ? float(d) : (d > 0.0 ? std::numeric_limits<float>::infinity() : 0.0f);
+    }
+  }
+}
+
+}  // namespace wfvtk

@@ -1,0 +1,64 @@
+// Private to vtkWireFurRenderPass: the conversion of marked vtkActors, the renderer's vtkLights
+// and its vtkCamera into the core's wf::Scene, and of the OpenGL depth buffer into view depth.
+// Kept apart from the OpenGL code so that each step reads on its own (docs/vtk_render_pass.md).
+#pragma once
+
+#include "render/scene.h"
+
+#include <vtkType.h>
+#include <vtkWeakPointer.h>
+
+#include <vector>
+
+class vtkActor;
+class vtkCamera;
+class vtkMatrix4x4;
+class vtkRenderer;
+
+namespace wfvtk {
+
+/// One marked actor as core geometry: its surfaces and wires use material 0 of `material`
+/// (renumbered when the pieces are assembled into one scene).
+struct ActorPiece {
+  vtkWeakPointer<vtkActor> actor;
+  vtkMTimeType signature = 0;  ///< max MTime of actor, property, keys, mapper and input at conversion
+  wf::Material material;
+  std::vector<wf::SceneSurface> surfaces;
+  std::vector<wf::SceneWire> wires;
+};
+
+/// The MTime an actor's piece depends on: the actor (with its property, transform and keys),
+/// its mapper, the mapper's input. Updates the mapper's input first.
+vtkMTimeType actorSignature(vtkActor* actor);
+
+/// Converts one actor: lines and polylines -> SceneWire (style and thickness from the pass's
+/// information keys, else shaded at the property's LineWidth in pixels), polys and strips ->
+/// SceneSurface (point normals and texture coordinates when present), the actor's matrix
+/// applied, mapped point colours (8-bit, sRGB-encoded) decoded to linear multipliers, material
+/// from the vtkProperty. Non-finite points pass through: the core rejects them itself.
+ActorPiece convertActor(vtkActor* actor);
+
+/// The pieces as one scene (materials renumbered in order); camera and lights left empty.
+wf::Scene assembleScene(const std::vector<ActorPiece>& pieces);
+
+/// The vtkCamera as the core's camera for a width x height viewport: position, focal point,
+/// view up, vertical view angle (a horizontal one converted) or 2 x parallel scale, clipping range.
+wf::Camera convertCamera(vtkCamera* camera, int width, int height);
+
+/// The renderer's switched-on vtkLights as world-space directional lights: headlights along the
+/// view direction, camera lights from the camera frame, scene lights from position to focal
+/// point (positional lights too: they are taken as directional from the focal point). A
+/// renderer without lights gets one headlight. `ambient` is the rig's ambient radiance.
+wf::LightRig convertLights(vtkRenderer* renderer, vtkCamera* camera, const double ambient[3]);
+
+/// View depth d = -z_eye per pixel (row 0 at the top, +inf where the buffer is cleared to 1)
+/// from an OpenGL depth buffer (row 0 at the bottom, window depth in [0, 1]) drawn with the
+/// projection `projection` (VTK's, z_ndc in [-1, 1]).
+void viewDepthFromWindowDepth(const std::vector<float>& windowDepth, int width, int height,
+                              vtkMatrix4x4* projection, std::vector<float>& viewDepth);
+
+/// sRGB transfer function (IEC 61966-2-1), the same as the `wirefur render` PNG writer's.
+float srgbToLinear(float v);
+float linearToSrgb(float v);
+
+}  // namespace wfvtk
