@@ -64,7 +64,7 @@ int vtkWireFurFurGenerator::RequestData(
   // Problems are reported and give an empty output; the pipeline goes on (return 1).
   std::string problem;
   const std::shared_ptr<const wf::Surface> surface =
-    wf::vtkio::growthSurface(this->ParametricFunction, input, problem);
+    wf::vtkio::growthSurface(this->ParametricFunction, input, problem, this->FlipNormals != 0);
   if (!surface)
   {
     vtkErrorMacro(<< problem);
@@ -215,6 +215,7 @@ int vtkWireFurFurGenerator::RequestData(
 void vtkWireFurFurGenerator::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
+  os << indent << "FlipNormals: " << this->FlipNormals << "\n";
   auto v3 = [&](const char* name, const double* v) {
     os << indent << name << ": " << v[0] << " " << v[1] << " " << v[2] << "\n";
   };

@@ -61,6 +61,14 @@ public:
   /// The surface as a vtkParametricFunction (exact derivatives). When set, input port 0 is ignored.
   /// Default nullptr.
   virtual void SetParametricFunction(vtkParametricFunction*);
+
+  ///@{
+  /// Grow from the other side: use -(Su x Sv) as the surface's outward normal. Some VTK
+  /// functions (vtkParametricTorus among them) have Su x Sv pointing inward. Default off.
+  vtkSetMacro(FlipNormals, vtkTypeBool);
+  vtkGetMacro(FlipNormals, vtkTypeBool);
+  vtkBooleanMacro(FlipNormals, vtkTypeBool);
+  ///@}
   vtkGetObjectMacro(ParametricFunction, vtkParametricFunction);
   ///@}
 
@@ -218,6 +226,7 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   vtkParametricFunction* ParametricFunction = nullptr;
+  vtkTypeBool FlipNormals = 0;
   int Placement = Grid;
   int GridU = 100;
   int GridV = 70;

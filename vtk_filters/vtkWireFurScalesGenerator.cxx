@@ -87,7 +87,7 @@ int vtkWireFurScalesGenerator::RequestData(
 
   std::string problem;
   const std::shared_ptr<const wf::Surface> surface =
-    wf::vtkio::growthSurface(this->ParametricFunction, input, problem);
+    wf::vtkio::growthSurface(this->ParametricFunction, input, problem, this->FlipNormals != 0);
   if (!surface)
   {
     vtkErrorMacro(<< problem);
@@ -220,6 +220,7 @@ int vtkWireFurScalesGenerator::RequestData(
 void vtkWireFurScalesGenerator::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
+  os << indent << "FlipNormals: " << this->FlipNormals << "\n";
   os << indent << "ParametricFunction: ";
   if (this->ParametricFunction)
   {

@@ -394,8 +394,18 @@ std::string MeshSurface::describe() const {
 
 // --- choosing the surface -----------------------------------------------------------------------
 
+std::shared_ptr<const Surface> growthSurfaceAsGiven(vtkParametricFunction* function, vtkPolyData* mesh,
+                                                    std::string& problem);
+
 std::shared_ptr<const Surface> growthSurface(vtkParametricFunction* function, vtkPolyData* mesh,
-                                             std::string& problem) {
+                                             std::string& problem, bool flip) {
+  std::shared_ptr<const Surface> s = growthSurfaceAsGiven(function, mesh, problem);
+  if (s && flip) s = std::make_shared<FlippedSurface>(s);
+  return s;
+}
+
+std::shared_ptr<const Surface> growthSurfaceAsGiven(vtkParametricFunction* function, vtkPolyData* mesh,
+                                                    std::string& problem) {
   problem.clear();
   if (function) {
     auto s = std::make_shared<ParametricFunctionSurface>(function);

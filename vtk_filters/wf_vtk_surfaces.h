@@ -148,10 +148,26 @@ WIREFURFILTERS_EXPORT std::vector<glm::uvec3> triangulate(vtkPolyData* mesh);
 /// Index of the first point of `mesh` with a NaN or infinite coordinate, or -1.
 WIREFURFILTERS_EXPORT std::int64_t firstNonFinitePoint(vtkPolyData* mesh);
 
+/// A surface whose front is the other side: the same S, Su, Sv with normalSign() turned round
+/// (vtkParametricTorus and some other VTK functions have Su x Sv pointing inward).
+class FlippedSurface final : public Surface {
+ public:
+  explicit FlippedSurface(std::shared_ptr<const Surface> base) : base_(std::move(base)) {}
+  ParameterDomain domain() const override { return base_->domain(); }
+  SurfacePoint evaluate(double u, double v) const override { return base_->evaluate(u, v); }
+  std::string describe() const override { return base_->describe() + " (flipped)"; }
+  double normalSign() const override { return -base_->normalSign(); }
+  std::vector<double> creasesV() const override { return base_->creasesV(); }
+
+ private:
+  std::shared_ptr<const Surface> base_;
+};
+
 /// The surface a generator grows on: `function` when set, else `mesh` (which needs texture
-/// coordinates). nullptr and a one-line `problem` when neither is usable.
+/// coordinates); its front turned round when `flip`. nullptr and a one-line `problem` when
+/// neither is usable.
 WIREFURFILTERS_EXPORT std::shared_ptr<const Surface> growthSurface(vtkParametricFunction* function, vtkPolyData* mesh,
-                                             std::string& problem);
+                                             std::string& problem, bool flip = false);
 
 /// Burnish grain (paper §2.2; the core renderer's rule, src/render/surface_shading.cpp): the grain
 /// direction at a point, in the tangent plane of unit normal N, unit length. U: along Su; V: along

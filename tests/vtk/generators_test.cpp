@@ -303,6 +303,40 @@ TEST(VtkFurGenerator, RootsLieOnTheTorus)
   EXPECT_LT(worst, 1e-9);
 }
 
+// vtkParametricTorus has Su x Sv pointing into the tube: its fur grows inward unless
+// FlipNormals is on, and then every tip lies farther from the tube's centre circle than the root.
+TEST(VtkFurGenerator, FlipNormalsGrowsTheTorusFurOutward)
+{
+  vtkNew<vtkParametricTorus> torus;
+  torus->SetRingRadius(2.0);
+  torus->SetCrossSectionRadius(0.75);
+  for (bool flip : { false, true })
+  {
+    vtkNew<vtkWireFurFurGenerator> fur;
+    fur->SetParametricFunction(torus);
+    fur->SetGridU(24);
+    fur->SetGridV(12);
+    fur->SetLength(0.2);
+    fur->SetFlipNormals(flip);
+    fur->Update();
+    vtkPolyData* out = fur->GetOutput();
+    ASSERT_EQ(out->GetNumberOfLines(), 288);
+    int outward = 0;
+    vtkCellArray* lines = out->GetLines();
+    vtkIdType n;
+    const vtkIdType* ids;
+    for (lines->InitTraversal(); lines->GetNextCell(n, ids);)
+    {
+      double r[3], t[3];
+      out->GetPoint(ids[0], r);
+      out->GetPoint(ids[n - 1], t);
+      auto tube = [](const double* p) { return std::hypot(std::hypot(p[0], p[1]) - 2.0, p[2]); };
+      outward += tube(t) > tube(r) ? 1 : 0;
+    }
+    EXPECT_EQ(outward, flip ? 288 : 0) << (flip ? "flipped" : "as VTK orients it");
+  }
+}
+
 // Area-correct placement: doubling the density only adds hairs; every old id is still there with
 // the same root (bit for bit).
 TEST(VtkFurGenerator, HairIdsStableWhenDensityIncreases)
