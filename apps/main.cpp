@@ -4,6 +4,9 @@
 #include "gallery.h"
 #include "export_command.h"
 #include "render_command.h"
+#ifdef WIREFUR_WITH_VIEW
+#include "view_command.h"
+#endif
 
 #include <vtkLogger.h>
 #include <vtkObject.h>
@@ -33,7 +36,9 @@ constexpr const char* kUsage =
     "  export   INPUT -o OUT.vtp|.vtk|.obj|.ply [--time T] [--quiet]\n"
     "                                               the scene's geometry as drawn (tessellations, scales, wires,\n"
     "                                               fur) with normals, tangents, (u, v) and colours\n"
-    "  view                                          not in this version yet\n"
+    "  view     [INPUT] [--style STYLE] [--size WxH] [--mask 4x4|8x4|8x8] [--threads N]\n"
+    "           [--frames N [--offscreen] [--png F]] interactive VTK window (keys: w f s m a q); --frames N renders\n"
+    "                                               N frames turning the camera and prints the median frame time\n"
     "  --help, --version\n";
 
 std::string need(const std::vector<std::string>& a, size_t& i) {
@@ -121,9 +126,13 @@ int run(const std::vector<std::string>& a) {
     return wfapp::runRender(o);
   }
   if (cmd == "export") return wfapp::runExport(std::vector<std::string>(a.begin() + 1, a.end()));
-  if (cmd == "view" || cmd == "export") {
-    std::cerr << "wirefur: '" << cmd << "' is not in this version yet\n";
+  if (cmd == "view") {
+#ifdef WIREFUR_WITH_VIEW
+    return wfapp::runView(std::vector<std::string>(a.begin() + 1, a.end()));
+#else
+    std::cerr << "wirefur: 'view' needs the VTK module (configure with WIREFUR_BUILD_VTK_MODULE=ON)\n";
     return 1;
+#endif
   }
   throw wfapp::UsageError("unknown command '" + cmd + "' (try wirefur --help)");
 }

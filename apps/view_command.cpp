@@ -1,0 +1,425 @@
+#include "view_command.h"
+
+#include "cli.h"
+#include "render_command.h"
+#include "scene_file.h"
+
+#include "vtkWireFurRenderPass.h"
+
+#include <vtkActor.h>
+#include <vtkCallbackCommand.h>
+#include <vtkCamera.h>
+#include <vtkCellArray.h>
+#include <vtkDoubleArray.h>
+#include <vtkFloatArray.h>
+#include <vtkInformation.h>
+#include <vtkInformationDoubleKey.h>
+#include <vtkInformationIntegerKey.h>
+#include <vtkInteractorStyleTrackballCamera.h>
+#include <vtkLight.h>
+#include <vtkNew.h>
+#include <vtkObjectFactory.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataMapper.h>
+#include <vtkProperty.h>
+#include <vtkRenderWindow.h>
+#include <vtkRenderWindowInteractor.h>
+#include <vtkRenderer.h>
+#include <vtkSmartPointer.h>
+#include <vtkTextActor.h>
+#include <vtkTextProperty.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkPNGWriter.h>
+#include <vtkWindowToImageFilter.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <iostream>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+namespace wfapp {
+
+namespace {
+
+struct ViewOptions {
+  std::string input, style;
+  int width = 800, height = 600;
+  int frames = 0;         ///< > 0: benchmark N frames turning the camera, then exit
+  bool offscreen = false;
+  std::string png;        ///< --png FILE: the last benchmark frame as a PNG (for a person to look at)
+  std::string mask;       ///< empty: the scene's
+  int threads = 0;
+};
+
+unsigned char srgbByte(float linear) {
+  float v = linear;
+  if (!(v > 0.0f)) v = 0.0f;
+  if (v >= 1.0f) v = 1.0f;
+  v = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+  return static_cast<unsigned char>(std::lround(255.0f * v));
+}
+
+// Vertex colours as the pass reads them: 8-bit, sRGB-encoded.
+vtkSmartPointer<vtkUnsignedCharArray> colourArray(const std::vector<glm::vec3>& colours) {
+  auto a = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  a->SetName("Colours");
+  a->SetNumberOfComponents(3);
+  a->SetNumberOfTuples(vtkIdType(colours.size()));
+  for (size_t i = 0; i < colours.size(); ++i)
+    for (int k = 0; k < 3; ++k) a->SetValue(vtkIdType(i * 3 + k), srgbByte(colours[i][k]));
+  return a;
+}
+
+// A Phong material as a vtkProperty (the pass reads it back: colour x coefficient).
+void setMaterial(vtkProperty* p, const wf::Material& m) {
+  auto set = [](const glm::dvec3& c, auto setColour, auto setCoefficient) {
+    const double s = std::max({c.x, c.y, c.z, 1e-12});
+    setColour(c / s);
+    setCoefficient(std::max({c.x, c.y, c.z}) > 0 ? s : 0.0);
+  };
+  set(m.phong.diffuse, [&](const glm::dvec3& c) { p->SetDiffuseColor(c.x, c.y, c.z); },
+      [&](double k) { p->SetDiffuse(k); });
+  set(m.phong.specular, [&](const glm::dvec3& c) { p->SetSpecularColor(c.x, c.y, c.z); },
+      [&](double k) { p->SetSpecular(k); });
+  p->SetSpecularPower(std::min(m.phong.exponent, 128.0 * 1000));
+  p->SetAmbient(0.0);
+  p->SetOpacity(m.opacity);
+}
+
+vtkSmartPointer<vtkActor> surfaceActor(const wf::SceneSurface& s, const wf::Scene& scene) {
+  const wf::TriangleMesh& mesh = s.mesh;
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(vtkIdType(mesh.positions.size()));
+  for (size_t i = 0; i < mesh.positions.size(); ++i)
+    points->SetPoint(vtkIdType(i), mesh.positions[i].x, mesh.positions[i].y, mesh.positions[i].z);
+  vtkNew<vtkCellArray> tris;
+  for (const glm::uvec3& t : mesh.triangles) {
+    const vtkIdType ids[3] = {vtkIdType(t.x), vtkIdType(t.y), vtkIdType(t.z)};
+    tris->InsertNextCell(3, ids);
+  }
+  vtkNew<vtkPolyData> pd;
+  pd->SetPoints(points);
+  pd->SetPolys(tris);
+  if (mesh.normals.size() == mesh.positions.size()) {
+    vtkNew<vtkFloatArray> n;
+    n->SetName("Normals");
+    n->SetNumberOfComponents(3);
+    n->SetNumberOfTuples(vtkIdType(mesh.normals.size()));
+    for (size_t i = 0; i < mesh.normals.size(); ++i)
+      n->SetTuple3(vtkIdType(i), mesh.normals[i].x, mesh.normals[i].y, mesh.normals[i].z);
+    pd->GetPointData()->SetNormals(n);
+  }
+  if (mesh.uvs.size() == mesh.positions.size()) {
+    vtkNew<vtkFloatArray> uv;
+    uv->SetName("TCoords");
+    uv->SetNumberOfComponents(2);
+    uv->SetNumberOfTuples(vtkIdType(mesh.uvs.size()));
+    for (size_t i = 0; i < mesh.uvs.size(); ++i) uv->SetTuple2(vtkIdType(i), mesh.uvs[i].x, mesh.uvs[i].y);
+    pd->GetPointData()->SetTCoords(uv);
+  }
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputData(pd);
+  mapper->ScalarVisibilityOff();
+  if (mesh.colours.size() == mesh.positions.size()) {
+    pd->GetPointData()->SetScalars(colourArray(mesh.colours));
+    mapper->ScalarVisibilityOn();
+    mapper->SetColorModeToDirectScalars();
+  }
+  auto actor = vtkSmartPointer<vtkActor>::New();
+  actor->SetMapper(mapper);
+  setMaterial(actor->GetProperty(), scene.materials[size_t(std::clamp(s.material, 0, int(scene.materials.size()) - 1))]);
+  return actor;
+}
+
+vtkSmartPointer<vtkActor> wireActor(const wf::SceneWire& w, const wf::Scene& scene) {
+  const wf::PolylineSet& l = w.lines;
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(vtkIdType(l.points.size()));
+  for (size_t i = 0; i < l.points.size(); ++i) points->SetPoint(vtkIdType(i), l.points[i].x, l.points[i].y, l.points[i].z);
+  vtkNew<vtkCellArray> lines;
+  for (size_t k = 0; k < l.polylineCount(); ++k) {
+    lines->InsertNextCell(vtkIdType(l.starts[k + 1] - l.starts[k]));
+    for (std::uint32_t i = l.starts[k]; i < l.starts[k + 1]; ++i) lines->InsertCellPoint(vtkIdType(i));
+  }
+  vtkNew<vtkPolyData> pd;
+  pd->SetPoints(points);
+  pd->SetLines(lines);
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputData(pd);
+  mapper->ScalarVisibilityOff();
+  if (l.colours.size() == l.points.size()) {
+    pd->GetPointData()->SetScalars(colourArray(l.colours));
+    mapper->ScalarVisibilityOn();
+    mapper->SetColorModeToDirectScalars();
+  }
+  auto actor = vtkSmartPointer<vtkActor>::New();
+  actor->SetMapper(mapper);
+  wf::Material m = scene.materials[size_t(std::clamp(w.material, 0, int(scene.materials.size()) - 1))];
+  m.opacity *= w.opacity;
+  setMaterial(actor->GetProperty(), m);
+  if (w.style != wf::WireStyle::Shaded)  // plain and depth-cued wires keep their own colour
+    actor->GetProperty()->SetDiffuseColor(w.colour.x, w.colour.y, w.colour.z);
+  vtkWireFurRenderPass::Mark(actor);
+  vtkInformation* keys = actor->GetPropertyKeys();
+  if (w.thicknessInPixels) actor->GetProperty()->SetLineWidth(float(w.thickness));
+  else keys->Set(vtkWireFurRenderPass::WIREFUR_WIRE_THICKNESS(), w.thickness);
+  keys->Set(vtkWireFurRenderPass::WIREFUR_WIRE_STYLE(),
+            w.style == wf::WireStyle::Plain ? 1 : w.style == wf::WireStyle::DepthCued ? 2 : 0);
+  return actor;
+}
+
+bool endsWith(const std::string& s, const std::string& tail) {
+  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+// The trackball camera with WireFur's keys instead of the style's own (w, s, f, m would switch
+// representation, fly to a point ...): our keys go to `onKey`, the rest to the trackball.
+class ViewerStyle : public vtkInteractorStyleTrackballCamera {
+ public:
+  static ViewerStyle* New();
+  vtkTypeMacro(ViewerStyle, vtkInteractorStyleTrackballCamera);
+  std::function<bool(char)> onKey;  ///< true: handled
+  void OnChar() override {
+    const char key = this->Interactor->GetKeyCode();
+    if (onKey && onKey(key)) return;
+    if (key == 'q' || key == 'Q' || key == 'e' || key == 'E') {
+      this->Interactor->ExitCallback();
+      return;
+    }
+    vtkInteractorStyleTrackballCamera::OnChar();
+  }
+};
+vtkStandardNewMacro(ViewerStyle);
+
+ViewOptions parse(const std::vector<std::string>& a) {
+  ViewOptions o;
+  auto need = [&](size_t& i) {
+    if (i + 1 >= a.size()) throw UsageError("option " + a[i] + " needs a value");
+    return a[++i];
+  };
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (a[i] == "--size") {
+      const std::string v = need(i);
+      const size_t x = v.find('x');
+      if (x == std::string::npos) throw UsageError("option --size: expected WxH, got '" + v + "'");
+      o.width = parsePositiveInt("--size", v.substr(0, x));
+      o.height = parsePositiveInt("--size", v.substr(x + 1));
+      if (o.width > 8192 || o.height > 8192) throw UsageError("option --size: at most 8192x8192");
+    } else if (a[i] == "--style") {
+      o.style = need(i);
+      if (o.style != "wire" && o.style != "wire-over-surface" && o.style != "burnished" && o.style != "fur" && o.style != "scales")
+        throw UsageError("option --style: expected wire, wire-over-surface, burnished, fur or scales");
+    } else if (a[i] == "--frames") {
+      o.frames = parsePositiveInt("--frames", need(i));
+      if (o.frames > 100000) throw UsageError("option --frames: at most 100000");
+    } else if (a[i] == "--offscreen") o.offscreen = true;
+    else if (a[i] == "--png") o.png = need(i);
+    else if (a[i] == "--mask") {
+      o.mask = need(i);
+      if (o.mask != "4x4" && o.mask != "8x4" && o.mask != "8x8") throw UsageError("option --mask: expected 4x4, 8x4 or 8x8");
+    } else if (a[i] == "--threads") o.threads = parsePositiveInt("--threads", need(i));
+    else if (a[i] == "--quiet") {
+    } else if (!a[i].empty() && a[i][0] == '-') throw UsageError("view: unknown option '" + a[i] + "'");
+    else if (o.input.empty()) o.input = a[i];
+    else throw UsageError("view: more than one input ('" + o.input + "' and '" + a[i] + "')");
+  }
+  if (!o.png.empty() && o.frames == 0) throw UsageError("view: --png needs --frames N");
+  if (o.offscreen && o.frames == 0) throw UsageError("view: --offscreen needs --frames N (there is no window to interact with)");
+  return o;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+}  // namespace
+
+int runView(const std::vector<std::string>& args) {
+  const ViewOptions o = parse(args);
+  if (!o.offscreen && std::getenv("DISPLAY") == nullptr)
+    throw std::runtime_error("view: no display (DISPLAY is not set); use --offscreen --frames N");
+  SceneFile sf = loadInput(o.input, o.style);
+  reframe(sf, o.width, o.height);
+  const wf::Scene& scene = sf.scene;
+
+  vtkNew<vtkRenderer> renderer;
+  vtkNew<vtkRenderWindow> window;
+  window->SetSize(o.width, o.height);
+  window->SetMultiSamples(0);  // the A-buffer antialiases the marked props; OpenGL surfaces stay as drawn
+  window->SetWindowName(("wirefur view " + (sf.title.empty() ? o.input : sf.title)).c_str());
+  if (o.offscreen) window->SetOffScreenRendering(1);
+  window->AddRenderer(renderer);
+  const glm::vec4 bg = scene.background;
+  renderer->SetBackground(srgbByte(bg.x) / 255.0, srgbByte(bg.y) / 255.0, srgbByte(bg.z) / 255.0);
+
+  vtkNew<vtkWireFurRenderPass> pass;
+  pass->SetMaskSize(o.mask.empty() ? sf.mask.w : o.mask[0] - '0', o.mask.empty() ? sf.mask.h : o.mask[2] - '0');
+  pass->SetBudget(sf.budget);
+  pass->SetThreads(o.threads);
+  pass->SetAmbient(scene.lights.ambient.x, scene.lights.ambient.y, scene.lights.ambient.z);
+  renderer->SetPass(pass);
+
+  // Geometry: wires (and fur) marked for the A-buffer; surfaces (and scales) drawn by OpenGL
+  // through the pass's delegate, unless 'a' sends them through the A-buffer too.
+  std::vector<vtkSmartPointer<vtkActor>> wires, fur, surfaces, scales;
+  for (const wf::SceneSurface& s : scene.surfaces) {
+    auto a = surfaceActor(s, scene);
+    renderer->AddActor(a);
+    (endsWith(s.name, " scales") ? scales : surfaces).push_back(a);
+  }
+  for (const wf::SceneWire& w : scene.wires) {
+    auto a = wireActor(w, scene);
+    renderer->AddActor(a);
+    (endsWith(w.name, " fur") ? fur : wires).push_back(a);
+  }
+
+  // Lights: the scene's directional lights, fixed to the camera or to the world.
+  renderer->AutomaticLightCreationOff();
+  for (const wf::DirectionalLight& l : scene.lights.canonical().lights) {
+    vtkNew<vtkLight> light;
+    if (scene.lightsFollowCamera) light->SetLightTypeToCameraLight();
+    else light->SetLightTypeToSceneLight();
+    light->SetPositional(false);
+    light->SetFocalPoint(0, 0, 0);
+    light->SetPosition(l.direction.x, l.direction.y, l.direction.z);
+    const double m = std::max({l.intensity.x, l.intensity.y, l.intensity.z, 1e-12});
+    light->SetColor(l.intensity.x / m, l.intensity.y / m, l.intensity.z / m);
+    light->SetIntensity(m);
+    renderer->AddLight(light);
+  }
+
+  vtkCamera* camera = renderer->GetActiveCamera();
+  if (scene.camera) {
+    const wf::Camera& c = *scene.camera;
+    camera->SetPosition(c.eye.x, c.eye.y, c.eye.z);
+    camera->SetFocalPoint(c.target.x, c.target.y, c.target.z);
+    camera->SetViewUp(c.up.x, c.up.y, c.up.z);
+    camera->SetViewAngle(c.fovYDegrees);
+    camera->SetParallelProjection(c.projection == wf::Camera::Projection::Orthographic);
+    camera->SetParallelScale(c.orthoHeight / 2);
+    camera->OrthogonalizeViewUp();
+  } else {
+    renderer->ResetCamera();
+  }
+  renderer->ResetCameraClippingRange();
+
+  // Frame time and error estimate in the lower-left corner (of the frame before: the text is
+  // set before each render from what the pass measured last).
+  vtkNew<vtkTextActor> text;
+  text->GetTextProperty()->SetFontSize(14);
+  text->GetTextProperty()->SetColor(1.0, 1.0, 0.6);
+  text->SetDisplayPosition(8, 8);
+  renderer->AddViewProp(text);
+  bool plainWires = false;
+  auto caption = [&] {
+    std::ostringstream s;
+    s.setf(std::ios::fixed);
+    s.precision(1);
+    s << "frame " << 1000.0 * pass->GetLastRenderSeconds() << " ms (A-buffer " << 1000.0 * pass->GetLastCoreSeconds()
+      << " ms)   ";
+    s.precision(4);
+    s << "error <= " << pass->GetLastErrorEstimate() << " (shading), " << pass->GetLastCoverageError() << " (coverage)   mask "
+      << pass->GetMaskWidth() << "x" << pass->GetMaskHeight() << (plainWires ? "   plain wire" : "   shaded wire")
+      << "\nkeys: w plain/shaded wire  f fur  s scales  m mask  a surfaces through the A-buffer  q quit";
+    text->SetInput(s.str().c_str());
+  };
+  vtkNew<vtkCallbackCommand> before;
+  before->SetCallback([](vtkObject*, unsigned long, void* cd, void*) { (*static_cast<std::function<void()>*>(cd))(); });
+  std::function<void()> captionFn = caption;
+  before->SetClientData(&captionFn);
+  renderer->AddObserver(vtkCommand::StartEvent, before);
+
+  if (o.frames > 0) {
+    // Benchmark: N frames, the camera turning 360 / N degrees a frame about the view up.
+    std::vector<double> frame, core;
+    const double step = 360.0 / o.frames;
+    double error = 0;
+    for (int i = 0; i < o.frames; ++i) {
+      if (i > 0) {
+        camera->Azimuth(step);
+        renderer->ResetCameraClippingRange();
+      }
+      const auto t0 = std::chrono::steady_clock::now();
+      window->Render();
+      frame.push_back(secondsSince(t0));
+      core.push_back(pass->GetLastCoreSeconds());
+      error = std::max(error, pass->GetLastErrorEstimate());
+    }
+    std::printf("view: %s at %dx%d, %d frames: median frame %.1f ms (%.1f frames/s), median A-buffer %.1f ms, "
+                "shading error estimate %.4g, coverage %.4g, %d marked props\n",
+                o.input.empty() ? "built-in scene" : o.input.c_str(), o.width, o.height, o.frames, 1000.0 * median(frame),
+                1.0 / std::max(1e-9, median(frame)), 1000.0 * median(core), error, pass->GetLastCoverageError(),
+                pass->GetLastMarkedProps());
+    if (!o.png.empty()) {
+      vtkNew<vtkWindowToImageFilter> grab;
+      grab->SetInput(window);
+      grab->ReadFrontBufferOff();
+      grab->ShouldRerenderOn();
+      vtkNew<vtkPNGWriter> writer;
+      writer->SetInputConnection(grab->GetOutputPort());
+      writer->SetFileName(o.png.c_str());
+      writer->Write();
+      if (writer->GetErrorCode() != 0) throw std::runtime_error(o.png + ": cannot write PNG");
+    }
+    return 0;
+  }
+
+  vtkNew<vtkRenderWindowInteractor> interactor;
+  vtkNew<ViewerStyle> style;
+  bool surfacesMarked = false;
+  int maskIndex = pass->GetMaskWidth() == 4 ? 0 : pass->GetMaskHeight() == 4 ? 1 : 2;
+  style->onKey = [&](char key) {
+    switch (key) {
+      case 'w':
+        plainWires = !plainWires;
+        for (auto* group : {&wires, &fur})
+          for (auto& a : *group) {
+            a->GetPropertyKeys()->Set(vtkWireFurRenderPass::WIREFUR_WIRE_STYLE(), plainWires ? 1 : 0);
+            a->Modified();
+          }
+        break;
+      case 'f':
+        for (auto& a : fur) a->SetVisibility(!a->GetVisibility());
+        break;
+      case 's':
+        for (auto& a : scales) a->SetVisibility(!a->GetVisibility());
+        break;
+      case 'm': {
+        static const int masks[3][2] = {{4, 4}, {8, 4}, {8, 8}};
+        maskIndex = (maskIndex + 1) % 3;
+        pass->SetMaskSize(masks[maskIndex][0], masks[maskIndex][1]);
+        break;
+      }
+      case 'a':
+        surfacesMarked = !surfacesMarked;
+        for (auto* group : {&surfaces, &scales})
+          for (auto& a : *group) vtkWireFurRenderPass::Mark(a, surfacesMarked);
+        break;
+      default:
+        return false;
+    }
+    window->Render();
+    return true;
+  };
+  interactor->SetInteractorStyle(style);
+  interactor->SetRenderWindow(window);
+  interactor->Initialize();
+  window->Render();
+  interactor->Start();
+  return 0;
+}
+
+}  // namespace wfapp
