@@ -1,5 +1,7 @@
 #include "vtkWireFurRenderPass.h"
 
+#include "render/shading_cache.h"
+
 #include "wf_render_pass_scene.h"
 
 #include "render/renderer.h"
@@ -85,6 +87,9 @@ public:
   vtkSmartPointer<vtkTextureObject> Texture;
   vtkSmartPointer<vtkOpenGLFramebufferObject> Resolve;  ///< multisampled framebuffers resolve here
   std::unique_ptr<vtkOpenGLQuadHelper> Quad;
+  /// Shading tables kept between frames: rebuilt only when a material, the lights in eye space or
+  /// the view change (a camera turning with a headlight rebuilds nothing).
+  std::shared_ptr<wf::ShadingCache> Tables = std::make_shared<wf::ShadingCache>();
 
   vtkInternals()
   {
@@ -349,6 +354,7 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
       options.budget = this->Budget;
       options.threads = this->Threads;
       options.opaqueDepth = &in.ViewDepth;
+      options.shadingCache = in.Tables;
       try
       {
         const wf::RenderResult r = wf::render(in.Scene, options);
@@ -357,6 +363,8 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
           std::max({ r.stats.mapError, r.stats.sphereError, r.stats.orthographicError });
         this->LastCoverageError = r.stats.coverageQuantisation;
         this->LastFragments = vtkTypeInt64(r.stats.abuffer.fragments);
+        this->LastTablesBuilt = r.stats.pseudoReflectanceMaps + r.stats.reflectanceSpheres;
+        this->LastTablesReused = int(r.stats.tablesReused);
         in.Composite(r.image, w, h);
         in.WriteBack(renWin, x, y, w, h);
 

@@ -123,6 +123,10 @@ public:
   vtkGetMacro(LastFragments, vtkTypeInt64);
   /// Marked actors drawn by the last Render.
   vtkGetMacro(LastMarkedProps, int);
+  /// Shading tables (maps, spheres) the last Render built, and those it took from the frame
+  /// before (they are rebuilt only when a material, the lights in eye space or the view change).
+  vtkGetMacro(LastTablesBuilt, int);
+  vtkGetMacro(LastTablesReused, int);
 
 protected:
   vtkWireFurRenderPass();
@@ -140,6 +144,8 @@ protected:
   double LastCoverageError = 0.0;
   vtkTypeInt64 LastFragments = 0;
   int LastMarkedProps = 0;
+  int LastTablesBuilt = 0;
+  int LastTablesReused = 0;
 
 private:
   vtkWireFurRenderPass(const vtkWireFurRenderPass&) = delete;

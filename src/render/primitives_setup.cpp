@@ -1,6 +1,7 @@
 #include "render/primitives_setup.h"
 
 #include "abuffer/screen_polygon.h"
+#include "render/shading_cache.h"
 #include "shading/cylinder_shading.h"
 
 #include <tbb/parallel_for.h>
@@ -162,6 +163,26 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
   const bool maps = o.shading == ShadingPath::Maps;
   ps.grid = std::make_unique<ViewGrid>(ps.view, o.viewGrid);
   const ViewGrid& grid = *ps.grid;
+  // Tables from the cache of the last frame where they match (RenderOptions::shadingCache), else
+  // built here; the counts say which.
+  auto wireTables = [&](const PhongMaterial& m) {
+    std::shared_ptr<WireTables> t;
+    bool built = true;
+    if (o.shadingCache) t = o.shadingCache->wire(grid, m, ps.eyeLights, o.map, built);
+    else t = std::make_shared<WireTables>(grid, m, ps.eyeLights, o.map);
+    if (built) st.pseudoReflectanceMaps += t->mapsBuilt();
+    else ++st.tablesReused;
+    return t;
+  };
+  auto phongTables = [&](const PhongMaterial& m) {
+    std::shared_ptr<SurfaceTables> t;
+    bool built = true;
+    if (o.shadingCache) t = o.shadingCache->phong(grid, o.sphereResolution, m, ps.eyeLights, built);
+    else t = std::make_shared<SurfaceTables>(SurfaceTables::phong(grid, o.sphereResolution, m, ps.eyeLights));
+    if (built) st.reflectanceSpheres += t->spheresBuilt();
+    else ++st.tablesReused;
+    return t;
+  };
   std::map<int, std::shared_ptr<WireTables>> wireTablesOf;
   // Every table built, with the model it tabulates, for the error estimates below.
   std::vector<std::pair<const WireTables*, PhongMaterial>> wireChecks;
@@ -216,16 +237,14 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
         // The burnished surface's cylinders share the pseudo-reflectance map of wires of the
         // same material (unless split into parts by a colour map).
         if (slot.split) {
-          slot.wireTables = std::make_shared<WireTables>(grid, diffusePart, ps.eyeLights, o.map);
-          slot.wireSpecular = std::make_shared<WireTables>(grid, specularPart, ps.eyeLights, o.map);
-          st.pseudoReflectanceMaps += slot.wireTables->mapsBuilt() + slot.wireSpecular->mapsBuilt();
+          slot.wireTables = wireTables(diffusePart);
+          slot.wireSpecular = wireTables(specularPart);
           wireChecks.push_back({slot.wireTables.get(), diffusePart});
           wireChecks.push_back({slot.wireSpecular.get(), specularPart});
         } else {
           auto wt = wireTablesOf.find(mi);
           if (wt == wireTablesOf.end()) {
-            auto tables = std::make_shared<WireTables>(grid, slot.phong, ps.eyeLights, o.map);
-            st.pseudoReflectanceMaps += tables->mapsBuilt();
+            auto tables = wireTables(slot.phong);
             wt = wireTablesOf.emplace(mi, tables).first;
             wireChecks.push_back({tables.get(), slot.phong});
           }
@@ -233,19 +252,20 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
         }
       } else if (maps) {
         if (chrome) {
-          slot.surfaceTables = std::make_shared<SurfaceTables>(
-              SurfaceTables::chrome(grid, o.sphereResolution, env(), slot.chromeReflectance));
+          bool built = true;
+          if (o.shadingCache)
+            slot.surfaceTables = o.shadingCache->chrome(grid, o.sphereResolution, env(), slot.chromeReflectance, built);
+          else
+            slot.surfaceTables = std::make_shared<SurfaceTables>(
+                SurfaceTables::chrome(grid, o.sphereResolution, env(), slot.chromeReflectance));
+          if (built) st.reflectanceSpheres += slot.surfaceTables->spheresBuilt();
+          else ++st.tablesReused;
         } else {
-          slot.surfaceTables = std::make_shared<SurfaceTables>(
-              SurfaceTables::phong(grid, o.sphereResolution, slot.split ? diffusePart : slot.phong, ps.eyeLights));
-          if (slot.split)
-            slot.surfaceSpecular = std::make_shared<SurfaceTables>(
-                SurfaceTables::phong(grid, o.sphereResolution, specularPart, ps.eyeLights));
+          slot.surfaceTables = phongTables(slot.split ? diffusePart : slot.phong);
+          if (slot.split) slot.surfaceSpecular = phongTables(specularPart);
         }
         surfaceChecks.push_back({slot.surfaceTables.get(), slot.split ? diffusePart : slot.phong, chrome, slot.chromeReflectance});
         if (slot.surfaceSpecular) surfaceChecks.push_back({slot.surfaceSpecular.get(), specularPart, false, glm::dvec3(0.0)});
-        st.reflectanceSpheres += slot.surfaceTables->spheresBuilt() +
-                                 (slot.surfaceSpecular ? slot.surfaceSpecular->spheresBuilt() : 0);
       }
       ps.shaders.push_back(slot);
       it = surfaceSlotOf.emplace(mi, int(ps.shaders.size()) - 1).first;
@@ -263,8 +283,7 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
     if (maps && slot.kind == ShaderSlot::Kind::WireShaded && w.lines.points.size() >= 2) {
       auto it = wireTablesOf.find(mi);
       if (it == wireTablesOf.end()) {
-        auto tables = std::make_shared<WireTables>(grid, slot.phong, ps.eyeLights, o.map);
-        st.pseudoReflectanceMaps += tables->mapsBuilt();
+        auto tables = wireTables(slot.phong);
         it = wireTablesOf.emplace(mi, tables).first;
         wireChecks.push_back({tables.get(), slot.phong});
       }

@@ -1,5 +1,7 @@
 #include "render/renderer.h"
 
+#include "render/shading_cache.h"
+
 #include "abuffer/screen_polygon.h"
 #include "render/primitives_setup.h"
 #include "shading/cylinder_shading.h"
@@ -188,7 +190,9 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
   RenderStats& st = result.stats;
   result.image = ImageRGBA(options.width, options.height);
   inArena(options.threads, [&] {
+    if (options.shadingCache) options.shadingCache->beginFrame();
     PreparedScene ps = prepareScene(scene, options, st);
+    if (options.shadingCache) options.shadingCache->endFrame();  // tables in use are held by ps too
     const TileBins bins = binPrimitives(ps, options.tileSize, st);
     const auto tr = std::chrono::steady_clock::now();
     const int tilesX = bins.tilesX;

@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <string>
+#include <memory>
 #include <vector>
 
 namespace wf {
@@ -23,6 +24,8 @@ enum class ShadingPath {
   Maps,   ///< pseudo-reflectance maps and reflectance spheres (the paper; orthographic view)
   Exact,  ///< cylinder integral and Phong at the true view vector of every fragment
 };
+
+class ShadingCache;
 
 struct RenderOptions {
   int width = 640, height = 480;
@@ -54,6 +57,9 @@ struct RenderOptions {
   /// depth per pixel, so the edge of that opaque surface across a fragment is not antialiased
   /// (the surface drawn elsewhere is not either). render() only; renderReference ignores it.
   const std::vector<float>* opaqueDepth = nullptr;
+  /// Shading tables kept between frames (render/shading_cache.h): rebuilt only when material,
+  /// eye-space lights, table options or view grid change. Null: built for every render.
+  std::shared_ptr<ShadingCache> shadingCache;
   int referenceSamples = 16;  ///< brute-force reference: n x n stratified samples per pixel
   std::uint64_t referenceSeed = 1;
   /// Empty when usable; otherwise what is wrong.
@@ -63,6 +69,7 @@ struct RenderOptions {
 struct RenderStats {
   // seconds
   double total = 0, setup = 0, maps = 0, binning = 0, raster = 0;
+  size_t tablesReused = 0;  ///< shading tables taken from RenderOptions::shadingCache
   // what went in
   size_t triangles = 0, segments = 0;       ///< accepted input primitives
   size_t primitives = 0;                    ///< screen polygons after clipping

@@ -374,3 +374,33 @@ TEST(RenderPass, UnmarkingReturnsThePropToTheDelegate)
 }
 
 }  // namespace
+
+// The shading tables are rebuilt only when the camera moves relative to the lights (the paper's
+// rule, §2.2): a second frame of an unchanged view builds none; a turned camera with a scene
+// light (fixed in the world) builds the wire's map again; with a headlight (fixed to the camera)
+// turning rebuilds nothing.
+TEST(RenderPass, TablesAreRebuiltOnlyWhenTheCameraMovesRelativeToTheLights)
+{
+  Window win;
+  win.AddWire(true);
+  win.Render();
+  EXPECT_GT(win.pass->GetLastTablesBuilt(), 0);
+  win.Render();
+  EXPECT_EQ(win.pass->GetLastTablesBuilt(), 0);
+  EXPECT_GT(win.pass->GetLastTablesReused(), 0);
+  win.renderer->GetActiveCamera()->Azimuth(25);
+  win.Render();
+  EXPECT_GT(win.pass->GetLastTablesBuilt(), 0);  // a scene light: the eye-space lights moved
+
+  Window head;
+  head.renderer->RemoveAllLights();
+  vtkNew<vtkLight> headlight;
+  headlight->SetLightTypeToHeadlight();
+  head.renderer->AddLight(headlight);
+  head.AddWire(true);
+  head.Render();
+  head.renderer->GetActiveCamera()->Azimuth(25);
+  head.Render();
+  EXPECT_EQ(head.pass->GetLastTablesBuilt(), 0);
+  EXPECT_GT(head.pass->GetLastTablesReused(), 0);
+}
