@@ -169,9 +169,39 @@ int vtkWireFurTangentShading::RequestData(
 {
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
   vtkPolyData* output = vtkPolyData::GetData(outputVector);
-  output->ShallowCopy(input);
   this->NonFinitePoints = 0;
   this->DegeneratePoints = 0;
+  // Bad input is an error and an empty output (the generators and the command line do the same),
+  // unless SkipNonFinitePoints asks for the rest to be shaded.
+  if (!input || input->GetNumberOfPoints() == 0)
+  {
+    vtkErrorMacro("the input has no points");
+    output->Initialize();
+    return 1;
+  }
+  if (!this->SkipNonFinitePoints)
+  {
+    vtkIdType bad = 0, first = -1;
+    for (vtkIdType i = 0; i < input->GetNumberOfPoints(); ++i)
+    {
+      double p[3];
+      input->GetPoint(i, p);
+      if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+      {
+        bad += 1;
+        first = first < 0 ? i : first;
+      }
+    }
+    if (bad > 0)
+    {
+      vtkErrorMacro(<< bad << " point(s) with a NaN or Inf coordinate (the first is point " << first
+                    << "): no output (SkipNonFinitePointsOn() shades the others)");
+      this->NonFinitePoints = int(bad);
+      output->Initialize();
+      return 1;
+    }
+  }
+  output->ShallowCopy(input);
 
   const vtkIdType n = input->GetNumberOfPoints();
   vtkNew<vtkFloatArray> worldTangents, eyeTangents, radiance;
@@ -511,5 +541,6 @@ void vtkWireFurTangentShading::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MapSeconds: " << this->Internals->Map.lastBuildSeconds() << "\n";
   os << indent << "ErrorEstimate: " << this->ErrorEstimate << "\n";
   os << indent << "NonFinitePoints: " << this->NonFinitePoints << "\n";
+  os << indent << "SkipNonFinitePoints: " << this->SkipNonFinitePoints << "\n";
   os << indent << "DegeneratePoints: " << this->DegeneratePoints << "\n";
 }

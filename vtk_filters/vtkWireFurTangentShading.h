@@ -20,8 +20,10 @@
  * sums the cells' tangents, each with the sign that agrees with the first cell's (T and -T are the
  * same cylinder). Where incoming and outgoing cancel (a hairpin) the incoming direction is used.
  * A point with no usable segment gets (0, 0, 0) and is counted in DegeneratePoints; it shades as
- * a cylinder seen end-on (the core's convention). A point with a NaN or Inf coordinate gets the
- * tangent (0, 0, 0) and black, is counted in NonFinitePoints, and one warning gives the count.
+ * a cylinder seen end-on (the core's convention). Bad input is an error and an empty output: an
+ * input without points, or one with a NaN or Inf coordinate (counted in NonFinitePoints). With
+ * SkipNonFinitePoints on, such points get the tangent (0, 0, 0) and black instead, the others are
+ * shaded, and one warning gives the count.
  *
  * Eye space is given by Camera's view transform (eye-from-world = its rotation part; Camera's
  * model transform is not used). Without a Camera the Renderer's active camera is used, and
@@ -144,6 +146,13 @@ public:
   vtkGetMacro(ErrorEstimate, double);
   /// Points of the last execution with a NaN or Inf coordinate.
   vtkGetMacro(NonFinitePoints, vtkIdType);
+  ///@{
+  /// Shade the finite points of an input that has NaN / Inf points (those get black and a zero
+  /// tangent, with a warning) instead of an error and an empty output. Default off.
+  vtkSetMacro(SkipNonFinitePoints, vtkTypeBool);
+  vtkGetMacro(SkipNonFinitePoints, vtkTypeBool);
+  vtkBooleanMacro(SkipNonFinitePoints, vtkTypeBool);
+  ///@}
   /// Finite points of the last execution with no usable segment (tangent (0, 0, 0)).
   vtkGetMacro(DegeneratePoints, vtkIdType);
 
@@ -169,6 +178,7 @@ protected:
   int MapSamples = 64;
   double ErrorEstimate = 0.0;
   vtkIdType NonFinitePoints = 0;
+  vtkTypeBool SkipNonFinitePoints = 0;
   vtkIdType DegeneratePoints = 0;
 
 private:

@@ -540,9 +540,24 @@ TEST(VtkTangentShading, NonFinitePointsAreBlackAndReported)
   ref->SetInputData(makePolyline(clean, false));
   ref->SetCamera(camera);
   ref->Update();
+  // By default bad input is an error and an empty output.
+  {
+    vtkNew<vtkWireFurTangentShading> strict;
+    vtkNew<MessageCounter> errors;
+    observe(strict, errors);
+    strict->SetInputData(makePolyline(dirty, false));
+    strict->SetCamera(camera);
+    strict->Update();
+    EXPECT_EQ(errors->errors, 1);
+    EXPECT_NE(errors->last.find("2 point"), std::string::npos) << errors->last;
+    EXPECT_NE(errors->last.find("point 3"), std::string::npos) << errors->last;
+    EXPECT_EQ(strict->GetOutput()->GetNumberOfPoints(), 0);
+  }
+  // SkipNonFinitePoints: the rest is shaded.
   vtkNew<vtkWireFurTangentShading> filter;
   vtkNew<MessageCounter> messages;
   observe(filter, messages);
+  filter->SkipNonFinitePointsOn();
   filter->SetInputData(makePolyline(dirty, false));
   filter->SetCamera(camera);
   filter->Update();
@@ -664,7 +679,7 @@ TEST(VtkTangentShading, LineCellsSharingPointsAverageAsAxes)
 }
 
 // Empty input: empty output with the four arrays, no message, no map built.
-TEST(VtkTangentShading, EmptyInputGivesEmptyOutput)
+TEST(VtkTangentShading, EmptyInputIsAnErrorAndAnEmptyOutput)
 {
   vtkNew<vtkPolyData> empty;
   vtkNew<vtkWireFurTangentShading> filter;
@@ -672,11 +687,9 @@ TEST(VtkTangentShading, EmptyInputGivesEmptyOutput)
   observe(filter, messages);
   filter->SetInputData(empty);
   filter->Update();
-  EXPECT_EQ(messages->warnings + messages->errors, 0) << messages->last;
+  EXPECT_EQ(messages->errors, 1) << messages->last;  // bad input: an error, an empty output
   EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
   EXPECT_EQ(filter->GetMapBuilds(), 0);
-  ASSERT_NE(filter->GetOutput()->GetPointData()->GetArray("ShadedColor"), nullptr);
-  EXPECT_EQ(filter->GetOutput()->GetPointData()->GetArray("ShadedColor")->GetNumberOfTuples(), 0);
 }
 
 // ShadedColor is ShadedRadiance clamped and sRGB-encoded, checked without re-implementing the
