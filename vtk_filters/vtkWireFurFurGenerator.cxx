@@ -5,6 +5,7 @@
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkIdTypeArray.h"
+#include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkObjectFactory.h"
@@ -16,6 +17,7 @@
 #include "vtkUnsignedCharArray.h"
 
 #include "growth/fur.h"
+#include "texture/textures.h"
 #include "wf_vtk_surfaces.h"
 
 #include <algorithm>
@@ -43,8 +45,100 @@ vtkMTimeType vtkWireFurFurGenerator::GetMTime()
   {
     t = std::max(t, this->ParametricFunction->GetMTime());
   }
+  for (vtkImageData* m : { this->DensityMap.Get(), this->LengthMap.Get(), this->OrientationMap.Get(),
+         this->RootColorMap.Get() })
+  {
+    if (m)
+    {
+      t = std::max(t, m->GetMTime());
+    }
+  }
   return t;
 }
+
+#define WIREFUR_MAP_ACCESSORS(Name)                                                                \
+  void vtkWireFurFurGenerator::Set##Name(vtkImageData* map)                                        \
+  {                                                                                                \
+    if (this->Name.Get() != map)                                                                   \
+    {                                                                                              \
+      this->Name = map;                                                                            \
+      this->Modified();                                                                            \
+    }                                                                                              \
+  }                                                                                                \
+  vtkImageData* vtkWireFurFurGenerator::Get##Name() { return this->Name.Get(); }
+WIREFUR_MAP_ACCESSORS(DensityMap)
+WIREFUR_MAP_ACCESSORS(LengthMap)
+WIREFUR_MAP_ACCESSORS(OrientationMap)
+WIREFUR_MAP_ACCESSORS(RootColorMap)
+#undef WIREFUR_MAP_ACCESSORS
+
+void vtkWireFurFurGenerator::AddColorRegion(
+  double s, double t, double radius, double r, double g, double b, double falloff)
+{
+  this->ColorRegions.push_back({ s, t, radius, r, g, b, falloff });
+  this->Modified();
+}
+
+void vtkWireFurFurGenerator::RemoveAllColorRegions()
+{
+  if (!this->ColorRegions.empty())
+  {
+    this->ColorRegions.clear();
+    this->Modified();
+  }
+}
+
+int vtkWireFurFurGenerator::GetNumberOfColorRegions()
+{
+  return int(this->ColorRegions.size());
+}
+
+namespace
+{
+// One component of a 2-D image as a linear-light RGBA image (the core's texture input), row 0 at
+// the top (VTK's row 0 is at the bottom: t = 0). `component` < 0: RGB (unsigned char decoded from
+// sRGB, other types as they are). Empty when the image has no scalars or is not 2-D.
+wf::ImageRGBA toCoreImage(vtkImageData* img, int component)
+{
+  wf::ImageRGBA out;
+  vtkDataArray* a = img ? img->GetPointData()->GetScalars() : nullptr;
+  int dims[3] = { 0, 0, 0 };
+  if (img)
+  {
+    img->GetDimensions(dims);
+  }
+  if (!a || dims[0] < 1 || dims[1] < 1 || dims[2] != 1 || a->GetNumberOfTuples() != vtkIdType(dims[0]) * dims[1])
+  {
+    return out;
+  }
+  const bool bytes = a->GetDataType() == VTK_UNSIGNED_CHAR;
+  const int nc = a->GetNumberOfComponents();
+  out = wf::ImageRGBA(dims[0], dims[1]);
+  for (int j = 0; j < dims[1]; ++j)
+  {
+    for (int i = 0; i < dims[0]; ++i)
+    {
+      const vtkIdType id = vtkIdType(j) * dims[0] + i;
+      glm::vec4 p(1.0f);
+      for (int c = 0; c < 3; ++c)
+      {
+        const int k = component >= 0 ? std::min(component, nc - 1) : std::min(c, nc - 1);
+        double v = a->GetComponent(id, k);
+        if (bytes && component < 0)
+        {
+          v /= 255.0;
+          v = v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+        }
+        p[c] = float(std::isfinite(v) ? v : 0.0);
+      }
+      out.at(i, dims[1] - 1 - j) = p;
+    }
+  }
+  return out;
+}
+}
+
+
 
 int vtkWireFurFurGenerator::FillInputPortInformation(int, vtkInformation* info)
 {
@@ -108,6 +202,47 @@ int vtkWireFurFurGenerator::RequestData(
   p.rootColour = glm::vec3(glm::dvec3(this->RootColor[0], this->RootColor[1], this->RootColor[2]));
   p.tipColour = glm::vec3(glm::dvec3(this->TipColor[0], this->TipColor[1], this->TipColor[2]));
   p.thickness = this->Thickness;
+  // Maps (the core looks them up at the unit coordinates (s, t), wrapping along periodic axes).
+  const wf::ParameterDomain domain = surface->domain();
+  auto scalarMap = [&](vtkImageData* img, int component) -> std::shared_ptr<const wf::ScalarTexture> {
+    if (!img)
+    {
+      return nullptr;
+    }
+    wf::ImageRGBA core = toCoreImage(img, component);
+    if (core.width == 0)
+    {
+      vtkWarningMacro("a map without 2-D point scalars is ignored");
+      return nullptr;
+    }
+    // One component copied into R, G and B: its luminance is the component itself.
+    return std::make_shared<wf::ImageHeight>(core, domain.periodicU, domain.periodicV);
+  };
+  p.densityMap = scalarMap(this->DensityMap, 0);
+  p.lengthMap = scalarMap(this->LengthMap, 0);
+  if (this->OrientationMap)
+  {
+    p.orientationMapA = scalarMap(this->OrientationMap, 0);
+    p.orientationMapB = scalarMap(this->OrientationMap, 1);
+    p.orientationMapC = scalarMap(this->OrientationMap, 2);
+  }
+  if (this->RootColorMap)
+  {
+    wf::ImageRGBA core = toCoreImage(this->RootColorMap, -1);
+    if (core.width > 0)
+    {
+      p.rootColourMap = std::make_shared<wf::ImageTexture>(core, domain.periodicU, domain.periodicV);
+    }
+  }
+  for (const auto& r : this->ColorRegions)
+  {
+    wf::FurColourRegion region;
+    region.centre = glm::dvec2(r[0], r[1]);
+    region.radius = r[2];
+    region.colour = glm::vec3(float(r[3]), float(r[4]), float(r[5]));
+    region.falloff = r[6];
+    p.colourRegions.push_back(region);
+  }
   if (const std::string why = p.problem(); !why.empty())
   {
     vtkErrorMacro(<< "invalid fur parameters: " << why);
@@ -216,6 +351,11 @@ void vtkWireFurFurGenerator::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FlipNormals: " << this->FlipNormals << "\n";
+  os << indent << "DensityMap: " << static_cast<void*>(this->DensityMap.Get()) << "\n";
+  os << indent << "LengthMap: " << static_cast<void*>(this->LengthMap.Get()) << "\n";
+  os << indent << "OrientationMap: " << static_cast<void*>(this->OrientationMap.Get()) << "\n";
+  os << indent << "RootColorMap: " << static_cast<void*>(this->RootColorMap.Get()) << "\n";
+  os << indent << "ColorRegions: " << this->ColorRegions.size() << "\n";
   auto v3 = [&](const char* name, const double* v) {
     os << indent << name << ": " << v[0] << " " << v[1] << " " << v[2] << "\n";
   };

@@ -34,9 +34,14 @@
 #define vtkWireFurFurGenerator_h
 
 #include "WireFurFiltersModule.h"
+#include "vtkSmartPointer.h"
+
+#include <array>
+#include <vector>
 #include "vtkPolyDataAlgorithm.h"
 
 class vtkParametricFunction;
+class vtkImageData;
 
 class WIREFURFILTERS_EXPORT vtkWireFurFurGenerator : public vtkPolyDataAlgorithm
 {
@@ -215,7 +220,33 @@ public:
   vtkGetMacro(PatchIndex, vtkTypeUInt32);
   ///@}
 
-  /// Includes the parametric function's modification time.
+  ///@{
+  /// Maps over the patch's unit coordinates (s, t) in [0, 1]^2 (s along u, t along v; image row 0
+  /// at t = 0, bilinear, wrapping where the surface is periodic), each optional (null: none):
+  /// - DensityMap: scales the density (AreaCorrect) by its first component (>= 0);
+  /// - LengthMap: scales each hair's length by its first component;
+  /// - OrientationMap: 3 components replacing the orientation's (a, b, c);
+  /// - RootColorMap: RGB replacing RootColor (unsigned char: sRGB-encoded; float: linear).
+  void SetDensityMap(vtkImageData* map);
+  vtkImageData* GetDensityMap();
+  void SetLengthMap(vtkImageData* map);
+  vtkImageData* GetLengthMap();
+  void SetOrientationMap(vtkImageData* map);
+  vtkImageData* GetOrientationMap();
+  void SetRootColorMap(vtkImageData* map);
+  vtkImageData* GetRootColorMap();
+  ///@}
+
+  ///@{
+  /// Regions of (s, t) whose hairs take another colour (the paper's spider, pale near its leg
+  /// joints): centre (s, t), radius in (s, t) (wrapping across a periodic seam), linear colour,
+  /// falloff (the fraction of the radius over which the colour fades, 0 ... 1). Applied in order.
+  void AddColorRegion(double s, double t, double radius, double r, double g, double b, double falloff);
+  void RemoveAllColorRegions();
+  int GetNumberOfColorRegions();
+  ///@}
+
+  /// Includes the parametric function's and the maps' modification times.
   vtkMTimeType GetMTime() override;
 
 protected:
@@ -259,6 +290,8 @@ protected:
   double Thickness = 0.003;
   vtkTypeUInt64 Seed = 1;
   vtkTypeUInt32 PatchIndex = 0;
+  vtkSmartPointer<vtkImageData> DensityMap, LengthMap, OrientationMap, RootColorMap;
+  std::vector<std::array<double, 7>> ColorRegions;  ///< s, t, radius, r, g, b, falloff
 
 private:
   vtkWireFurFurGenerator(const vtkWireFurFurGenerator&) = delete;

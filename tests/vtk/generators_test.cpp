@@ -13,7 +13,9 @@
 #include "vtkDiskSource.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
+#include "vtkMath.h"
 #include "vtkFloatArray.h"
+#include "vtkImageData.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkParametricFunctionSource.h"
@@ -770,3 +772,104 @@ TEST(VtkBurnish, NaNAndEmptyInputGiveAnErrorAndAnEmptyOutput)
   EXPECT_EQ(events->Errors, 4) << events->Last;
   EXPECT_GT(burnish->GetOutput()->GetNumberOfPoints(), 0);
 }
+
+namespace
+{
+// A w x h image of `components` doubles per pixel, value(i, j, c).
+template <class F>
+vtkSmartPointer<vtkImageData> mapImage(int w, int h, int components, F value, int type = VTK_DOUBLE)
+{
+  auto img = vtkSmartPointer<vtkImageData>::New();
+  img->SetDimensions(w, h, 1);
+  img->AllocateScalars(type, components);
+  vtkDataArray* a = img->GetPointData()->GetScalars();
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i)
+      for (int c = 0; c < components; ++c)
+        a->SetComponent(vtkIdType(j) * w + i, c, value(i, j, c));
+  return img;
+}
+
+vtkSmartPointer<vtkPolyData> unitPlaneMesh()
+{
+  vtkNew<vtkPlaneSource> plane;  // (u, v) = its texture coordinates, [0, 1]^2 over the unit square
+  plane->SetResolution(20, 20);
+  plane->Update();
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  out->DeepCopy(plane->GetOutput());
+  return out;
+}
+}
+
+// The core's maps and colour regions, given as VTK images and calls: a density map that is zero
+// over the left half of (s, t) leaves no root there; a constant length map of 0.5 halves every
+// hair; a red root colour map makes every root red; a colour region paints only the hairs whose
+// roots lie inside it.
+TEST(VtkFurGenerator, MapsAndColourRegionsFollowTheCore)
+{
+  vtkSmartPointer<vtkPolyData> plane = unitPlaneMesh();
+  {
+    vtkNew<vtkWireFurFurGenerator> fur;
+    fur->SetInputData(plane);
+    fur->SetPlacementToAreaCorrect();
+    fur->SetDensity(4000);
+    // 8 texels across s: 0 for the first four, 1 for the last four (texel centres at (i + 1/2) / 8).
+    fur->SetDensityMap(mapImage(8, 1, 1, [](int i, int, int) { return i < 4 ? 0.0 : 1.0; }));
+    fur->Update();
+    vtkDataArray* uv = fur->GetOutput()->GetCellData()->GetArray("RootUV");
+    ASSERT_NE(uv, nullptr);
+    ASSERT_GT(uv->GetNumberOfTuples(), 1000);
+    double smallest = 1.0;
+    for (vtkIdType k = 0; k < uv->GetNumberOfTuples(); ++k)
+      smallest = std::min(smallest, uv->GetComponent(k, 0));
+    EXPECT_GE(smallest, 3.5 / 8.0);  // no root where the map is 0 (left of the last 0 texel centre)
+  }
+  {
+    vtkNew<vtkWireFurFurGenerator> fur;
+    fur->SetInputData(plane);
+    fur->SetGridU(10);
+    fur->SetGridV(10);
+    fur->SetLength(0.2);
+    fur->SetLengthVariation(0.0);
+    fur->SetIntensityVariation(0.0);
+    fur->SetLengthMap(mapImage(1, 1, 1, [](int, int, int) { return 0.5; }));
+    fur->SetRootColorMap(mapImage(1, 1, 3, [](int, int, int c) { return c == 0 ? 255.0 : 0.0; }, VTK_UNSIGNED_CHAR));
+    fur->AddColorRegion(0.5, 0.5, 0.2, 0.0, 1.0, 0.0, 0.0);
+    EXPECT_EQ(fur->GetNumberOfColorRegions(), 1);
+    fur->Update();
+    vtkPolyData* out = fur->GetOutput();
+    ASSERT_EQ(out->GetNumberOfLines(), 100);
+    vtkDataArray* colours = out->GetPointData()->GetArray("Colors");
+    vtkDataArray* uv = out->GetCellData()->GetArray("RootUV");
+    vtkCellArray* lines = out->GetLines();
+    vtkIdType n;
+    const vtkIdType* ids;
+    int cell = 0, inside = 0;
+    for (lines->InitTraversal(); lines->GetNextCell(n, ids); ++cell)
+    {
+      double a[3], b[3];
+      out->GetPoint(ids[0], a);
+      out->GetPoint(ids[n - 1], b);
+      EXPECT_NEAR(std::sqrt(vtkMath::Distance2BetweenPoints(a, b)), 0.1, 1e-9);  // 0.5 x 0.2
+      const double ds = uv->GetComponent(cell, 0) - 0.5, dt = uv->GetComponent(cell, 1) - 0.5;
+      const bool in = std::hypot(ds, dt) < 0.2 - 1e-9;
+      inside += in;
+      if (std::hypot(ds, dt) > 0.2 + 1e-9)
+      {
+        EXPECT_EQ(colours->GetComponent(ids[0], 0), 255.0);  // the red root colour map
+        EXPECT_EQ(colours->GetComponent(ids[0], 1), 0.0);
+      }
+      else if (in)
+      {
+        EXPECT_EQ(colours->GetComponent(ids[0], 0), 0.0);  // the green region
+        EXPECT_EQ(colours->GetComponent(ids[0], 1), 255.0);
+      }
+    }
+    EXPECT_GT(inside, 5);
+    // The maps take part in the modification time: a changed map regenerates.
+    const vtkMTimeType before = fur->GetMTime();
+    fur->GetLengthMap()->Modified();
+    EXPECT_GT(fur->GetMTime(), before);
+  }
+}
+
