@@ -7,4 +7,4 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh >/dev/null
 mkdir -p out
-xvfb-run -a -s "-screen 0 1280x1024x24" ./build/peer_hair --json out/peer_hair.json "$@"
+xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" ./build/peer_hair --json out/peer_hair.json "$@"

@@ -53,6 +53,11 @@ int vtkWireFurBurnish::RequestData(
     vtkErrorMacro(<< "the input is empty");
     return 1;
   }
+  if (const std::int64_t bad = wf::vtkio::firstCellWithMissingPoints(input); bad >= 0)
+  {
+    vtkErrorMacro(<< "input cell " << bad << " names a point the input does not have");
+    return 1;
+  }
   if (const std::int64_t bad = wf::vtkio::firstNonFinitePoint(input); bad >= 0)
   {
     vtkErrorMacro(<< "input point " << bad << " is not finite");

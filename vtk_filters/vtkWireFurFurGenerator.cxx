@@ -249,6 +249,31 @@ int vtkWireFurFurGenerator::RequestData(
     return 1;
   }
 
+  // What the hairs would take, checked before anything is allocated: the root count (the grid,
+  // or the density at the density map's largest value times the surface's area) times the
+  // points per hair, against MaximumPoints.
+  {
+    double roots = double(p.gridU) * double(p.gridV);
+    if (p.placement == wf::FurParams::Placement::AreaCorrect)
+    {
+      double mapMax = 1.0;
+      if (this->DensityMap && this->DensityMap->GetPointData()->GetScalars())
+      {
+        double range[2];
+        this->DensityMap->GetPointData()->GetScalars()->GetRange(range, 0);
+        mapMax = std::max(0.0, range[1]);
+      }
+      roots = p.density * mapMax * wf::vtkio::approximateArea(*surface);
+    }
+    const double points = roots * double(p.segments + 1);
+    if (!(points <= this->MaximumPoints))
+    {
+      vtkErrorMacro(<< "this fur would make about " << points << " points, more than MaximumPoints ("
+                    << this->MaximumPoints << "): lower the grid, density or segments, or raise MaximumPoints");
+      return 1;
+    }
+  }
+
   this->UpdateProgress(0.0);
   if (this->GetAbortExecute())
   {
@@ -267,6 +292,12 @@ int vtkWireFurFurGenerator::RequestData(
   this->UpdateProgress(0.8);
   if (this->GetAbortExecute())
   {
+    return 1;
+  }
+  if (fur.counts.hairs == 0 && fur.counts.skippedDegenerate > 0)
+  {
+    vtkErrorMacro(<< "fur on " << surface->describe() << ": none of the " << fur.counts.rootsTried
+                  << " roots lies on a finite surface (NaN or Inf parameters or points?)");
     return 1;
   }
   vtkDebugMacro(<< "fur on " << surface->describe() << ": " << fur.counts.hairs << " hairs of "
@@ -351,6 +382,7 @@ void vtkWireFurFurGenerator::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FlipNormals: " << this->FlipNormals << "\n";
+  os << indent << "MaximumPoints: " << this->MaximumPoints << "\n";
   os << indent << "DensityMap: " << static_cast<void*>(this->DensityMap.Get()) << "\n";
   os << indent << "LengthMap: " << static_cast<void*>(this->LengthMap.Get()) << "\n";
   os << indent << "OrientationMap: " << static_cast<void*>(this->OrientationMap.Get()) << "\n";

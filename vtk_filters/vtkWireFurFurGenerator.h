@@ -246,6 +246,13 @@ public:
   int GetNumberOfColorRegions();
   ///@}
 
+  ///@{
+  /// The most points one execution may make (checked before anything is allocated; the
+  /// estimate counts the density map at its largest). Default 33,554,432 (about 1.2 GB).
+  vtkSetClampMacro(MaximumPoints, double, 0.0, 1e12);
+  vtkGetMacro(MaximumPoints, double);
+  ///@}
+
   /// Includes the parametric function's and the maps' modification times.
   vtkMTimeType GetMTime() override;
 
@@ -258,6 +265,7 @@ protected:
 
   vtkParametricFunction* ParametricFunction = nullptr;
   vtkTypeBool FlipNormals = 0;
+  double MaximumPoints = 33554432.0;
   int Placement = Grid;
   int GridU = 100;
   int GridV = 70;

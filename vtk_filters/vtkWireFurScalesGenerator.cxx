@@ -130,6 +130,12 @@ int vtkWireFurScalesGenerator::RequestData(
   {
     return 1;
   }
+  if (mesh.triangles.empty())
+  {
+    vtkErrorMacro(<< "scales on " << surface->describe()
+                  << ": no scale lies on a finite surface (NaN or Inf parameters or points?)");
+    return 1;
+  }
 
   const vtkIdType nPoints = vtkIdType(mesh.positions.size());
   const vtkIdType nTriangles = vtkIdType(mesh.triangles.size());

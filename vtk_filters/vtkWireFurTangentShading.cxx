@@ -219,8 +219,12 @@ int vtkWireFurTangentShading::RequestData(
   vtkPointData* pd = output->GetPointData();
   pd->AddArray(eyeTangents);
   pd->AddArray(radiance);
-  pd->SetTangents(worldTangents);
-  pd->SetScalars(colour);
+  // Added, then made active by name: SetScalars / SetTangents would remove the input's arrays
+  // that held those roles (they stay as ordinary arrays).
+  pd->AddArray(worldTangents);
+  pd->AddArray(colour);
+  pd->SetActiveTangents("Tangents");
+  pd->SetActiveScalars("ShadedColor");
   if (n == 0)
   {
     return 1;
@@ -257,7 +261,7 @@ int vtkWireFurTangentShading::RequestData(
       vtkErrorMacro("the camera's view transform is not a rotation (position = focal point, or a "
                     "zero view-up?): no tangents or shading computed");
       output->Initialize();
-      return 0;
+      return 1;  // an error and an empty output, like every other bad input
     }
   }
 

@@ -6,6 +6,7 @@
 #include <vtkAlgorithm.h>
 #include <vtkCamera.h>
 #include <vtkCellArray.h>
+#include <vtkCellArrayIterator.h>
 #include <vtkDataArray.h>
 #include <vtkIdList.h>
 #include <vtkInformation.h>
@@ -19,7 +20,10 @@
 #include <vtkPolyData.h>
 #include <vtkProperty.h>
 #include <vtkRenderer.h>
+#include <vtkSmartPointer.h>
 #include <vtkUnsignedCharArray.h>
+
+#include "wf_vtk_surfaces.h"
 
 #include <glm/glm.hpp>
 
@@ -93,6 +97,13 @@ ActorPiece convertActor(vtkActor* actor) {
 
   vtkPolyData* pd = actorInput(actor);
   if (!pd || pd->GetNumberOfPoints() == 0) return piece;
+  // A cell naming a point the data does not have (VTK's own mappers would read past the end):
+  // the actor is left out, with a warning.
+  if (const std::int64_t bad = wf::vtkio::firstCellWithMissingPoints(pd); bad >= 0) {
+    vtkGenericWarningMacro(<< "vtkWireFurRenderPass: a marked actor's cell " << bad
+                           << " names a point its data does not have; the actor is left out");
+    return piece;
+  }
 
   // World positions (the actor's matrix) and normals (its inverse transpose).
   vtkNew<vtkMatrix4x4> matrix;
@@ -108,19 +119,42 @@ ActorPiece convertActor(vtkActor* actor) {
     pd->GetPoint(i, p);
     points[size_t(i)] = glm::dvec3(M * glm::dvec4(p[0], p[1], p[2], 1.0));
   }
-  // Mapped point colours (direct 8-bit colours or through the lookup table).
+  // Mapped colours (direct 8-bit colours or through the lookup table). As in VTK's own
+  // rendering they replace the diffuse colour (the diffuse coefficient still applies; the
+  // specular colour stays): the core multiplies its shading by per-point colours, so the
+  // material's diffuse colour becomes white. Cell colours go to the points of their cells (the
+  // first cell using a point gives its colour: exact where cells share no points).
   std::vector<glm::vec3> colours;
   if (vtkMapper* mapper = actor->GetMapper(); mapper && mapper->GetScalarVisibility()) {
     int cellFlag = 0;
     vtkUnsignedCharArray* c = mapper->MapScalars(pd, 1.0, cellFlag);
-    if (c && cellFlag == 0 && c->GetNumberOfTuples() == np && c->GetNumberOfComponents() >= 3) {
-      const float* lin = srgbTable();
-      colours.resize(size_t(np));
+    const float* lin = srgbTable();
+    if (c && c->GetNumberOfComponents() >= 3) {
       const int nc = c->GetNumberOfComponents();
       const unsigned char* d = c->GetPointer(0);
-      for (vtkIdType i = 0; i < np; ++i)
-        colours[size_t(i)] = {lin[d[i * nc]], lin[d[i * nc + 1]], lin[d[i * nc + 2]]};
+      auto colourOf = [&](vtkIdType t) { return glm::vec3(lin[d[t * nc]], lin[d[t * nc + 1]], lin[d[t * nc + 2]]); };
+      if (cellFlag == 0 && c->GetNumberOfTuples() == np) {
+        colours.resize(size_t(np));
+        for (vtkIdType i = 0; i < np; ++i) colours[size_t(i)] = colourOf(i);
+      } else if (cellFlag == 1 && c->GetNumberOfTuples() == pd->GetNumberOfCells()) {
+        colours.assign(size_t(np), glm::vec3(-1.0f));
+        vtkIdType cell = 0;
+        for (vtkCellArray* cells : {pd->GetVerts(), pd->GetLines(), pd->GetPolys(), pd->GetStrips()}) {
+          if (!cells) continue;
+          auto it = vtk::TakeSmartPointer(cells->NewIterator());
+          vtkIdType n = 0;
+          const vtkIdType* ids = nullptr;
+          for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cell) {
+            it->GetCurrentCell(n, ids);
+            for (vtkIdType k = 0; k < n; ++k)
+              if (ids[k] >= 0 && ids[k] < np && colours[size_t(ids[k])].x < 0.0f) colours[size_t(ids[k])] = colourOf(cell);
+          }
+        }
+        for (glm::vec3& col : colours)
+          if (col.x < 0.0f) col = glm::vec3(1.0f);
+      }
     }
+    if (!colours.empty()) m.phong.diffuse = glm::dvec3(prop->GetDiffuse());
   }
 
   // Lines and polylines -> one wire.

@@ -214,6 +214,37 @@ std::vector<glm::uvec3> triangulate(vtkPolyData* mesh) {
   return out;
 }
 
+double approximateArea(const Surface& surface) {
+  const ParameterDomain d = surface.domain();
+  const int n = 64;
+  double a = 0.0;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const SurfacePoint p = surface.evaluate(d.u0 + (i + 0.5) * d.du() / n, d.v0 + (j + 0.5) * d.dv() / n);
+      const double e = glm::length(glm::cross(p.Su, p.Sv));
+      if (std::isfinite(e)) a += e;
+    }
+  return a * std::abs(d.du() * d.dv()) / (double(n) * n);
+}
+
+std::int64_t firstCellWithMissingPoints(vtkPolyData* mesh) {
+  if (!mesh) return -1;
+  const vtkIdType np = mesh->GetNumberOfPoints();
+  vtkIdType cell = 0;
+  for (vtkCellArray* cells : {mesh->GetVerts(), mesh->GetLines(), mesh->GetPolys(), mesh->GetStrips()}) {
+    if (!cells) continue;
+    auto it = vtk::TakeSmartPointer(cells->NewIterator());
+    vtkIdType n = 0;
+    const vtkIdType* ids = nullptr;
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cell) {
+      it->GetCurrentCell(n, ids);
+      for (vtkIdType k = 0; k < n; ++k)
+        if (ids[k] < 0 || ids[k] >= np) return cell;
+    }
+  }
+  return -1;
+}
+
 std::int64_t firstNonFinitePoint(vtkPolyData* mesh) {
   if (!mesh || !mesh->GetPoints()) return -1;
   vtkPoints* pts = mesh->GetPoints();
@@ -228,6 +259,10 @@ std::int64_t firstNonFinitePoint(vtkPolyData* mesh) {
 MeshSurface::MeshSurface(vtkPolyData* mesh, int gridCells) {
   if (!mesh || mesh->GetNumberOfPoints() == 0) {
     problem_ = "the mesh has no points";
+    return;
+  }
+  if (const std::int64_t bad = firstCellWithMissingPoints(mesh); bad >= 0) {
+    problem_ = "cell " + std::to_string(bad) + " names a point the mesh does not have";
     return;
   }
   vtkDataArray* tc = textureCoordinates(mesh);

@@ -145,6 +145,14 @@ WIREFURFILTERS_EXPORT vtkDataArray* textureCoordinates(vtkPolyData* mesh);
 /// The triangles of the polygons and strips of `mesh` (fanned, split), as point id triples.
 WIREFURFILTERS_EXPORT std::vector<glm::uvec3> triangulate(vtkPolyData* mesh);
 
+/// The surface's area by the midpoint rule on a 64 x 64 grid of |Su x Sv| (an estimate for size
+/// checks; non-finite parts count as zero).
+WIREFURFILTERS_EXPORT double approximateArea(const Surface& surface);
+
+/// Index of the first cell (vertices, lines, polygons, strips in that order) naming a point
+/// `mesh` does not have, or -1.
+WIREFURFILTERS_EXPORT std::int64_t firstCellWithMissingPoints(vtkPolyData* mesh);
+
 /// Index of the first point of `mesh` with a NaN or infinite coordinate, or -1.
 WIREFURFILTERS_EXPORT std::int64_t firstNonFinitePoint(vtkPolyData* mesh);
 

@@ -254,7 +254,11 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
         if (chrome) {
           bool built = true;
           if (o.shadingCache)
-            slot.surfaceTables = o.shadingCache->chrome(grid, o.sphereResolution, env(), slot.chromeReflectance, built);
+            slot.surfaceTables = o.shadingCache->chrome(
+                grid, o.sphereResolution,
+                scene.environment ? scene.environment
+                                  : std::shared_ptr<const EnvironmentMap>(&defaultEnvironment(), [](const EnvironmentMap*) {}),
+                slot.chromeReflectance, built);
           else
             slot.surfaceTables = std::make_shared<SurfaceTables>(
                 SurfaceTables::chrome(grid, o.sphereResolution, env(), slot.chromeReflectance));

@@ -10,7 +10,7 @@ ShadingCache::Entry* ShadingCache::find(Kind kind, const ViewGrid& grid, const P
   for (Entry& e : entries_) {
     if (e.kind != kind || !e.grid->sameAs(grid)) continue;
     if (kind == Kind::Chrome) {
-      if (e.environment == env && e.reflectance == reflectance && e.resolution == resolution) return &e;
+      if (e.environment.get() == env && e.reflectance == reflectance && e.resolution == resolution) return &e;
       continue;
     }
     if (!(e.material == m) || !e.lights.nearlyEqual(lights, 0.0)) continue;
@@ -55,16 +55,17 @@ std::shared_ptr<SurfaceTables> ShadingCache::phong(const ViewGrid& grid, int res
   return e.surface;
 }
 
-std::shared_ptr<SurfaceTables> ShadingCache::chrome(const ViewGrid& grid, int resolution, const EnvironmentMap& env,
+std::shared_ptr<SurfaceTables> ShadingCache::chrome(const ViewGrid& grid, int resolution,
+                                                    std::shared_ptr<const EnvironmentMap> env,
                                                     const glm::dvec3& reflectance, bool& built) {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (Entry* e = find(Kind::Chrome, grid, {}, {}, {}, resolution, &env, reflectance)) {
+  if (Entry* e = find(Kind::Chrome, grid, {}, {}, {}, resolution, env.get(), reflectance)) {
     e->used = true;
     built = false;
     return e->surface;
   }
-  Entry e{Kind::Chrome, gridCopy(grid), {}, {}, {}, resolution, &env, reflectance};
-  e.surface = std::make_shared<SurfaceTables>(SurfaceTables::chrome(*e.grid, resolution, env, reflectance));
+  Entry e{Kind::Chrome, gridCopy(grid), {}, {}, {}, resolution, env, reflectance};
+  e.surface = std::make_shared<SurfaceTables>(SurfaceTables::chrome(*e.grid, resolution, *env, reflectance));
   entries_.push_back(e);
   built = true;
   return e.surface;

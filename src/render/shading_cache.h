@@ -26,7 +26,8 @@ class ShadingCache {
                                    const PseudoReflectanceMapOptions& options, bool& built);
   std::shared_ptr<SurfaceTables> phong(const ViewGrid& grid, int resolution, const PhongMaterial& m,
                                        const LightRig& eyeLights, bool& built);
-  std::shared_ptr<SurfaceTables> chrome(const ViewGrid& grid, int resolution, const EnvironmentMap& env,
+  /// The cache holds `env` (so its address, the key, cannot be reused by another map).
+  std::shared_ptr<SurfaceTables> chrome(const ViewGrid& grid, int resolution, std::shared_ptr<const EnvironmentMap> env,
                                         const glm::dvec3& reflectance, bool& built);
   /// A frame starts: every table counts as unused until asked for.
   void beginFrame();
@@ -43,7 +44,7 @@ class ShadingCache {
     LightRig lights;
     PseudoReflectanceMapOptions map;
     int resolution = 0;
-    const EnvironmentMap* environment = nullptr;
+    std::shared_ptr<const EnvironmentMap> environment;
     glm::dvec3 reflectance{0.0};
     std::shared_ptr<WireTables> wire;
     std::shared_ptr<SurfaceTables> surface;

@@ -7,7 +7,7 @@
 //   peer_hair [--segments N] [--frames F] [--samples S] [--threads T] [--no-vtk] [--json FILE]
 //
 // Under CI it runs with a small N as a smoke test; the full comparison is
-//   xvfb-run -a -s "-screen 0 1280x1024x24" build/peer_hair --json out/peer_hair.json
+//   xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" build/peer_hair --json out/peer_hair.json
 #include "hair_torus.h"
 #include "vtk_tubes.h"
 

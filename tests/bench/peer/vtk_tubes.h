@@ -7,7 +7,7 @@
 // factory overrides of RenderingCore get registered):
 //   CommonCore CommonDataModel RenderingCore RenderingOpenGL2
 // InteractionStyle is NOT needed: no interactor is ever created.
-// At run time it needs an X display (under CI: xvfb-run -a -s "-screen 0 1280x1024x24" ...).
+// At run time it needs an X display (under CI: xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" ...).
 #pragma once
 
 #include "hair_torus.h"
