@@ -18,6 +18,9 @@
 #include <vtkSTLReader.h>
 #include <vtkSmartPointer.h>
 #include <vtkTriangleFilter.h>
+#include <vtkCellData.h>
+#include <vtkDataSetAttributes.h>
+#include <vtkAbstractArray.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLPolyDataWriter.h>
@@ -184,6 +187,17 @@ void checkCells(const std::string& path, vtkPolyData* pd) {
   }
 }
 
+// Point and cell data arrays of the wrong length are dropped: VTK's filters copy attributes by
+// index without checking (vtkOBJReader, for one, leaves a file's lines' points without normals
+// and texture coordinates in arrays shorter than the points; vtkTriangleFilter then reads past
+// their end). The geometry is kept; only the arrays that do not fit go.
+void dropMisfitArrays(vtkPolyData* pd) {
+  const vtkIdType np = pd->GetNumberOfPoints(), nc = pd->GetNumberOfCells();
+  for (auto [data, n] : {std::pair<vtkDataSetAttributes*, vtkIdType>{pd->GetPointData(), np}, {pd->GetCellData(), nc}})
+    for (int i = data->GetNumberOfArrays() - 1; i >= 0; --i)
+      if (vtkAbstractArray* a = data->GetAbstractArray(i); a && a->GetNumberOfTuples() != n) data->RemoveArray(i);
+}
+
 }  // namespace
 
 bool isGeometryFile(const std::string& path) {
@@ -230,6 +244,7 @@ LoadedGeometry readGeometry(const std::string& path) {
   if (!pd || pd->GetNumberOfPoints() == 0)
     throw UsageError(path + ": no points (not a polygonal data file, or empty)");
   checkCells(path, pd);
+  dropMisfitArrays(pd);
 
   LoadedGeometry g;
   // Lines and polylines.
