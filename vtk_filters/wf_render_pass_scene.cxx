@@ -138,18 +138,11 @@ ActorPiece convertActor(vtkActor* actor) {
         for (vtkIdType i = 0; i < np; ++i) colours[size_t(i)] = colourOf(i);
       } else if (cellFlag == 1 && c->GetNumberOfTuples() == pd->GetNumberOfCells()) {
         colours.assign(size_t(np), glm::vec3(-1.0f));
-        vtkIdType cell = 0;
-        for (vtkCellArray* cells : {pd->GetVerts(), pd->GetLines(), pd->GetPolys(), pd->GetStrips()}) {
-          if (!cells) continue;
-          auto it = vtk::TakeSmartPointer(cells->NewIterator());
-          vtkIdType n = 0;
-          const vtkIdType* ids = nullptr;
-          for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cell) {
-            it->GetCurrentCell(n, ids);
-            for (vtkIdType k = 0; k < n; ++k)
-              if (ids[k] >= 0 && ids[k] < np && colours[size_t(ids[k])].x < 0.0f) colours[size_t(ids[k])] = colourOf(cell);
-          }
-        }
+        wf::vtkio::forEachCell(pd, [&](vtkIdType cell, vtkIdType n, const vtkIdType* ids) {
+          for (vtkIdType k = 0; k < n; ++k)
+            if (ids[k] >= 0 && ids[k] < np && colours[size_t(ids[k])].x < 0.0f) colours[size_t(ids[k])] = colourOf(cell);
+          return true;
+        });
         for (glm::vec3& col : colours)
           if (col.x < 0.0f) col = glm::vec3(1.0f);
       }

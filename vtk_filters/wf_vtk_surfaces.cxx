@@ -230,19 +230,16 @@ double approximateArea(const Surface& surface) {
 std::int64_t firstCellWithMissingPoints(vtkPolyData* mesh) {
   if (!mesh) return -1;
   const vtkIdType np = mesh->GetNumberOfPoints();
-  vtkIdType cell = 0;
-  for (vtkCellArray* cells : {mesh->GetVerts(), mesh->GetLines(), mesh->GetPolys(), mesh->GetStrips()}) {
-    if (!cells) continue;
-    auto it = vtk::TakeSmartPointer(cells->NewIterator());
-    vtkIdType n = 0;
-    const vtkIdType* ids = nullptr;
-    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cell) {
-      it->GetCurrentCell(n, ids);
-      for (vtkIdType k = 0; k < n; ++k)
-        if (ids[k] < 0 || ids[k] >= np) return cell;
-    }
-  }
-  return -1;
+  std::int64_t bad = -1;
+  forEachCell(mesh, [&](vtkIdType cell, vtkIdType n, const vtkIdType* ids) {
+    for (vtkIdType k = 0; k < n; ++k)
+      if (ids[k] < 0 || ids[k] >= np) {
+        bad = cell;
+        return false;
+      }
+    return true;
+  });
+  return bad;
 }
 
 std::int64_t firstNonFinitePoint(vtkPolyData* mesh) {

@@ -27,6 +27,9 @@
 #include <vector>
 
 #include "WireFurFiltersModule.h"  // exported for the module's tests
+#include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
+#include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
 
 class vtkDataArray;
@@ -148,6 +151,24 @@ WIREFURFILTERS_EXPORT std::vector<glm::uvec3> triangulate(vtkPolyData* mesh);
 /// The surface's area by the midpoint rule on a 64 x 64 grid of |Su x Sv| (an estimate for size
 /// checks; non-finite parts count as zero).
 WIREFURFILTERS_EXPORT double approximateArea(const Surface& surface);
+
+/// Calls f(cellId, n, ids) for every cell of `mesh` in VTK's id order (vertices, lines,
+/// polygons, strips); f returns false to stop early.
+template <class F>
+void forEachCell(vtkPolyData* mesh, F&& f) {
+  if (!mesh) return;
+  vtkIdType cell = 0;
+  for (vtkCellArray* cells : {mesh->GetVerts(), mesh->GetLines(), mesh->GetPolys(), mesh->GetStrips()}) {
+    if (!cells) continue;
+    auto it = vtk::TakeSmartPointer(cells->NewIterator());
+    vtkIdType n = 0;
+    const vtkIdType* ids = nullptr;
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cell) {
+      it->GetCurrentCell(n, ids);
+      if (!f(cell, n, ids)) return;
+    }
+  }
+}
 
 /// Index of the first cell (vertices, lines, polygons, strips in that order) naming a point
 /// `mesh` does not have, or -1.
