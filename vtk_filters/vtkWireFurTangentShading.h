@@ -144,6 +144,10 @@ public:
   double GetMapSeconds();
   /// Largest map-versus-exact difference measured at the last map build (0 with ExactShading).
   vtkGetMacro(ErrorEstimate, double);
+  /// The last output's own error: at up to 256 evenly spaced points, the map's radiance against
+  /// the exact cylinder model at the point's true view vector, so it includes the perspective
+  /// that the map (built for the view axis) leaves out. 0 with ExactShading.
+  vtkGetMacro(MeasuredError, double);
   /// Points of the last execution with a NaN or Inf coordinate.
   vtkGetMacro(NonFinitePoints, vtkIdType);
   ///@{
@@ -179,6 +183,7 @@ protected:
   double ErrorEstimate = 0.0;
   vtkIdType NonFinitePoints = 0;
   vtkTypeBool SkipNonFinitePoints = 0;
+  double MeasuredError = 0.0;
   vtkIdType DegeneratePoints = 0;
 
 private:

@@ -762,3 +762,36 @@ TEST(VtkTangentShading, ShadedColorIsTheSrgbEncodingOfShadedRadiance)
   filter->Print(printed);
   EXPECT_NE(printed.str().find("MapResolution: 128"), std::string::npos);
 }
+
+// The measured error of an output includes the perspective the map leaves out: for a wide
+// perspective camera it exceeds the map's own error at the view axis, it stays within a small
+// factor of that error for a parallel camera, and it is 0 on the exact path.
+TEST(VtkTangentShading, MeasuredErrorIncludesThePerspective)
+{
+  std::vector<glm::dvec3> pts;
+  for (int k = 0; k <= 40; ++k)
+    pts.push_back({ -4.0 + 0.2 * k, 2.5 * std::sin(0.7 * k), 0.3 * std::cos(1.3 * k) });
+  vtkSmartPointer<vtkPolyData> line = makePolyline(pts, false);
+  for (bool parallel : { false, true })
+  {
+    vtkNew<vtkCamera> camera;
+    camera->SetPosition(0, 0, 6);
+    camera->SetFocalPoint(0, 0, 0);
+    camera->SetViewUp(0, 1, 0);
+    camera->SetViewAngle(80);
+    camera->SetParallelProjection(parallel);
+    vtkNew<vtkWireFurTangentShading> filter;
+    filter->SetInputData(line);
+    filter->SetCamera(camera);
+    filter->SetExponent(40);
+    filter->Update();
+    if (parallel)
+      EXPECT_LE(filter->GetMeasuredError(), 3.0 * filter->GetErrorEstimate() + 1e-6);
+    else
+      EXPECT_GT(filter->GetMeasuredError(), 3.0 * filter->GetErrorEstimate());
+    filter->ExactShadingOn();
+    filter->Update();
+    EXPECT_EQ(filter->GetMeasuredError(), 0.0);
+  }
+}
+
