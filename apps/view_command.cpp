@@ -1,5 +1,7 @@
 #include "view_command.h"
 
+#include "x_display.h"
+
 #include "cli.h"
 #include "render_command.h"
 #include "scene_file.h"
@@ -249,9 +251,16 @@ double median(std::vector<double> v) {
 
 int runView(const std::vector<std::string>& args) {
   const ViewOptions o = parse(args);
-  if (!o.offscreen && std::getenv("DISPLAY") == nullptr)
-    throw std::runtime_error("view: no display (DISPLAY is not set); use --offscreen --frames N");
-  SceneFile sf = loadInput(o.input, o.style);
+  SceneFile sf = loadInput(o.input, o.style);  // bad input first: exit 2, whatever the display
+  // Debian's VTK 9.1 draws through X (GLX) even off-screen, and aborts the process when it
+  // cannot open the display: check first, and say so in one line.
+  {
+    const char* name = std::getenv("DISPLAY");
+    if (!canOpenXDisplay())
+      throw std::runtime_error(std::string("view: cannot open the X display") +
+                               (name ? std::string(" '") + name + "'" : std::string(" (DISPLAY is not set)")) +
+                               "; VTK renders through X even with --offscreen: run under xvfb-run");
+  }
   reframe(sf, o.width, o.height);
   const wf::Scene& scene = sf.scene;
 

@@ -13,7 +13,8 @@ packages=(
   libpng-dev                        # PNG textures (libpng's simplified reader)
   gnuplot-nox                       # error-against-time plots (wirefur accuracy)
   libgtest-dev libbenchmark-dev     # tests and benchmarks
-  xvfb xauth libgl1-mesa-dri        # OpenGL without a display (Mesa llvmpipe): the VTK peer benchmark
+  xvfb xauth libgl1-mesa-dri        # OpenGL without a display (Mesa llvmpipe): render pass, viewer, peer benchmark
+  libx11-dev                        # the viewer checks the X display before VTK would abort on it
 )
 
 missing=()
