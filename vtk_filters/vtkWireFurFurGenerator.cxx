@@ -138,8 +138,6 @@ wf::ImageRGBA toCoreImage(vtkImageData* img, int component)
 }
 }
 
-
-
 int vtkWireFurFurGenerator::FillInputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
