@@ -404,3 +404,28 @@ TEST(RenderPass, TablesAreRebuiltOnlyWhenTheCameraMovesRelativeToTheLights)
   EXPECT_EQ(head.pass->GetLastTablesBuilt(), 0);
   EXPECT_GT(head.pass->GetLastTablesReused(), 0);
 }
+
+// The same picture in an on-screen window (an X window of the Xvfb server) as off-screen: the
+// pass reads back and writes the window's own framebuffer either way.
+TEST(RenderPass, OnScreenWindowGivesTheOffScreenPicture)
+{
+  Window off;
+  off.AddWire(true);
+  off.AddPlane(-1.0, 0.5, 0.6);
+  const std::vector<unsigned char> a = off.Render();
+  Window on;
+  on.window->SetOffScreenRendering(0);
+  on.AddWire(true);
+  on.AddPlane(-1.0, 0.5, 0.6);
+  const std::vector<unsigned char> b = on.Render();
+  ASSERT_EQ(a.size(), b.size());
+  size_t differ = 0, lit = 0;
+  for (size_t i = 0; i < a.size(); ++i)
+  {
+    differ += a[i] != b[i];
+    lit += a[i] != 0;
+  }
+  EXPECT_GT(lit, 1000u);
+  EXPECT_EQ(on.pass->GetLastMarkedProps(), 1);
+  EXPECT_LE(differ, a.size() / 1000);  // the same bytes (a few may differ at GL edge rasterisation)
+}
