@@ -18,21 +18,6 @@ namespace wfapp {
 
 namespace {
 
-/// The surface's area by the midpoint rule on a 64 x 64 grid of |Su x Sv| (an estimate for the
-/// size check; non-finite parts count as zero).
-double approximateArea(const wf::Surface& s) {
-  const wf::ParameterDomain d = s.domain();
-  const int n = 64;
-  double a = 0.0;
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const wf::SurfacePoint p = s.evaluate(d.u0 + (i + 0.5) * d.du() / n, d.v0 + (j + 0.5) * d.dv() / n);
-      const double e = glm::length(glm::cross(p.Su, p.Sv));
-      if (std::isfinite(e)) a += e;
-    }
-  return a * d.du() * d.dv() / (double(n) * n);
-}
-
 glm::dvec2 pair(const Reader& r, const json& j, const std::string& ptr, double lo, double hi) {
   if (!j.is_array() || j.size() != 2) r.fail(ptr, "expected [u, v]");
   return {r.number(j[0], Reader::at(ptr, 0), lo, hi), r.number(j[1], Reader::at(ptr, 1), lo, hi)};
@@ -189,7 +174,7 @@ void readGrowth(const Reader& r, const json& obj, const std::string& ptr, const 
     if (params.placement == wf::FurParams::Placement::AreaCorrect) {
       const auto* range = dynamic_cast<const RangeMap*>(params.densityMap.get());
       const double mapMax = params.densityMap ? (range ? std::max(0.0, range->maximum()) : 1.0) : 1.0;
-      hairs = params.density * mapMax * approximateArea(*ctx.surface);
+      hairs = params.density * mapMax * wf::approximateArea(*ctx.surface);
     }
     ctx.budget->addPrimitives(r, fp, hairs * double(params.segments), "this fur");
     wf::Fur fur;

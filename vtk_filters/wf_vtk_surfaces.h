@@ -148,10 +148,6 @@ WIREFURFILTERS_EXPORT vtkDataArray* textureCoordinates(vtkPolyData* mesh);
 /// The triangles of the polygons and strips of `mesh` (fanned, split), as point id triples.
 WIREFURFILTERS_EXPORT std::vector<glm::uvec3> triangulate(vtkPolyData* mesh);
 
-/// The surface's area by the midpoint rule on a 64 x 64 grid of |Su x Sv| (an estimate for size
-/// checks; non-finite parts count as zero).
-WIREFURFILTERS_EXPORT double approximateArea(const Surface& surface);
-
 /// Calls f(cellId, n, ids) for every cell of `mesh` in VTK's id order (vertices, lines,
 /// polygons, strips); f returns false to stop early.
 template <class F>
