@@ -99,6 +99,9 @@ wf::Scene triangleScene() {
   return s;
 }
 
+
+}  // namespace
+
 double medianSeconds(int reps, const wf::Scene& s, const wf::RenderOptions& o, wf::RenderResult& last) {
   std::vector<double> t;
   for (int i = 0; i < reps; ++i) {
@@ -108,8 +111,6 @@ double medianSeconds(int reps, const wf::Scene& s, const wf::RenderOptions& o, w
   std::sort(t.begin(), t.end());
   return t[t.size() / 2];
 }
-
-}  // namespace
 
 // The view-direction tables (render/view_tables.h): the map path against the exact path at the
 // true view vector of every fragment, same A-buffer, so the difference is the shading alone:

@@ -5,6 +5,8 @@
 #include "cli.h"
 #include "plot.h"
 
+#include "render/renderer.h"
+
 #include <nlohmann/json.hpp>
 
 #include <string>
@@ -12,6 +14,9 @@
 #include <vector>
 
 namespace wfapp {
+
+/// Renders `reps` times with the A-buffer; the median total seconds, `last` the last result.
+double medianSeconds(int reps, const wf::Scene& s, const wf::RenderOptions& o, wf::RenderResult& last);
 
 /// Runs the study; returns its JSON and appends (file name, plot) pairs to `plots`.
 nlohmann::ordered_json abufferStudy(bool quick, const Progress& progress,

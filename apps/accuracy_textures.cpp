@@ -9,6 +9,8 @@
 // resolution of a smooth surface, against a much finer tessellation.
 #include "accuracy_textures.h"
 
+#include "accuracy_abuffer.h"
+
 #include "render_command.h"
 
 #include "geometry/parametric_sources.h"
@@ -181,14 +183,8 @@ json texturesStudy(bool quick, const Progress& progress, std::vector<std::pair<s
     for (bool filter : {true, false}) {
       wf::RenderOptions o = base;
       o.filterTextures = filter;
-      std::vector<double> t;
       wf::RenderResult r;
-      for (int i = 0; i < (quick ? 1 : 3); ++i) {
-        r = wf::render(c.scene, o);
-        t.push_back(r.stats.total);
-      }
-      std::sort(t.begin(), t.end());
-      const double secs = t[t.size() / 2];
+      const double secs = medianSeconds(quick ? 1 : 3, c.scene, o, r);
       const ImageError e = imageError(r.image, ref.image);
       const std::string key = filter ? "abuffer_filtered" : "abuffer_point_sampled";
       cj[key] = {{"seconds", secs}, {"rgba_rms", e.rms}, {"rgba_max", e.max}};
