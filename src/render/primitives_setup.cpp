@@ -913,11 +913,11 @@ bool finiteVec(const V& v) {
 // finite ones where their weights vanish; false when no vertex is finite.
 template <class V>
 bool mixFinite(const V& a, const V& b, const V& c, double b0, double b1, double b2, V& out) {
+  // The per-fragment path: one check of the mix (a NaN or Inf vertex makes it non-finite even
+  // at weight 0, since 0 x NaN and 0 x Inf are NaN); the vertices are examined only then.
+  out = b0 * a + b1 * b + b2 * c;
+  if (finiteVec(out)) return true;
   const bool fa = finiteVec(a), fb = finiteVec(b), fc = finiteVec(c);
-  if (fa && fb && fc) {
-    out = b0 * a + b1 * b + b2 * c;
-    if (finiteVec(out)) return true;
-  }
   if (!fa && !fb && !fc) return false;
   double w0 = fa ? b0 : 0.0, w1 = fb ? b1 : 0.0, w2 = fc ? b2 : 0.0;
   double ws = w0 + w1 + w2;
