@@ -2,6 +2,8 @@
 
 #include "cli.h"
 
+#include "core/srgb.h"
+
 #include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPNGWriter.h>
@@ -21,11 +23,7 @@
 
 namespace wfapp {
 
-float linearToSrgb(float v) {
-  if (!(v > 0.0f)) return 0.0f;
-  if (v >= 1.0f) return 1.0f;
-  return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-}
+float linearToSrgb(float v) { return wf::linearToSrgb(v); }
 
 wf::ImageRGBA readPng(const std::string& path, size_t maxPixels) {
   // libpng's simplified API: it checks every chunk, reports a bad file as a message instead of

@@ -16,6 +16,7 @@
 #include "vtkTypeUInt64Array.h"
 #include "vtkUnsignedCharArray.h"
 
+#include "core/srgb.h"
 #include "growth/fur.h"
 #include "texture/textures.h"
 #include "wf_vtk_surfaces.h"
@@ -126,8 +127,7 @@ wf::ImageRGBA toCoreImage(vtkImageData* img, int component)
         double v = a->GetComponent(id, k);
         if (bytes && component < 0)
         {
-          v /= 255.0;
-          v = v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+          v = wf::srgbToLinear(float(v / 255.0));
         }
         p[c] = float(std::isfinite(v) ? v : 0.0);
       }
@@ -261,7 +261,7 @@ int vtkWireFurFurGenerator::RequestData(
         this->DensityMap->GetPointData()->GetScalars()->GetRange(range, 0);
         mapMax = std::max(0.0, range[1]);
       }
-      roots = p.density * mapMax * wf::vtkio::approximateArea(*surface);
+      roots = p.density * mapMax * wf::approximateArea(*surface);
     }
     const double points = roots * double(p.segments + 1);
     if (!(points <= this->MaximumPoints))

@@ -25,6 +25,8 @@
 
 #include "wf_vtk_surfaces.h"
 
+#include "core/srgb.h"
+
 #include <glm/glm.hpp>
 
 #include <algorithm>
@@ -57,17 +59,9 @@ const float* srgbTable() {
 
 }  // namespace
 
-float srgbToLinear(float v) {
-  if (!(v > 0.0f)) return 0.0f;
-  if (v >= 1.0f) return 1.0f;
-  return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
-}
+float srgbToLinear(float v) { return wf::srgbToLinear(v); }
 
-float linearToSrgb(float v) {
-  if (!(v > 0.0f)) return 0.0f;
-  if (v >= 1.0f) return 1.0f;
-  return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-}
+float linearToSrgb(float v) { return wf::linearToSrgb(v); }
 
 vtkMTimeType actorSignature(vtkActor* actor) {
   vtkMTimeType t = actor->GetMTime();  // includes property, texture and user transform

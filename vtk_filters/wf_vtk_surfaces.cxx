@@ -1,6 +1,8 @@
 // Adapters from VTK data to wf::Surface; see wf_vtk_surfaces.h.
 #include "wf_vtk_surfaces.h"
 
+#include "core/srgb.h"
+
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkDataArray.h"
@@ -212,19 +214,6 @@ std::vector<glm::uvec3> triangulate(vtkPolyData* mesh) {
     }
   }
   return out;
-}
-
-double approximateArea(const Surface& surface) {
-  const ParameterDomain d = surface.domain();
-  const int n = 64;
-  double a = 0.0;
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const SurfacePoint p = surface.evaluate(d.u0 + (i + 0.5) * d.du() / n, d.v0 + (j + 0.5) * d.dv() / n);
-      const double e = glm::length(glm::cross(p.Su, p.Sv));
-      if (std::isfinite(e)) a += e;
-    }
-  return a * std::abs(d.du() * d.dv()) / (double(n) * n);
 }
 
 std::int64_t firstCellWithMissingPoints(vtkPolyData* mesh) {
@@ -463,11 +452,7 @@ std::shared_ptr<const Surface> growthSurfaceAsGiven(vtkParametricFunction* funct
   return s;
 }
 
-unsigned char srgb8(float linear) {
-  const double x = std::isfinite(linear) ? std::clamp(double(linear), 0.0, 1.0) : 0.0;
-  const double e = x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
-  return static_cast<unsigned char>(std::lround(255.0 * std::clamp(e, 0.0, 1.0)));
-}
+unsigned char srgb8(float linear) { return wf::srgb8(linear); }
 
 // --- burnish grain ------------------------------------------------------------------------------
 
