@@ -26,26 +26,13 @@
 #include <exception>
 
 vtkStandardNewMacro(vtkWireFurFurGenerator);
-vtkCxxSetObjectMacro(vtkWireFurFurGenerator, ParametricFunction, vtkParametricFunction);
 
 
-vtkWireFurFurGenerator::vtkWireFurFurGenerator()
-{
-  this->SetNumberOfInputPorts(1);
-}
-
-vtkWireFurFurGenerator::~vtkWireFurFurGenerator()
-{
-  this->SetParametricFunction(nullptr);
-}
+vtkWireFurFurGenerator::vtkWireFurFurGenerator() = default;
 
 vtkMTimeType vtkWireFurFurGenerator::GetMTime()
 {
-  vtkMTimeType t = this->Superclass::GetMTime();
-  if (this->ParametricFunction)
-  {
-    t = std::max(t, this->ParametricFunction->GetMTime());
-  }
+  vtkMTimeType t = this->Superclass::GetMTime();  // with the parametric function's
   for (vtkImageData* m : { this->DensityMap.Get(), this->LengthMap.Get(), this->OrientationMap.Get(),
          this->RootColorMap.Get() })
   {
@@ -138,20 +125,12 @@ wf::ImageRGBA toCoreImage(vtkImageData* img, int component)
 }
 }
 
-int vtkWireFurFurGenerator::FillInputPortInformation(int, vtkInformation* info)
-{
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
-  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
-  return 1;
-}
-
 int vtkWireFurFurGenerator::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkPolyData* output = vtkPolyData::GetData(outputVector);
   output->Initialize();
-  vtkPolyData* input =
-    this->ParametricFunction ? nullptr : vtkPolyData::GetData(inputVector[0], 0);
+  vtkPolyData* input = this->GrowthInput(inputVector);
 
   // Problems are reported and give an empty output; the pipeline goes on (return 1).
   std::string problem;
@@ -379,7 +358,6 @@ int vtkWireFurFurGenerator::RequestData(
 void vtkWireFurFurGenerator::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "FlipNormals: " << this->FlipNormals << "\n";
   os << indent << "MaximumPoints: " << this->MaximumPoints << "\n";
   os << indent << "DensityMap: " << static_cast<void*>(this->DensityMap.Get()) << "\n";
   os << indent << "LengthMap: " << static_cast<void*>(this->LengthMap.Get()) << "\n";
@@ -389,15 +367,6 @@ void vtkWireFurFurGenerator::PrintSelf(ostream& os, vtkIndent indent)
   auto v3 = [&](const char* name, const double* v) {
     os << indent << name << ": " << v[0] << " " << v[1] << " " << v[2] << "\n";
   };
-  os << indent << "ParametricFunction: ";
-  if (this->ParametricFunction)
-  {
-    os << this->ParametricFunction->GetClassName() << " (" << this->ParametricFunction << ")\n";
-  }
-  else
-  {
-    os << "(none)\n";
-  }
   os << indent << "Placement: " << (this->Placement == AreaCorrect ? "AreaCorrect" : "Grid") << "\n";
   os << indent << "GridU: " << this->GridU << "\n";
   os << indent << "GridV: " << this->GridV << "\n";
@@ -432,6 +401,4 @@ void vtkWireFurFurGenerator::PrintSelf(ostream& os, vtkIndent indent)
   v3("RootColor", this->RootColor);
   v3("TipColor", this->TipColor);
   os << indent << "Thickness: " << this->Thickness << "\n";
-  os << indent << "Seed: " << this->Seed << "\n";
-  os << indent << "PatchIndex: " << this->PatchIndex << "\n";
 }

@@ -38,16 +38,15 @@
 
 #include <array>
 #include <vector>
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkWireFurGrowthAlgorithm.h"
 
-class vtkParametricFunction;
 class vtkImageData;
 
-class WIREFURFILTERS_EXPORT vtkWireFurFurGenerator : public vtkPolyDataAlgorithm
+class WIREFURFILTERS_EXPORT vtkWireFurFurGenerator : public vtkWireFurGrowthAlgorithm
 {
 public:
   static vtkWireFurFurGenerator* New();
-  vtkTypeMacro(vtkWireFurFurGenerator, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkWireFurFurGenerator, vtkWireFurGrowthAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   enum Placements
@@ -62,20 +61,6 @@ public:
     ProportionalToSu = 2 ///< LengthPerSu * |Su|
   };
 
-  ///@{
-  /// The surface as a vtkParametricFunction (exact derivatives). When set, input port 0 is ignored.
-  /// Default nullptr.
-  virtual void SetParametricFunction(vtkParametricFunction*);
-
-  ///@{
-  /// Grow from the other side: use -(Su x Sv) as the surface's outward normal. Some VTK
-  /// functions (vtkParametricTorus among them) have Su x Sv pointing inward. Default off.
-  vtkSetMacro(FlipNormals, vtkTypeBool);
-  vtkGetMacro(FlipNormals, vtkTypeBool);
-  vtkBooleanMacro(FlipNormals, vtkTypeBool);
-  ///@}
-  vtkGetObjectMacro(ParametricFunction, vtkParametricFunction);
-  ///@}
 
   ///@{
   /// Root placement, Grid or AreaCorrect. Default Grid.
@@ -212,13 +197,6 @@ public:
   vtkGetMacro(Thickness, double);
   ///@}
 
-  ///@{
-  /// All the randomness: Seed, and PatchIndex (also the top 32 bits of every HairId). Defaults 1, 0.
-  vtkSetMacro(Seed, vtkTypeUInt64);
-  vtkGetMacro(Seed, vtkTypeUInt64);
-  vtkSetMacro(PatchIndex, vtkTypeUInt32);
-  vtkGetMacro(PatchIndex, vtkTypeUInt32);
-  ///@}
 
   ///@{
   /// Maps over the patch's unit coordinates (s, t) in [0, 1]^2 (s along u, t along v; image row 0
@@ -258,13 +236,10 @@ public:
 
 protected:
   vtkWireFurFurGenerator();
-  ~vtkWireFurFurGenerator() override;
+  ~vtkWireFurFurGenerator() override = default;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  vtkParametricFunction* ParametricFunction = nullptr;
-  vtkTypeBool FlipNormals = 0;
   double MaximumPoints = 33554432.0;
   int Placement = Grid;
   int GridU = 100;
@@ -296,8 +271,6 @@ protected:
   double RootColor[3] = { 0.30, 0.20, 0.12 };
   double TipColor[3] = { 0.55, 0.42, 0.30 };
   double Thickness = 0.003;
-  vtkTypeUInt64 Seed = 1;
-  vtkTypeUInt32 PatchIndex = 0;
   vtkSmartPointer<vtkImageData> DensityMap, LengthMap, OrientationMap, RootColorMap;
   std::vector<std::array<double, 7>> ColorRegions;  ///< s, t, radius, r, g, b, falloff
 

@@ -23,7 +23,6 @@
 #include <exception>
 
 vtkStandardNewMacro(vtkWireFurScalesGenerator);
-vtkCxxSetObjectMacro(vtkWireFurScalesGenerator, ParametricFunction, vtkParametricFunction);
 
 namespace
 {
@@ -50,40 +49,14 @@ std::uint64_t scaleIndex(const wf::ParameterDomain& d, int nu, int nv, const glm
 }
 } // namespace
 
-vtkWireFurScalesGenerator::vtkWireFurScalesGenerator()
-{
-  this->SetNumberOfInputPorts(1);
-}
-
-vtkWireFurScalesGenerator::~vtkWireFurScalesGenerator()
-{
-  this->SetParametricFunction(nullptr);
-}
-
-vtkMTimeType vtkWireFurScalesGenerator::GetMTime()
-{
-  vtkMTimeType t = this->Superclass::GetMTime();
-  if (this->ParametricFunction)
-  {
-    t = std::max(t, this->ParametricFunction->GetMTime());
-  }
-  return t;
-}
-
-int vtkWireFurScalesGenerator::FillInputPortInformation(int, vtkInformation* info)
-{
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
-  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
-  return 1;
-}
+vtkWireFurScalesGenerator::vtkWireFurScalesGenerator() = default;
 
 int vtkWireFurScalesGenerator::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkPolyData* output = vtkPolyData::GetData(outputVector);
   output->Initialize();
-  vtkPolyData* input =
-    this->ParametricFunction ? nullptr : vtkPolyData::GetData(inputVector[0], 0);
+  vtkPolyData* input = this->GrowthInput(inputVector);
 
   std::string problem;
   const std::shared_ptr<const wf::Surface> surface =
@@ -226,16 +199,6 @@ int vtkWireFurScalesGenerator::RequestData(
 void vtkWireFurScalesGenerator::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "FlipNormals: " << this->FlipNormals << "\n";
-  os << indent << "ParametricFunction: ";
-  if (this->ParametricFunction)
-  {
-    os << this->ParametricFunction->GetClassName() << " (" << this->ParametricFunction << ")\n";
-  }
-  else
-  {
-    os << "(none)\n";
-  }
   os << indent << "CellsU: " << this->CellsU << "\n";
   os << indent << "CellsV: " << this->CellsV << "\n";
   os << indent << "Size: " << this->Size << "\n";
@@ -245,6 +208,4 @@ void vtkWireFurScalesGenerator::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Shoulder: " << this->Shoulder << "\n";
   os << indent << "Color: " << this->Color[0] << " " << this->Color[1] << " " << this->Color[2]
      << "\n";
-  os << indent << "Seed: " << this->Seed << "\n";
-  os << indent << "PatchIndex: " << this->PatchIndex << "\n";
 }

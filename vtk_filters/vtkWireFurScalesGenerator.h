@@ -29,31 +29,15 @@
 #define vtkWireFurScalesGenerator_h
 
 #include "WireFurFiltersModule.h"
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkWireFurGrowthAlgorithm.h"
 
-class vtkParametricFunction;
 
-class WIREFURFILTERS_EXPORT vtkWireFurScalesGenerator : public vtkPolyDataAlgorithm
+class WIREFURFILTERS_EXPORT vtkWireFurScalesGenerator : public vtkWireFurGrowthAlgorithm
 {
 public:
   static vtkWireFurScalesGenerator* New();
-  vtkTypeMacro(vtkWireFurScalesGenerator, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkWireFurScalesGenerator, vtkWireFurGrowthAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
-
-  ///@{
-  /// The surface as a vtkParametricFunction (exact derivatives). When set, input port 0 is ignored.
-  /// Default nullptr.
-  virtual void SetParametricFunction(vtkParametricFunction*);
-
-  ///@{
-  /// Grow from the other side: use -(Su x Sv) as the surface's outward normal. Some VTK
-  /// functions (vtkParametricTorus among them) have Su x Sv pointing inward. Default off.
-  vtkSetMacro(FlipNormals, vtkTypeBool);
-  vtkGetMacro(FlipNormals, vtkTypeBool);
-  vtkBooleanMacro(FlipNormals, vtkTypeBool);
-  ///@}
-  vtkGetObjectMacro(ParametricFunction, vtkParametricFunction);
-  ///@}
 
   ///@{
   /// Parametric cells along u and v, 1 ... 16384 each, at most 2^24 in all. Defaults 16, 16.
@@ -99,26 +83,14 @@ public:
   vtkGetVector3Macro(Color, double);
   ///@}
 
-  ///@{
-  /// The randomness: Seed and PatchIndex (also the top 32 bits of every ScaleId). Defaults 1, 0.
-  vtkSetMacro(Seed, vtkTypeUInt64);
-  vtkGetMacro(Seed, vtkTypeUInt64);
-  vtkSetMacro(PatchIndex, vtkTypeUInt32);
-  vtkGetMacro(PatchIndex, vtkTypeUInt32);
-  ///@}
 
-  /// Includes the parametric function's modification time.
-  vtkMTimeType GetMTime() override;
 
 protected:
   vtkWireFurScalesGenerator();
-  ~vtkWireFurScalesGenerator() override;
+  ~vtkWireFurScalesGenerator() override = default;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  vtkParametricFunction* ParametricFunction = nullptr;
-  vtkTypeBool FlipNormals = 0;
   int CellsU = 16;
   int CellsV = 16;
   double Size = 1.5;
@@ -127,8 +99,6 @@ protected:
   double IntensityVariation = 0.25;
   double Shoulder = 0.4;
   double Color[3] = { 1.0, 1.0, 1.0 };
-  vtkTypeUInt64 Seed = 1;
-  vtkTypeUInt32 PatchIndex = 0;
 
 private:
   vtkWireFurScalesGenerator(const vtkWireFurScalesGenerator&) = delete;
