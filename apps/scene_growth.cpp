@@ -35,8 +35,6 @@ class RangeMap final : public wf::ScalarTexture {
   double value(const glm::dvec2& uv) const override { return lo_ + (hi_ - lo_) * 0.5 * (1.0 + n_->value(uv)); }
   glm::dvec2 gradient(const glm::dvec2& uv) const override { return (hi_ - lo_) * 0.5 * n_->gradient(uv); }
   std::string describe() const override { return "noise map"; }
-  /// The largest value the map takes (noise lies in [-1, 1]).
-  double maximum() const { return std::max(lo_, hi_); }
 
  private:
   std::shared_ptr<const wf::ScalarTexture> n_;
@@ -167,16 +165,10 @@ void readGrowth(const Reader& r, const json& obj, const std::string& ptr, const 
     const float opacity = j.contains("opacity") ? float(r.number(j["opacity"], Reader::at(fp, "opacity"), 0, 1)) : 1.0f;
     if (ctx.time) params.time = *ctx.time;
     if (const std::string p = params.problem(); !p.empty()) r.fail(fp, p);
-    // What this fur will make, checked against the scene's budget before anything is grown:
-    // the hair count (grid size, or density at the density map's largest value times the
-    // placed area) times the segments per hair.
-    double hairs = double(params.gridU) * double(params.gridV);
-    if (params.placement == wf::FurParams::Placement::AreaCorrect) {
-      const auto* range = dynamic_cast<const RangeMap*>(params.densityMap.get());
-      const double mapMax = params.densityMap ? (range ? std::max(0.0, range->maximum()) : 1.0) : 1.0;
-      hairs = params.density * mapMax * wf::approximateArea(*ctx.surface);
-    }
-    ctx.budget->addPrimitives(r, fp, hairs * double(params.segments), "this fur");
+    // The scene's remaining budget of primitives bounds this fur: the core counts the hairs'
+    // points exactly before it allocates and refuses past the bound (a clear error here).
+    const double segmentsLeft = SceneBudget::kMaxPrimitives - ctx.budget->primitives;
+    params.maxPoints = std::max(0.0, std::floor(segmentsLeft / params.segments)) * (params.segments + 1);
     wf::Fur fur;
     const auto t0 = std::chrono::steady_clock::now();
     try {
@@ -186,6 +178,7 @@ void readGrowth(const Reader& r, const json& obj, const std::string& ptr, const 
     }
     ctx.budget->generateSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ctx.budget->hairs += fur.hairs.polylineCount();
+    ctx.budget->addPrimitives(r, fp, double(fur.hairs.polylineCount()) * params.segments, "this fur");
     wf::SceneWire w;
     w.name = ctx.name + " fur";
     w.lines = std::move(fur.hairs);

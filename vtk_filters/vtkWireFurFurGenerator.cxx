@@ -179,6 +179,7 @@ int vtkWireFurFurGenerator::RequestData(
   p.rootColour = glm::vec3(glm::dvec3(this->RootColor[0], this->RootColor[1], this->RootColor[2]));
   p.tipColour = glm::vec3(glm::dvec3(this->TipColor[0], this->TipColor[1], this->TipColor[2]));
   p.thickness = this->Thickness;
+  p.maxPoints = this->MaximumPoints;  // counted exactly by the core before it allocates
   // Maps (the core looks them up at the unit coordinates (s, t), wrapping along periodic axes).
   const wf::ParameterDomain domain = surface->domain();
   auto scalarMap = [&](vtkImageData* img, int component) -> std::shared_ptr<const wf::ScalarTexture> {
@@ -224,31 +225,6 @@ int vtkWireFurFurGenerator::RequestData(
   {
     vtkErrorMacro(<< "invalid fur parameters: " << why);
     return 1;
-  }
-
-  // What the hairs would take, checked before anything is allocated: the root count (the grid,
-  // or the density at the density map's largest value times the surface's area) times the
-  // points per hair, against MaximumPoints.
-  {
-    double roots = double(p.gridU) * double(p.gridV);
-    if (p.placement == wf::FurParams::Placement::AreaCorrect)
-    {
-      double mapMax = 1.0;
-      if (this->DensityMap && this->DensityMap->GetPointData()->GetScalars())
-      {
-        double range[2];
-        this->DensityMap->GetPointData()->GetScalars()->GetRange(range, 0);
-        mapMax = std::max(0.0, range[1]);
-      }
-      roots = p.density * mapMax * wf::approximateArea(*surface);
-    }
-    const double points = roots * double(p.segments + 1);
-    if (!(points <= this->MaximumPoints))
-    {
-      vtkErrorMacro(<< "this fur would make about " << points << " points, more than MaximumPoints ("
-                    << this->MaximumPoints << "): lower the grid, density or segments, or raise MaximumPoints");
-      return 1;
-    }
   }
 
   this->UpdateProgress(0.0);

@@ -225,8 +225,8 @@ public:
   ///@}
 
   ///@{
-  /// The most points one execution may make (checked before anything is allocated; the
-  /// estimate counts the density map at its largest). Default 33,554,432 (about 1.2 GB).
+  /// The most points one execution may make (the core counts them exactly before it allocates
+  /// anything: an error and an empty output past it). Default 33,554,432 (about 1.2 GB).
   vtkSetClampMacro(MaximumPoints, double, 0.0, 1e12);
   vtkGetMacro(MaximumPoints, double);
   ///@}

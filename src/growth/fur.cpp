@@ -543,11 +543,12 @@ Fur FurGenerator::grow() {
   for (std::size_t b = 0; b < blocks; ++b) firstSlot[b + 1] = firstSlot[b] + rootsAskedFor(b);
   const std::uint64_t slots = firstSlot[blocks];
   const std::uint64_t pointsPerHair = std::uint64_t(segments_) + 1;
-  if (slots * pointsPerHair > std::numeric_limits<std::uint32_t>::max())
+  const double limit = std::min(p_.maxPoints, double(std::numeric_limits<std::uint32_t>::max()));
+  if (double(slots) * double(pointsPerHair) > limit)
     throw std::length_error("fur on " + surface_.describe() + ": " + std::to_string(slots) + " hairs of " +
-                            std::to_string(pointsPerHair) +
-                            " points exceed the 2^32 points one polyline set can index; lower the density or "
-                            "split the patch");
+                            std::to_string(pointsPerHair) + " points would exceed the limit of " +
+                            std::to_string((unsigned long long)limit) +
+                            " points; lower the grid, density or segments (or split the patch)");
   // Sized exactly; the big arrays on two threads at once (value initialisation is serial per vector).
   tbb::parallel_invoke([&] { resizeExactly(fur.hairs.points, slots * pointsPerHair); },
                        [&] {
@@ -677,6 +678,7 @@ std::string FurParams::problem() const {
   WF_FUR_CHECK(finiteVec(glm::dvec3(tipColour)), "tipColour", tipColour, "must be finite");
   WF_FUR_CHECK(inRange(intensityVariation, 0.0, 1.0), "intensityVariation", intensityVariation, "must be in [0, 1]");
   WF_FUR_CHECK(finite(thickness) && thickness >= 0, "thickness", thickness, "must be finite and >= 0");
+  WF_FUR_CHECK(maxPoints >= 0, "maxPoints", maxPoints, "must be >= 0");
   for (std::size_t i = 0; i < colourRegions.size(); ++i) {
     const FurColourRegion& r = colourRegions[i];
     const std::string field = "colourRegions[" + std::to_string(i) + "]";

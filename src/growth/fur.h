@@ -124,6 +124,11 @@ struct FurParams {
   /// Hair diameter in world units; passed through to Fur::thickness (SceneWire::thickness).
   double thickness = 0.003;
 
+  /// The most points the hairs may have (roots x (segments + 1), counted exactly before anything
+  /// is allocated): growFur throws std::length_error past it. Default and upper limit 2^32 - 1
+  /// (PolylineSet's 32-bit starts); callers with a memory budget pass less.
+  double maxPoints = 4294967295.0;
+
   /// Empty when usable; otherwise one line naming the field and what is wrong (NaN / Inf, out of
   /// range).
   std::string problem() const;

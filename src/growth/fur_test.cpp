@@ -218,6 +218,27 @@ TEST(FurRoots, LieOnTheSurfaceAndMoveWithIt) {
 
 // The paper's grid: gridU x gridV hairs, root (i, j) inside its cell of the (u, v) grid (jitter 1:
 // anywhere in it; jitter 0: its centre), ids = j * gridU + i, in that order.
+// maxPoints bounds the hairs' points, counted exactly before anything is allocated: a 100 x 100
+// grid of 3-segment hairs has 40,000 points, refused at 39,999 and grown at 40,000; the
+// area-correct count is bounded the same way.
+TEST(FurLimit, MaxPointsIsCheckedExactlyBeforeGrowing) {
+  const TorusSurface torus(1.0, 0.35);
+  FurParams p;
+  p.gridU = 100;
+  p.gridV = 100;
+  p.segments = 3;
+  p.maxPoints = 39999;
+  EXPECT_THROW(growFur(torus, p), std::length_error);
+  p.maxPoints = 40000;
+  EXPECT_EQ(growFur(torus, p).hairs.points.size(), 40000u);
+  p.placement = FurParams::Placement::AreaCorrect;
+  p.density = 1e9;  // about 1.4e10 roots: refused at once, not allocated
+  p.maxPoints = 1e6;
+  EXPECT_THROW(growFur(torus, p), std::length_error);
+  p.maxPoints = -1;
+  EXPECT_FALSE(p.problem().empty());
+}
+
 TEST(FurGrid, GivesGridUTimesGridVHairsJitteredWithinTheirCell) {
   const PlaneSurface plane({0, 0, 0}, {2, 0, 0}, {0, 3, 0});
   for (double jitter : {1.0, 0.0}) {

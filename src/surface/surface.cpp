@@ -168,16 +168,4 @@ SurfaceFrame Surface::frameAlongSuSv(double u, double v) const {
   return f;
 }
 
-double approximateArea(const Surface& surface, int n) {
-  const ParameterDomain d = surface.domain();
-  double a = 0.0;
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const SurfacePoint p = surface.evaluate(d.u0 + (i + 0.5) * d.du() / n, d.v0 + (j + 0.5) * d.dv() / n);
-      const double e = glm::length(glm::cross(p.Su, p.Sv));
-      if (std::isfinite(e)) a += e;
-    }
-  return a * std::abs(d.du() * d.dv()) / (double(n) * n);
-}
-
 }  // namespace wf

@@ -73,8 +73,4 @@ class Surface {
   SurfaceFrame frameAlongSuSv(double u, double v) const;
 };
 
-/// The surface's area by the midpoint rule on an n x n grid of |Su x Sv| over its domain (an
-/// estimate, for size checks before growing: non-finite parts count as zero).
-double approximateArea(const Surface& surface, int n = 64);
-
 }  // namespace wf

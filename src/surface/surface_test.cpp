@@ -475,13 +475,5 @@ TEST(SurfacePatches, ProblemsAreReported) {
   for (const Named& n : everyPatch()) EXPECT_FALSE(n.surface->describe().empty());
 }
 
-// approximateArea (the size check before growing fur) against the closed forms: 4 pi r^2 and
-// 4 pi^2 R r, within the midpoint rule's error on a 64 x 64 grid (1e-3 relative).
-TEST(SurfaceArea, ApproximateAreaMatchesTheClosedForms) {
-  EXPECT_NEAR(approximateArea(SpherePatch(2.0)), 4.0 * std::numbers::pi * 4.0, 1e-3 * 16.0 * std::numbers::pi);
-  const double torus = 4.0 * std::numbers::pi * std::numbers::pi * 1.0 * 0.35;
-  EXPECT_NEAR(approximateArea(TorusPatch(1.0, 0.35)), torus, 1e-3 * torus);
-}
-
 }  // namespace
 }  // namespace wf
