@@ -191,15 +191,21 @@ void readGrowth(const Reader& r, const json& obj, const std::string& ptr, const 
   if (obj.contains("scales")) {
     const std::string sp = Reader::at(ptr, "scales");
     const json& j = obj["scales"];
-    const wf::ScaleParams params = readScaleParams(r, j, sp);
+    wf::ScaleParams params = readScaleParams(r, j, sp);
     if (const std::string p = params.problem(); !p.empty()) r.fail(sp, p);
     wf::SceneSurface s;
     s.name = ctx.name + " scales";
     if (j.contains("material")) s.material = ctx.material(j["material"], Reader::at(sp, "material"));
-    // Two scales per cell, two triangles each.
-    ctx.budget->addPrimitives(r, Reader::at(sp, "cells"), 4.0 * params.cellsU * params.cellsV, "these scales");
+    // Two scales per cell, two triangles each, within the scene's remaining budget (checked by
+    // the core before it allocates, as for fur).
+    params.maxTriangles = std::max(0.0, SceneBudget::kMaxPrimitives - ctx.budget->primitives);
     const auto t0 = std::chrono::steady_clock::now();
-    s.mesh = wf::growScales(*ctx.surface, params, ctx.patch);
+    try {
+      s.mesh = wf::growScales(*ctx.surface, params, ctx.patch);
+    } catch (const std::exception& e) {
+      r.fail(Reader::at(sp, "cells"), e.what());
+    }
+    ctx.budget->addPrimitives(r, Reader::at(sp, "cells"), double(s.mesh.triangles.size()), "these scales");
     ctx.budget->generateSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ctx.budget->scales += s.mesh.triangles.size() / 2;
     scene.surfaces.push_back(std::move(s));

@@ -77,6 +77,7 @@ int vtkWireFurScalesGenerator::RequestData(
   p.shoulder = this->Shoulder;
   p.colour = glm::vec3(glm::dvec3(this->Color[0], this->Color[1], this->Color[2]));
   p.seed = this->Seed;
+  p.maxTriangles = this->MaximumTriangles;  // checked by the core before it allocates
   if (const std::string why = p.problem(); !why.empty())
   {
     vtkErrorMacro(<< "invalid scale parameters: " << why);
@@ -199,6 +200,7 @@ int vtkWireFurScalesGenerator::RequestData(
 void vtkWireFurScalesGenerator::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
+  os << indent << "MaximumTriangles: " << this->MaximumTriangles << "\n";
   os << indent << "CellsU: " << this->CellsU << "\n";
   os << indent << "CellsV: " << this->CellsV << "\n";
   os << indent << "Size: " << this->Size << "\n";

@@ -40,6 +40,13 @@ public:
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
+  /// The most triangles one execution may make (4 per cell; checked before anything is
+  /// allocated: an error and an empty output past it). Default 16,777,216 (about 2.5 GB).
+  vtkSetClampMacro(MaximumTriangles, double, 0.0, 1e12);
+  vtkGetMacro(MaximumTriangles, double);
+  ///@}
+
+  ///@{
   /// Parametric cells along u and v, 1 ... 16384 each, at most 2^24 in all. Defaults 16, 16.
   vtkSetMacro(CellsU, int);
   vtkGetMacro(CellsU, int);
@@ -91,6 +98,7 @@ protected:
 
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
+  double MaximumTriangles = 16777216.0;
   int CellsU = 16;
   int CellsV = 16;
   double Size = 1.5;

@@ -90,6 +90,8 @@ std::string ScaleParams::problem() const {
     out << "lift must be in [0, 16] (got " << lift << ")";
   else if (!inRange(deflection, 0.0, 16.0))
     out << "deflection must be in [0, 16] (got " << deflection << ")";
+  else if (!(maxTriangles >= 0.0))
+    out << "maxTriangles must be >= 0 (got " << maxTriangles << ")";
   else if (!inRange(intensityVariation, 0.0, 1.0))
     out << "intensityVariation must be in [0, 1] (got " << intensityVariation << ")";
   else if (!inRange(shoulder, 0.0, 1.0) || shoulder == 0.0 || shoulder == 1.0)
@@ -107,6 +109,10 @@ TriangleMesh growScales(const Surface& surface, const ScaleParams& params,
   const ParameterDomain d = surface.domain();
   const int nu = params.cellsU, nv = params.cellsV;
   const double cellDu = d.du() / nu, cellDv = d.dv() / nv;
+  if (4.0 * double(nu) * double(nv) > params.maxTriangles)
+    throw std::length_error("scales on " + surface.describe() + ": " + std::to_string(4LL * nu * nv) +
+                            " triangles would exceed the limit of " +
+                            std::to_string((long long)params.maxTriangles) + "; lower the cells");
 
   // Fixed slots: cell c = j nu + i holds scales 2c (corner) and 2c + 1 (centre), so every
   // thread writes its own slots and the result does not depend on the schedule.

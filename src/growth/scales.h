@@ -38,6 +38,9 @@ struct ScaleParams {
   /// Base colour (linear, >= 0); each vertex colour is colour * the scale's intensity.
   glm::vec3 colour{1.0f};
   std::uint64_t seed = 1;
+  /// The most triangles the scales may make (4 per cell), checked before anything is allocated:
+  /// growScales throws std::length_error past it. Callers with a memory budget pass less.
+  double maxTriangles = 67108864.0;
 
   /// Empty when the parameters are usable, else one line naming the field and what is wrong
   /// ("cellsU must be in [1, 16384] (got 0)").

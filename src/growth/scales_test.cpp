@@ -74,6 +74,19 @@ TEST(Scales, TwoScalesOfTwoTrianglesPerCell) {
   EXPECT_EQ(m.colours.size(), m.positions.size());
 }
 
+// maxTriangles bounds the scales before anything is allocated: 10 x 10 cells make 400
+// triangles, refused at 399 and grown at 400.
+TEST(Scales, MaxTrianglesIsCheckedBeforeGrowing) {
+  const TestTorus torus;
+  ScaleParams p;
+  p.cellsU = 10;
+  p.cellsV = 10;
+  p.maxTriangles = 399;
+  EXPECT_THROW(growScales(torus, p), std::length_error);
+  p.maxTriangles = 400;
+  EXPECT_EQ(growScales(torus, p).triangles.size(), 400u);
+}
+
 TEST(Scales, CornerAndCentreRootsOnTheSurfaceAtTheirUv) {
   const TestTorus torus;
   ScaleParams p;

@@ -523,6 +523,21 @@ TEST(VtkFurGenerator, NaNAndEmptyInputGiveAnErrorAndAnEmptyOutput)
 
 // Two scales per cell, two triangles per scale: 4 CellsU CellsV triangles on a torus; each scale id
 // 0 ... 2 CellsU CellsV - 1 on exactly two triangles.
+// Cells asking for more than MaximumTriangles (4096 x 4096 cells: 67M triangles, tens of GB) are
+// an error and an empty output, before anything is allocated.
+TEST(VtkScalesGenerator, TooManyCellsAreAnErrorNotAnAllocation)
+{
+  vtkNew<vtkParametricTorus> torus;
+  vtkNew<vtkWireFurScalesGenerator> scales;
+  scales->SetParametricFunction(torus);
+  scales->SetCellsU(4096);
+  scales->SetCellsV(4096);
+  auto events = observe(scales.Get());
+  scales->Update();
+  EXPECT_EQ(events->Errors, 1) << events->Last;
+  EXPECT_EQ(scales->GetOutput()->GetNumberOfPolys(), 0);
+}
+
 TEST(VtkScalesGenerator, FourTrianglesPerCell)
 {
   vtkNew<vtkParametricTorus> torus;
