@@ -15,6 +15,11 @@ packages=(
   libgtest-dev libbenchmark-dev     # tests and benchmarks
   xvfb xauth libgl1-mesa-dri        # OpenGL without a display (Mesa llvmpipe): render pass, viewer, peer benchmark
   libx11-dev                        # the viewer checks the X display before VTK would abort on it
+  libocct-modeling-algorithms-dev   # CAD input (docs/cad.md): OpenCASCADE 7.6 meshing and shapes,
+  libocct-data-exchange-dev         #   STEP and IGES through XCAF,
+  libocct-visualization-dev         #   iso-parametric lines (StdPrs_Isolines)
+  libzip-dev libpugixml-dev pkgconf # FreeCAD documents: the zip (found with pkg-config) and its XML
+  clang libclang-rt-14-dev          # libFuzzer targets (tests/fuzz)
 )
 
 missing=()

@@ -1,0 +1,657 @@
+#include "vtkWireFurCADReader.h"
+
+#include "wf_cad_model.h"
+#include "wf_cad_surface.h"
+
+#include "core/srgb.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkStringArray.h"
+#include "vtkUnsignedCharArray.h"
+
+#include <BRepAdaptor_Curve.hxx>
+#include <BRepBndLib.hxx>
+#include <BRepMesh_IncrementalMesh.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Tool.hxx>
+#include <Bnd_Box.hxx>
+#include <GCPnts_TangentialDeflection.hxx>
+#include <Poly_Polygon3D.hxx>
+#include <Poly_PolygonOnTriangulation.hxx>
+#include <Poly_Triangulation.hxx>
+#include <Prs3d_Drawer.hxx>
+#include <Prs3d_IsoAspect.hxx>
+#include <ShapeAnalysis_Surface.hxx>
+#include <Standard_Failure.hxx>
+#include <StdPrs_Isolines.hxx>
+#include <TColgp_HSequenceOfPnt.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Face.hxx>
+#include <TopoDS_Vertex.hxx>
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <map>
+
+vtkStandardNewMacro(vtkWireFurCADReader);
+
+// The wirefur command loads this module only for CAD input (dlopen), and makes the reader here.
+extern "C" WIREFURCAD_EXPORT vtkWireFurCADReader* wirefur_cad_new_reader()
+{
+  return vtkWireFurCADReader::New();
+}
+
+namespace
+{
+
+std::string lowerExtension(const std::string& path)
+{
+  std::string e = std::filesystem::path(path).extension().string();
+  for (char& c : e)
+    c = char(std::tolower(static_cast<unsigned char>(c)));
+  return e;
+}
+
+std::string failureText(const Standard_Failure& f)
+{
+  const char* m = f.GetMessageString();
+  std::string s = (m && *m) ? m : f.DynamicType()->Name();
+  for (char& ch : s)
+    if (ch == '\n' || ch == '\r')
+      ch = ' ';
+  return s;
+}
+
+bool finite3(const gp_XYZ& p)
+{
+  return std::isfinite(p.X()) && std::isfinite(p.Y()) && std::isfinite(p.Z());
+}
+
+// One face's triangles with the exact surface data at its vertices.
+struct FaceMesh
+{
+  int part = 0;
+  int faceId = 0;  // in the file, across parts
+  std::array<unsigned char, 3> colour{ 200, 200, 200 };
+  std::vector<double> positions, su, sv, uv;  // 3, 3, 3, 2 per vertex
+  std::vector<float> normals;                 // 3 per vertex
+  std::vector<vtkIdType> triangles;           // 3 per triangle, face-local
+  bool skipped = false;
+  std::string problem;
+};
+
+struct FaceJob
+{
+  int part;
+  int faceId;
+  TopoDS_Face face;  // located
+  std::optional<Quantity_Color> colour;
+};
+
+FaceMesh skippedFace(const FaceJob& job, const std::string& problem)
+{
+  FaceMesh m;
+  m.part = job.part;
+  m.faceId = job.faceId;
+  m.skipped = true;
+  m.problem = problem;
+  return m;
+}
+
+std::array<unsigned char, 3> toSrgb8(const Quantity_Color& c)
+{
+  double r = 0, g = 0, b = 0;
+  c.Values(r, g, b, Quantity_TOC_sRGB);
+  auto q = [](double x) { return (unsigned char)std::lround(std::clamp(x, 0.0, 1.0) * 255.0); };
+  return { q(r), q(g), q(b) };
+}
+
+void meshFace(const FaceJob& job, FaceMesh& out)
+{
+  out.part = job.part;
+  out.faceId = job.faceId;
+  if (job.colour)
+    out.colour = toSrgb8(*job.colour);
+  TopLoc_Location loc;
+  const Handle(Poly_Triangulation)& tri = BRep_Tool::Triangulation(job.face, loc);
+  if (tri.IsNull() || tri->NbTriangles() == 0 || tri->NbNodes() < 3)
+  {
+    out = skippedFace(job, "did not mesh");
+    return;
+  }
+  const gp_Trsf trsf = loc.Transformation();
+  const wfcad::FaceSurface surface(job.face);
+  Handle(ShapeAnalysis_Surface) projector;
+  const int n = tri->NbNodes();
+  out.positions.reserve(3 * size_t(n));
+  out.normals.reserve(3 * size_t(n));
+  for (int i = 1; i <= n; ++i)
+  {
+    const gp_Pnt p = tri->Node(i).Transformed(trsf);
+    if (!finite3(p.XYZ()))
+    {
+      out = skippedFace(job, "mesh node " + std::to_string(i) + " is not finite");
+      return;
+    }
+    gp_Pnt2d uv;
+    if (tri->HasUVNodes())
+      uv = tri->UVNode(i);
+    else
+    {
+      if (projector.IsNull())
+        projector = new ShapeAnalysis_Surface(BRep_Tool::Surface(job.face));
+      // The projector works in the surface's own frame: undo the face's location.
+      uv = projector->ValueOfUV(p.Transformed(job.face.Location().Transformation().Inverted()), 1e-7);
+    }
+    const wf::SurfaceFrame f = surface.frame(uv.X(), uv.Y());
+    out.positions.insert(out.positions.end(), { p.X(), p.Y(), p.Z() });
+    out.normals.insert(out.normals.end(), { float(f.N.x), float(f.N.y), float(f.N.z) });
+    out.su.insert(out.su.end(), { f.Su.x, f.Su.y, f.Su.z });
+    out.sv.insert(out.sv.end(), { f.Sv.x, f.Sv.y, f.Sv.z });
+    out.uv.insert(out.uv.end(), { uv.X(), uv.Y() });
+  }
+  // Counter-clockwise about the oriented normal: OpenCASCADE's triangles follow the surface's
+  // own orientation, so a REVERSED face turns them, and a mirroring location turns them again.
+  const bool flip = surface.normalSign() < 0.0;
+  out.triangles.reserve(3 * size_t(tri->NbTriangles()));
+  for (int t = 1; t <= tri->NbTriangles(); ++t)
+  {
+    int a = 0, b = 0, c = 0;
+    tri->Triangle(t).Get(a, b, c);
+    if (a < 1 || b < 1 || c < 1 || a > n || b > n || c > n || a == b || b == c || a == c)
+      continue;
+    if (flip)
+      std::swap(b, c);
+    out.triangles.insert(out.triangles.end(), { vtkIdType(a - 1), vtkIdType(b - 1), vtkIdType(c - 1) });
+  }
+}
+
+// An edge as points: from a face's tessellation when the edge bounds one (the wire then lies on
+// the surface's own boundary), else its 3-D polygon, else sampled to the deflection.
+std::vector<gp_Pnt> edgePoints(const TopoDS_Edge& edge, const TopTools_ListOfShape* faces, double linear, double angular)
+{
+  std::vector<gp_Pnt> pts;
+  if (faces)
+    for (const TopoDS_Shape& f : *faces)
+    {
+      TopLoc_Location loc;
+      const Handle(Poly_Triangulation)& tri = BRep_Tool::Triangulation(TopoDS::Face(f), loc);
+      if (tri.IsNull())
+        continue;
+      const Handle(Poly_PolygonOnTriangulation) poly = BRep_Tool::PolygonOnTriangulation(edge, tri, loc);
+      if (poly.IsNull())
+        continue;
+      const gp_Trsf t = loc.Transformation();
+      for (int i = 1; i <= poly->NbNodes(); ++i)
+      {
+        const int k = poly->Node(i);
+        if (k < 1 || k > tri->NbNodes())
+          return {};
+        pts.push_back(tri->Node(k).Transformed(t));
+      }
+      return pts;
+    }
+  TopLoc_Location loc;
+  const Handle(Poly_Polygon3D)& p3 = BRep_Tool::Polygon3D(edge, loc);
+  if (!p3.IsNull())
+  {
+    const gp_Trsf t = loc.Transformation();
+    for (int i = 1; i <= p3->NbNodes(); ++i)
+      pts.push_back(p3->Nodes().Value(i).Transformed(t));
+    return pts;
+  }
+  const BRepAdaptor_Curve curve(edge);
+  const GCPnts_TangentialDeflection sampler(curve, angular, linear, 2);
+  for (int i = 1; i <= sampler.NbPoints(); ++i)
+    pts.push_back(sampler.Value(i));
+  return pts;
+}
+
+} // namespace
+
+class vtkWireFurCADReader::vtkInternals
+{
+public:
+  std::vector<std::string> partNames;
+  int faces = 0, meshedFaces = 0, skippedFaces = 0, edges = 0;
+  double appliedDeflection = 0.0, modelSize = 0.0, readSeconds = 0.0, meshSeconds = 0.0;
+  std::string error, warning;
+  void clear() { *this = vtkInternals(); }
+};
+
+vtkWireFurCADReader::vtkWireFurCADReader()
+  : Internals(new vtkInternals)
+{
+  this->SetNumberOfInputPorts(0);
+  this->SetNumberOfOutputPorts(2);
+}
+
+vtkWireFurCADReader::~vtkWireFurCADReader()
+{
+  this->SetFileName(nullptr);
+  delete this->Internals;
+}
+
+bool vtkWireFurCADReader::CanReadFile(const char* fileName)
+{
+  if (!fileName)
+    return false;
+  const std::string e = lowerExtension(fileName);
+  return e == ".step" || e == ".stp" || e == ".iges" || e == ".igs" || e == ".brep" || e == ".fcstd";
+}
+
+int vtkWireFurCADReader::GetNumberOfParts() const { return int(this->Internals->partNames.size()); }
+std::string vtkWireFurCADReader::GetPartName(int part) const
+{
+  return part >= 0 && part < this->GetNumberOfParts() ? this->Internals->partNames[size_t(part)] : std::string();
+}
+int vtkWireFurCADReader::GetNumberOfFaces() const { return this->Internals->faces; }
+int vtkWireFurCADReader::GetNumberOfMeshedFaces() const { return this->Internals->meshedFaces; }
+int vtkWireFurCADReader::GetNumberOfSkippedFaces() const { return this->Internals->skippedFaces; }
+int vtkWireFurCADReader::GetNumberOfEdges() const { return this->Internals->edges; }
+double vtkWireFurCADReader::GetAppliedLinearDeflection() const { return this->Internals->appliedDeflection; }
+double vtkWireFurCADReader::GetModelSize() const { return this->Internals->modelSize; }
+double vtkWireFurCADReader::GetReadSeconds() const { return this->Internals->readSeconds; }
+double vtkWireFurCADReader::GetMeshSeconds() const { return this->Internals->meshSeconds; }
+std::string vtkWireFurCADReader::GetErrorMessage() const { return this->Internals->error; }
+std::string vtkWireFurCADReader::GetWarningMessage() const { return this->Internals->warning; }
+
+int vtkWireFurCADReader::RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  vtkInternals& in = *this->Internals;
+  in.clear();
+  vtkPolyData* facesOut = vtkPolyData::GetData(outputVector, 0);
+  vtkPolyData* edgesOut = vtkPolyData::GetData(outputVector, 1);
+  const std::string path = this->FileName ? this->FileName : "";
+  auto fail = [&](const std::string& message) {
+    in.error = (path.empty() ? std::string("(no file name)") : path) + ": " + message;
+    vtkErrorMacro(<< in.error);
+    return 0;
+  };
+  if (path.empty())
+    return fail("no file name given");
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec))
+    return fail("no such file");
+  if (!std::filesystem::is_regular_file(path, ec))
+    return fail("not a regular file");
+  if (std::filesystem::file_size(path, ec) == 0)
+    return fail("empty file");
+  const std::string ext = lowerExtension(path);
+  const auto t0 = std::chrono::steady_clock::now();
+  auto seconds = [](auto since) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+  };
+  tbb::task_arena arena(this->NumberOfThreads > 0 ? this->NumberOfThreads : tbb::task_arena::automatic);
+
+  wfcad::Model model;
+  try
+  {
+    this->UpdateProgress(0.0);
+    if (ext == ".step" || ext == ".stp")
+      model = wfcad::readStepOrIges(path, false);
+    else if (ext == ".iges" || ext == ".igs")
+      model = wfcad::readStepOrIges(path, true);
+    else if (ext == ".brep")
+      model = wfcad::readBrep(path);
+    else if (ext == ".fcstd")
+      model = wfcad::readFreeCad(path);
+    else
+      return fail("unsupported extension '" + ext + "' (expected .step .stp .iges .igs .brep .FCStd)");
+  }
+  catch (const wfcad::CadError& e)
+  {
+    return fail(e.what());
+  }
+  catch (const Standard_Failure& f)
+  {
+    return fail("OpenCASCADE failed while reading: " + failureText(f));
+  }
+  catch (const std::bad_alloc&)
+  {
+    return fail("out of memory while reading");
+  }
+  in.readSeconds = seconds(t0);
+  this->UpdateProgress(0.3);
+
+  // Located parts, the model's size and the deflection.
+  std::vector<TopoDS_Shape> located;
+  Bnd_Box box;
+  for (const wfcad::Part& p : model.parts)
+  {
+    located.push_back(p.shape.Moved(p.placement));
+    in.partNames.push_back(p.name.empty() ? "part " + std::to_string(in.partNames.size() + 1) : p.name);
+    try
+    {
+      BRepBndLib::Add(located.back(), box, Standard_False);
+    }
+    catch (const Standard_Failure&)
+    {
+    }
+  }
+  if (box.IsVoid())
+    return fail("no geometry (the shapes have no faces, edges or vertices)");
+  double x0, y0, z0, x1, y1, z1;
+  box.Get(x0, y0, z0, x1, y1, z1);
+  in.modelSize = std::sqrt((x1 - x0) * (x1 - x0) + (y1 - y0) * (y1 - y0) + (z1 - z0) * (z1 - z0));
+  if (!std::isfinite(in.modelSize) || in.modelSize > 1e30)
+    return fail("the model's bounds are not finite (an unbounded shape?)");
+  if (in.modelSize <= 0.0)
+    in.modelSize = 1.0;
+  const double linear = this->RelativeDeflection ? this->LinearDeflection * in.modelSize : this->LinearDeflection;
+  in.appliedDeflection = std::max(linear, in.modelSize * 1e-9);
+  const double angular = this->AngularDeflection;
+
+  // Mesh each distinct shape once (instances share their faces' triangulations), dropping any
+  // triangulation the file carried so that the deflection asked for is the one used.
+  const auto tm = std::chrono::steady_clock::now();
+  {
+    std::vector<TopoDS_Shape> distinct;
+    for (const wfcad::Part& p : model.parts)
+      if (std::none_of(distinct.begin(), distinct.end(), [&](const TopoDS_Shape& s) { return s.IsPartner(p.shape); }))
+        distinct.push_back(p.shape);
+    for (size_t i = 0; i < distinct.size(); ++i)
+    {
+      if (this->GetAbortExecute())
+        return fail("aborted");
+      try
+      {
+        BRepTools::Clean(distinct[i]);
+        arena.execute([&] {
+          BRepMesh_IncrementalMesh mesher(distinct[i], in.appliedDeflection, Standard_False, angular,
+                                          this->NumberOfThreads != 1);
+        });
+      }
+      catch (const Standard_Failure&)
+      {
+        // Faces left without a triangulation are counted as skipped below.
+      }
+      this->UpdateProgress(0.3 + 0.3 * double(i + 1) / double(distinct.size()));
+    }
+  }
+
+  // Faces, in file order.
+  std::vector<FaceJob> jobs;
+  for (size_t p = 0; p < model.parts.size(); ++p)
+  {
+    int k = 0;
+    const wfcad::Part& part = model.parts[p];
+    for (TopExp_Explorer e(part.shape, TopAbs_FACE); e.More(); e.Next(), ++k)
+    {
+      FaceJob j{ int(p), int(jobs.size()), TopoDS::Face(e.Current().Moved(part.placement)), part.colour };
+      if (size_t(k) < part.faceColours.size() && part.faceColours[size_t(k)])
+        j.colour = part.faceColours[size_t(k)];
+      jobs.push_back(j);
+    }
+  }
+  in.faces = int(jobs.size());
+  // The triangle budget, checked before any vertex data is made.
+  {
+    double total = 0;
+    for (const FaceJob& j : jobs)
+    {
+      TopLoc_Location loc;
+      const Handle(Poly_Triangulation)& t = BRep_Tool::Triangulation(j.face, loc);
+      if (!t.IsNull())
+        total += t->NbTriangles();
+    }
+    if (total > double(this->MaximumTriangles))
+      return fail(std::to_string(std::llround(total)) + " triangles at deflection " + std::to_string(in.appliedDeflection) +
+        ", over the limit of " + std::to_string(this->MaximumTriangles) + " (raise the deflection)");
+  }
+  std::vector<FaceMesh> meshes(jobs.size());
+  arena.execute([&] {
+    tbb::parallel_for(size_t(0), jobs.size(), [&](size_t i) {
+      try
+      {
+        meshFace(jobs[i], meshes[i]);
+      }
+      catch (const Standard_Failure& f)
+      {
+        meshes[i] = skippedFace(jobs[i], failureText(f));
+      }
+    });
+  });
+  this->UpdateProgress(0.8);
+
+  // Faces output.
+  {
+    size_t nv = 0, nt = 0;
+    for (const FaceMesh& m : meshes)
+      nv += m.positions.size() / 3, nt += m.triangles.size() / 3;
+    vtkNew<vtkPoints> points;
+    points->SetDataTypeToDouble();
+    points->SetNumberOfPoints(vtkIdType(nv));
+    auto makeD = [&](const char* name, int comps) {
+      vtkNew<vtkDoubleArray> a;
+      a->SetName(name);
+      a->SetNumberOfComponents(comps);
+      a->SetNumberOfTuples(vtkIdType(nv));
+      return vtkSmartPointer<vtkDoubleArray>(a);
+    };
+    auto su = makeD("Su", 3), sv = makeD("Sv", 3), tc = makeD("TCoords", 2);
+    vtkNew<vtkFloatArray> normals;
+    normals->SetName("Normals");
+    normals->SetNumberOfComponents(3);
+    normals->SetNumberOfTuples(vtkIdType(nv));
+    vtkNew<vtkUnsignedCharArray> colours;
+    colours->SetName("Colors");
+    colours->SetNumberOfComponents(3);
+    colours->SetNumberOfTuples(vtkIdType(nv));
+    vtkNew<vtkIntArray> faceIds, partIds;
+    faceIds->SetName("FaceId");
+    partIds->SetName("PartId");
+    vtkNew<vtkCellArray> polys;
+    polys->AllocateExact(vtkIdType(nt), vtkIdType(3 * nt));
+    vtkIdType base = 0;
+    std::string firstSkip;
+    for (const FaceMesh& m : meshes)
+    {
+      if (m.skipped)
+      {
+        ++in.skippedFaces;
+        if (firstSkip.empty())
+          firstSkip = "face " + std::to_string(m.faceId) + " of part '" + in.partNames[size_t(m.part)] + "': " + m.problem;
+        continue;
+      }
+      ++in.meshedFaces;
+      const vtkIdType n = vtkIdType(m.positions.size() / 3);
+      for (vtkIdType i = 0; i < n; ++i)
+      {
+        points->SetPoint(base + i, &m.positions[size_t(3 * i)]);
+        su->SetTypedTuple(base + i, &m.su[size_t(3 * i)]);
+        sv->SetTypedTuple(base + i, &m.sv[size_t(3 * i)]);
+        tc->SetTypedTuple(base + i, &m.uv[size_t(2 * i)]);
+        normals->SetTypedTuple(base + i, &m.normals[size_t(3 * i)]);
+        colours->SetTypedTuple(base + i, m.colour.data());
+      }
+      for (size_t t = 0; t < m.triangles.size(); t += 3)
+      {
+        const vtkIdType ids[3] = { base + m.triangles[t], base + m.triangles[t + 1], base + m.triangles[t + 2] };
+        polys->InsertNextCell(3, ids);
+        faceIds->InsertNextValue(m.faceId);
+        partIds->InsertNextValue(m.part);
+      }
+      base += n;
+    }
+    facesOut->SetPoints(points);
+    facesOut->SetPolys(polys);
+    facesOut->GetPointData()->SetNormals(normals);
+    facesOut->GetPointData()->SetTCoords(tc);
+    facesOut->GetPointData()->SetTangents(su);
+    facesOut->GetPointData()->AddArray(sv);
+    facesOut->GetPointData()->SetScalars(colours);
+    facesOut->GetCellData()->AddArray(faceIds);
+    facesOut->GetCellData()->AddArray(partIds);
+    if (in.skippedFaces > 0)
+      in.warning = path + ": skipped " + std::to_string(in.skippedFaces) + " of " + std::to_string(in.faces) +
+        " faces that failed to mesh (first: " + firstSkip + ")";
+  }
+  in.meshSeconds = seconds(tm);
+  this->UpdateProgress(0.9);
+
+  // Edges (and iso lines) output.
+  {
+    vtkNew<vtkPoints> points;
+    points->SetDataTypeToDouble();
+    vtkNew<vtkCellArray> lines;
+    vtkNew<vtkIntArray> kind, edgeIds, partIds;
+    kind->SetName("Kind");
+    edgeIds->SetName("EdgeId");
+    partIds->SetName("PartId");
+    int edgeCounter = 0;
+    auto addLine = [&](const std::vector<vtkIdType>& ids, int k, int id, int part) {
+      if (ids.size() < 2)
+        return;
+      lines->InsertNextCell(vtkIdType(ids.size()), ids.data());
+      kind->InsertNextValue(k);
+      edgeIds->InsertNextValue(id);
+      partIds->InsertNextValue(part);
+    };
+    for (size_t p = 0; p < located.size(); ++p)
+    {
+      TopTools_IndexedMapOfShape edgeMap, vertexMap;
+      TopTools_IndexedDataMapOfShapeListOfShape edgeFaces;
+      try
+      {
+        TopExp::MapShapes(located[p], TopAbs_EDGE, edgeMap);
+        TopExp::MapShapes(located[p], TopAbs_VERTEX, vertexMap);
+        TopExp::MapShapesAndAncestors(located[p], TopAbs_EDGE, TopAbs_FACE, edgeFaces);
+      }
+      catch (const Standard_Failure&)
+      {
+        continue;
+      }
+      std::vector<vtkIdType> vertexIds(size_t(vertexMap.Extent()) + 1, -1);
+      auto vertexPoint = [&](const TopoDS_Vertex& v, const gp_Pnt& fallback) -> vtkIdType {
+        const int k = v.IsNull() ? 0 : vertexMap.FindIndex(v);
+        if (k > 0 && vertexIds[size_t(k)] >= 0)
+          return vertexIds[size_t(k)];
+        const vtkIdType id = points->InsertNextPoint(fallback.X(), fallback.Y(), fallback.Z());
+        if (k > 0)
+          vertexIds[size_t(k)] = id;
+        return id;
+      };
+      for (int e = 1; e <= edgeMap.Extent(); ++e)
+      {
+        const TopoDS_Edge edge = TopoDS::Edge(edgeMap(e));
+        const int id = edgeCounter++;
+        try
+        {
+          if (BRep_Tool::Degenerated(edge))
+            continue;
+          const TopTools_ListOfShape* faces = edgeFaces.Seek(edge);
+          std::vector<gp_Pnt> pts = edgePoints(edge, faces, in.appliedDeflection, angular);
+          if (pts.size() < 2 || !std::all_of(pts.begin(), pts.end(), [](const gp_Pnt& q) { return finite3(q.XYZ()); }))
+            continue;
+          TopoDS_Vertex v1, v2;
+          TopExp::Vertices(edge, v1, v2);  // v1 at the first parameter, where the polygon starts
+          std::vector<vtkIdType> ids;
+          ids.push_back(vertexPoint(v1, pts.front()));
+          for (size_t i = 1; i + 1 < pts.size(); ++i)
+            ids.push_back(points->InsertNextPoint(pts[i].X(), pts[i].Y(), pts[i].Z()));
+          ids.push_back(vertexPoint(v2, pts.back()));
+          addLine(ids, 0, id, int(p));
+          ++in.edges;
+        }
+        catch (const Standard_Failure&)
+        {
+        }
+      }
+    }
+    if (this->NumberOfUIsoLines > 0 || this->NumberOfVIsoLines > 0)
+    {
+      Handle(Prs3d_Drawer) drawer = new Prs3d_Drawer();
+      drawer->SetUIsoAspect(new Prs3d_IsoAspect(Quantity_NOC_GRAY, Aspect_TOL_SOLID, 1.0, this->NumberOfUIsoLines));
+      drawer->SetVIsoAspect(new Prs3d_IsoAspect(Quantity_NOC_GRAY, Aspect_TOL_SOLID, 1.0, this->NumberOfVIsoLines));
+      drawer->SetIsoOnPlane(Standard_True);
+      drawer->SetIsoOnTriangulation(Standard_False);
+      std::vector<std::array<Prs3d_NListOfSequenceOfPnt, 2>> isos(jobs.size());
+      arena.execute([&] {
+        tbb::parallel_for(size_t(0), jobs.size(), [&](size_t i) {
+          if (meshes[i].skipped)
+            return;
+          try
+          {
+            StdPrs_Isolines::AddOnSurface(jobs[i].face, drawer, in.appliedDeflection, isos[i][0], isos[i][1]);
+          }
+          catch (const Standard_Failure&)
+          {
+            isos[i][0].Clear();
+            isos[i][1].Clear();
+          }
+        });
+      });
+      for (size_t i = 0; i < jobs.size(); ++i)
+        for (int k = 0; k < 2; ++k)
+          for (const Handle(TColgp_HSequenceOfPnt)& seq : isos[i][size_t(k)])
+          {
+            std::vector<vtkIdType> ids;
+            for (int j = 1; j <= seq->Length(); ++j)
+            {
+              const gp_Pnt& q = seq->Value(j);
+              if (finite3(q.XYZ()))
+                ids.push_back(points->InsertNextPoint(q.X(), q.Y(), q.Z()));
+            }
+            addLine(ids, k + 1, jobs[i].faceId, jobs[i].part);
+          }
+    }
+    edgesOut->SetPoints(points);
+    edgesOut->SetLines(lines);
+    edgesOut->GetCellData()->AddArray(kind);
+    edgesOut->GetCellData()->AddArray(edgeIds);
+    edgesOut->GetCellData()->AddArray(partIds);
+  }
+
+  vtkNew<vtkStringArray> names;
+  names->SetName("PartNames");
+  for (const std::string& n : in.partNames)
+    names->InsertNextValue(n);
+  facesOut->GetFieldData()->AddArray(names);
+  edgesOut->GetFieldData()->AddArray(names);
+  if (in.meshedFaces == 0 && in.edges == 0)
+  {
+    facesOut->Initialize();
+    edgesOut->Initialize();
+    return fail(in.faces > 0 ? "none of the " + std::to_string(in.faces) + " faces could be meshed" +
+          (in.warning.empty() ? std::string() : " (" + in.warning.substr(in.warning.find("first: ") + 7))
+                             : std::string("no faces and no edges to draw"));
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+void vtkWireFurCADReader::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
+  os << indent << "LinearDeflection: " << this->LinearDeflection << "\n";
+  os << indent << "RelativeDeflection: " << this->RelativeDeflection << "\n";
+  os << indent << "AngularDeflection: " << this->AngularDeflection << "\n";
+  os << indent << "NumberOfUIsoLines: " << this->NumberOfUIsoLines << "\n";
+  os << indent << "NumberOfVIsoLines: " << this->NumberOfVIsoLines << "\n";
+  os << indent << "MaximumTriangles: " << this->MaximumTriangles << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+}

@@ -1,0 +1,33 @@
+// An OpenCASCADE face as the core's one surface concept (src/surface/surface.h): S, Su and Sv
+// from the face's own surface (BRepAdaptor_Surface, the face's location included) over the face's
+// (u, v) bounds, and the normal sign of the face: REVERSED xor a mirroring location. Private to
+// the WireFur::CAD module.
+#pragma once
+
+#include "surface/surface.h"
+
+#include <BRepAdaptor_Surface.hxx>
+#include <TopoDS_Face.hxx>
+
+#include <mutex>
+
+namespace wfcad {
+
+class FaceSurface final : public wf::Surface {
+ public:
+  explicit FaceSurface(const TopoDS_Face& face);
+  wf::ParameterDomain domain() const override { return domain_; }
+  /// Clamped to the face's (u, v) bounds. Serialised by a lock: OpenCASCADE's B-spline
+  /// evaluation keeps a cache in the adaptor, so concurrent calls on one face must not overlap.
+  wf::SurfacePoint evaluate(double u, double v) const override;
+  std::string describe() const override;
+  double normalSign() const override { return sign_; }
+
+ private:
+  BRepAdaptor_Surface adaptor_;
+  wf::ParameterDomain domain_;
+  double sign_ = 1.0;
+  mutable std::mutex lock_;
+};
+
+}  // namespace wfcad
