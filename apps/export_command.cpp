@@ -1,5 +1,7 @@
 #include "export_command.h"
 
+#include "cad_input.h"
+
 #include "cli.h"
 #include "render_command.h"
 #include "scene_file.h"
@@ -59,6 +61,18 @@ vtkSmartPointer<vtkPolyData> sceneToPolyData(const wf::Scene& scene) {
   tcoords->SetName("TCoords");
   tcoords->SetNumberOfComponents(2);
   tcoords->SetNumberOfTuples(vtkIdType(nPoints));
+  // Raw surface derivatives dS/du and dS/dv (world units per parameter unit), where the surfaces
+  // have them (parametric sources, CAD faces); zero elsewhere.
+  bool anyDerivatives = false;
+  for (const wf::SceneSurface& s : scene.surfaces) anyDerivatives = anyDerivatives || !s.mesh.derivU.empty();
+  vtkNew<vtkDoubleArray> su, sv;
+  if (anyDerivatives)
+    for (auto [a, name] : {std::pair<vtkDoubleArray*, const char*>{su, "Su"}, {sv, "Sv"}}) {
+      a->SetName(name);
+      a->SetNumberOfComponents(3);
+      a->SetNumberOfTuples(vtkIdType(nPoints));
+      a->Fill(0.0);
+    }
   vtkNew<vtkUnsignedCharArray> colours;
   colours->SetName("Colors");
   colours->SetNumberOfComponents(3);
@@ -90,6 +104,10 @@ vtkSmartPointer<vtkPolyData> sceneToPolyData(const wf::Scene& scene) {
       const glm::dvec3 n = m.normals.size() == nv ? m.normals[i] : glm::dvec3(0.0);
       const glm::dvec3 t = m.derivU.size() == nv ? unitOrZero(m.derivU[i])
                                                  : (m.tangents.size() == nv ? m.tangents[i] : glm::dvec3(0.0));
+      if (anyDerivatives && m.derivU.size() == nv && m.derivV.size() == nv) {
+        su->SetTuple(next, &m.derivU[i].x);
+        sv->SetTuple(next, &m.derivV[i].x);
+      }
       setPoint(next++, m.positions[i], n, t, m.uvs.size() == nv ? m.uvs[i] : glm::dvec2(0.0),
                m.colours.size() == nv ? m.colours[i] : glm::vec3(1.0f));
     }
@@ -134,6 +152,10 @@ vtkSmartPointer<vtkPolyData> sceneToPolyData(const wf::Scene& scene) {
   pd->GetPointData()->SetTangents(tangents);
   pd->GetPointData()->SetTCoords(tcoords);
   pd->GetPointData()->SetScalars(colours);
+  if (anyDerivatives) {
+    pd->GetPointData()->AddArray(su);
+    pd->GetPointData()->AddArray(sv);
+  }
   // Cell data runs over vertices, lines, polygons, strips in that order: lines first.
   vtkNew<vtkIntArray> objectIds;
   objectIds->SetName("ObjectId");
@@ -154,7 +176,7 @@ vtkSmartPointer<vtkPolyData> sceneToPolyData(const wf::Scene& scene) {
 }
 
 int runExport(const std::vector<std::string>& a) {
-  std::string input, output;
+  std::string input, output, style;
   SceneOverrides overrides;
   for (size_t i = 0; i < a.size(); ++i) {
     auto need = [&]() -> std::string {
@@ -169,7 +191,12 @@ int runExport(const std::vector<std::string>& a) {
       if (v.empty() || *end != '\0' || !std::isfinite(t) || std::abs(t) > 1e9)
         throw UsageError("option --time: expected a number in [-1e9, 1e9], got '" + v + "'");
       overrides.time = t;
+    } else if (a[i] == "--style") {
+      style = need();
+      if (style != "wire" && style != "wire-over-surface" && style != "burnished")
+        throw UsageError("option --style: expected wire, wire-over-surface or burnished");
     } else if (a[i] == "--quiet") {
+    } else if (parseCadOption(a, i, overrides.cad)) {
     } else if (!a[i].empty() && a[i][0] == '-') throw UsageError("export: unknown option '" + a[i] + "'");
     else if (input.empty()) input = a[i];
     else throw UsageError("export: more than one input ('" + input + "' and '" + a[i] + "')");
@@ -186,7 +213,7 @@ int runExport(const std::vector<std::string>& a) {
     throw UsageError(output + ": the folder " + parent.string() + " does not exist");
   if (std::filesystem::is_directory(target, ec)) throw UsageError(output + ": is a folder");
 
-  const SceneFile sf = loadInput(input, "", overrides);
+  const SceneFile sf = loadInput(input, style, overrides);
   const vtkSmartPointer<vtkPolyData> pd = sceneToPolyData(sf.scene);
   if (ext == ".ply" && pd->GetNumberOfLines() > 0)
     std::cerr << "wirefur: warning: " << output << ": PLY holds no lines: " << pd->GetNumberOfLines()

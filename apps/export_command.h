@@ -16,7 +16,8 @@ namespace wfapp {
 
 /// The scene's surfaces (triangles) and wires (polylines) in world space, one vtkPolyData:
 /// point arrays "Normals" (surfaces; zero on wires), "Tangents" (surfaces: dS/du or the mesh's
-/// tangents; wires: the polyline direction), "TCoords" ((u, v); zero where there are none),
+/// tangents; wires: the polyline direction), "Su" and "Sv" (raw dS/du, dS/dv where surfaces have
+/// them: parametric sources, CAD faces; only when some surface has them), "TCoords" ((u, v); zero where there are none),
 /// "Colors" (RGB, the vertex colours that multiply the shading); cell arrays "ObjectId" (index
 /// of the surface, then of the wire, in the scene), "Thickness" (a wire's diameter in world
 /// units, 0 for surfaces and pixel-wide wires); field data "ObjectNames".

@@ -1,5 +1,6 @@
 // wirefur: the command-line face of WireFur (see docs/cli.md for the contract).
 #include "accuracy.h"
+#include "cad_input.h"
 #include "cli.h"
 #include "gallery.h"
 #include "export_command.h"
@@ -31,12 +32,16 @@ constexpr const char* kUsage =
     "  render   [INPUT] -o OUT.png [--size WxH] [--style STYLE] [--mask 4x4|8x4|8x8] [--threads N]\n"
     "           [--stats FILE] [--budget K] [--shading maps|exact] [--reference [--samples N]]\n"
     "           [--time T]\n"
-    "           [--view-grid N] [--measure-error] [--quiet]\n"
-    "                                               INPUT: scene .json, or .vtp .vtk .stl .obj .ply; none: built-in scene\n"
-    "  export   INPUT -o OUT.vtp|.vtk|.obj|.ply [--time T] [--quiet]\n"
+    "           [--view-grid N] [--measure-error] [--quiet] [CAD options]\n"
+    "                                               INPUT: scene .json, CAD .step .stp .iges .igs .brep .FCStd,\n"
+    "                                               or mesh .vtp .vtk .stl .obj .ply; none: built-in scene\n"
+    "           STYLE for CAD: wire, wire-over-surface (default), burnished; for meshes: wire, wire-over-surface\n"
+    "           CAD options: --deflection D (of the model's size, default 0.001) | --linear-deflection L (world)\n"
+    "                        --angular-deflection DEG (default 20) --isos N (u and v iso lines per face)\n"
+    "  export   INPUT -o OUT.vtp|.vtk|.obj|.ply [--style STYLE] [--time T] [--quiet] [CAD options]\n"
     "                                               the scene's geometry as drawn (tessellations, scales, wires,\n"
     "                                               fur) with normals, tangents, (u, v) and colours\n"
-    "  view     [INPUT] [--style STYLE] [--size WxH] [--mask 4x4|8x4|8x8] [--threads N]\n"
+    "  view     [INPUT] [--style STYLE] [--size WxH] [--mask 4x4|8x4|8x8] [--threads N] [CAD options]\n"
     "           [--frames N [--offscreen] [--png F]] interactive VTK window (keys: w f s m a q); --frames N renders\n"
     "                                               N frames turning the camera and prints the median frame time\n"
     "  --help, --version\n";
@@ -119,7 +124,8 @@ int run(const std::vector<std::string>& a) {
         o.time = t;
       }
       else if (a[i] == "--quiet") o.quiet = true;
-      else if (!a[i].empty() && a[i][0] == '-') throw wfapp::UsageError("render: unknown option '" + a[i] + "'");
+      else if (wfapp::parseCadOption(a, i, o.cad)) {
+      } else if (!a[i].empty() && a[i][0] == '-') throw wfapp::UsageError("render: unknown option '" + a[i] + "'");
       else if (o.input.empty()) o.input = a[i];
       else throw wfapp::UsageError("render: more than one input ('" + o.input + "' and '" + a[i] + "')");
     }

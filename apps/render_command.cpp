@@ -1,5 +1,6 @@
 #include "render_command.h"
 
+#include "cad_input.h"
 #include "cli.h"
 #include "image_io.h"
 #include "mesh_io.h"
@@ -23,25 +24,16 @@ long peakRssBytes() {
   return long(u.ru_maxrss) * 1024;
 }
 
-namespace {
-bool isCadFile(const std::string& path) {
-  std::string e = std::filesystem::path(path).extension().string();
-  for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return e == ".step" || e == ".stp" || e == ".iges" || e == ".igs" || e == ".brep" || e == ".fcstd";
-}
-}  // namespace
-
 SceneFile loadInput(const std::string& input, const std::string& style, const SceneOverrides& overrides) {
   if (input.empty()) return defaultScene();
-  if (isCadFile(input))
-    throw UsageError(input + ": CAD input (STEP, IGES, BREP, FreeCAD) is not in this version yet");
+  if (isCadFile(input)) return sceneForCadFile(input, style.empty() ? "wire-over-surface" : style, overrides.cad);
   if (isGeometryFile(input)) return sceneForGeometryFile(input, style.empty() ? "wire-over-surface" : style);
   std::string e = std::filesystem::path(input).extension().string();
   if (e == ".json") {
     if (!style.empty()) throw UsageError("--style applies to mesh and CAD files, not to scene files");
     return loadSceneFile(input, overrides);
   }
-  throw UsageError(input + ": unknown input type (expected a scene .json, or .vtp .vtk .stl .obj .ply)");
+  throw UsageError(input + ": unknown input type (expected a scene .json, a CAD file .step .stp .iges .igs .brep .FCStd, or a mesh .vtp .vtk .stl .obj .ply)");
 }
 
 wf::RenderOptions renderOptionsFor(const SceneFile& sf) {
@@ -144,6 +136,8 @@ int runRender(const RenderCommandOptions& o) {
   const Progress progress(o.quiet);
   SceneOverrides overrides;
   overrides.time = o.time;
+  overrides.cad = o.cad;
+  overrides.cad.threads = o.threads;
   SceneFile sf = loadInput(o.input, o.style, overrides);
   const double readSeconds = secondsSince(t0);
   wf::RenderOptions ro = renderOptionsFor(sf);
@@ -207,6 +201,21 @@ int runRender(const RenderCommandOptions& o) {
   stats["seconds"]["read_input"] = readSeconds;
   stats["seconds"]["generate"] = sf.generateSeconds;  // fur and scales, part of read_input
   stats["generated"] = {{"hairs", sf.hairsGrown}, {"scales", sf.scalesGrown}};
+  if (!sf.inputStats.empty()) {
+    stats["input"]["cad"] = sf.inputStats;
+    stats["seconds"]["cad_read"] = sf.inputStats["seconds_read"];
+    stats["seconds"]["cad_mesh"] = sf.inputStats["seconds_mesh"];
+    // The tessellation's chordal deflection in pixels at the model's centre: how far a facet may
+    // stand off the true surface on screen (normals, (u, v) and tangents are exact).
+    if (sf.scene.camera) {
+      const wf::Camera& c = *sf.scene.camera;
+      const double d = sf.inputStats["linear_deflection"].get<double>();
+      const double worldPerPixel = c.projection == wf::Camera::Projection::Orthographic
+                                       ? c.orthoHeight / ro.height
+                                       : 2.0 * glm::length(c.eye - c.target) * std::tan(glm::radians(c.fovYDegrees) / 2) / ro.height;
+      stats["error_estimate"]["tessellation_deflection_px"] = worldPerPixel > 0 ? d / worldPerPixel : 0.0;
+    }
+  }
   stats["seconds"]["write_png"] = secondsSince(tw);
   stats["peak_rss_bytes"] = peakRssBytes();
   if (!o.statsPath.empty()) {

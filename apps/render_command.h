@@ -29,6 +29,7 @@ struct RenderCommandOptions {
   int viewGrid = 0;            ///< view-direction tables per side (0: from the scene)
   bool quiet = false;
   std::optional<double> time;  ///< --time: every fur's wind time (an animation frame)
+  CadOptions cad;              ///< --deflection, --angular-deflection, --isos (CAD input)
 };
 
 int runRender(const RenderCommandOptions& options);

@@ -1,5 +1,7 @@
 #include "scene_file.h"
 
+#include "cad_input.h"
+
 #include "cli.h"
 #include "built_in_scene.h"
 #include "mesh_io.h"
@@ -16,6 +18,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <iostream>
 #include <fstream>
 #include <map>
 #include <set>
@@ -309,7 +312,7 @@ WireSpec readWire(const Reader& r, const json& j, const std::string& ptr, const 
 void readObject(const Reader& r, const json& j, const std::string& ptr, const std::string& folder,
                 const std::map<std::string, int>& materials, std::uint32_t index, const SceneOverrides& overrides,
                 SceneBudget& budget, wf::Scene& scene) {
-  r.keys(j, ptr, {"name", "source", "file", "transform", "surface", "wire", "fur", "scales"});
+  r.keys(j, ptr, {"name", "source", "file", "cad", "transform", "surface", "wire", "fur", "scales"});
   const std::string name = j.contains("name") ? r.string(j["name"], Reader::at(ptr, "name")) : ptr;
   if (j.contains("source") == j.contains("file")) r.fail(ptr, "an object needs exactly one of source and file");
   glm::dmat4 M(1.0);
@@ -319,6 +322,7 @@ void readObject(const Reader& r, const json& j, const std::string& ptr, const st
   wf::PolylineSet fileLines;
   wf::ParametricSource source;
   const bool isSource = j.contains("source");
+  bool isCad = false;  // a CAD file: its edges are the file's lines, not the tessellation's
   if (isSource) {
     source = readSource(r, j["source"], Reader::at(ptr, "source"));
     // Tessellated only when something draws the polygons: a surface, or a wire of its edges
@@ -333,12 +337,42 @@ void readObject(const Reader& r, const json& j, const std::string& ptr, const st
     std::string f = r.string(j["file"], Reader::at(ptr, "file"));
     std::filesystem::path p(f);
     if (p.is_relative()) p = std::filesystem::path(folder) / p;
-    try {
-      LoadedGeometry g = readGeometry(p.string());
-      mesh = std::move(g.mesh);
-      fileLines = std::move(g.lines);
-    } catch (const UsageError& e) {
-      r.fail(Reader::at(ptr, "file"), e.what());
+    if (isCadFile(p.string())) {
+      // A CAD file: faces with exact surface data, its edges as the object's lines.
+      CadOptions co = overrides.cad;
+      if (j.contains("cad")) {
+        const json& c = j["cad"];
+        const std::string cp = Reader::at(ptr, "cad");
+        r.keys(c, cp, {"deflection", "linear_deflection", "angular_deflection", "isos"});
+        if (c.contains("deflection") && c.contains("linear_deflection")) r.fail(cp, "give deflection (relative) or linear_deflection (world units), not both");
+        if (c.contains("deflection")) co.deflection = r.number(c["deflection"], Reader::at(cp, "deflection"), 1e-7, 0.5), co.absoluteDeflection = false;
+        if (c.contains("linear_deflection"))
+          co.deflection = r.number(c["linear_deflection"], Reader::at(cp, "linear_deflection"), 1e-12, 1e30), co.absoluteDeflection = true;
+        if (c.contains("angular_deflection")) co.angularDegrees = r.number(c["angular_deflection"], Reader::at(cp, "angular_deflection"), 1, 85);
+        if (c.contains("isos")) co.isos = int(r.number(c["isos"], Reader::at(cp, "isos"), 0, 1000));
+      }
+      try {
+        CadGeometry c = readCad(p.string(), co);
+        if (!c.warning.empty()) std::cerr << "wirefur: warning: " << c.warning << "\n";
+        mesh = std::move(c.geometry.mesh);
+        fileLines = std::move(c.geometry.lines);
+        for (size_t k = 0; k < c.isoLines.polylineCount(); ++k)
+          fileLines.add(std::vector<glm::dvec3>(c.isoLines.points.begin() + c.isoLines.starts[k],
+                                                c.isoLines.points.begin() + c.isoLines.starts[k + 1]));
+        isCad = true;
+      } catch (const UsageError& e) {
+        r.fail(Reader::at(ptr, "file"), e.what());
+      }
+      budget.addPrimitives(r, Reader::at(ptr, "file"), double(mesh.triangles.size()), "this CAD tessellation");
+    } else {
+      if (j.contains("cad")) r.fail(Reader::at(ptr, "cad"), "only for CAD files (.step .stp .iges .igs .brep .FCStd)");
+      try {
+        LoadedGeometry g = readGeometry(p.string());
+        mesh = std::move(g.mesh);
+        fileLines = std::move(g.lines);
+      } catch (const UsageError& e) {
+        r.fail(Reader::at(ptr, "file"), e.what());
+      }
     }
   }
   // Surface: drawn unless "surface": false; a material by name, or the default.
@@ -363,6 +397,9 @@ void readObject(const Reader& r, const json& j, const std::string& ptr, const st
     if (from == "isolines") {
       if (!isSource) r.fail(Reader::at(wp, "from"), "isolines need a parametric source (use edges or lines for files)");
       w.wire.lines = wf::isolines(source, w.linesU, w.linesV);
+    } else if (from == "edges" && isCad) {
+      if (fileLines.points.empty()) r.fail(Reader::at(wp, "from"), "this CAD file has no edges");
+      w.wire.lines = fileLines;
     } else if (from == "edges") {
       if (mesh.triangles.empty()) r.fail(Reader::at(wp, "from"), "this object has no polygons, so no edges");
       w.wire.lines = wf::meshEdges(mesh);

@@ -7,6 +7,8 @@
 #include "abuffer/coverage_mask.h"
 #include "render/scene.h"
 
+#include <nlohmann/json.hpp>
+
 #include <optional>
 #include <string>
 
@@ -25,10 +27,25 @@ struct SceneFile {
   /// The camera was framed from the bounds (no eye given): reframe() fits it to another size.
   bool framed = false;
   glm::dvec3 frameDirection{0.55, -0.75, 0.45};
+  /// What reading the input found, for --stats ("input"): for CAD files the counts, the
+  /// deflection and the seconds spent reading and meshing; empty otherwise.
+  nlohmann::ordered_json inputStats;
+};
+
+/// Tessellation settings for CAD input (--deflection, --linear-deflection, --angular-deflection,
+/// --isos; docs/cad.md).
+struct CadOptions {
+  double deflection = 0.0;         ///< 0: the reader's default (1e-3 of the model's diagonal)
+  bool absoluteDeflection = false; ///< deflection in world units instead of relative
+  double angularDegrees = 0.0;     ///< 0: the reader's default (about 20 degrees)
+  int isos = 0;                    ///< u and v iso lines per face
+  int threads = 0;
 };
 
 /// What the command line may override in a scene while it is read.
 struct SceneOverrides {
+  /// How CAD files (given directly or named by scene objects) are tessellated.
+  CadOptions cad;
   /// Time of every fur's wind (`--time`): render an animation frame by frame.
   std::optional<double> time;
 };

@@ -1,5 +1,7 @@
 #include "view_command.h"
 
+#include "cad_input.h"
+
 #include "x_display.h"
 
 #include "cli.h"
@@ -59,6 +61,7 @@ struct ViewOptions {
   std::string png;        ///< --png FILE: the last benchmark frame as a PNG (for a person to look at)
   std::string mask;       ///< empty: the scene's
   int threads = 0;
+  CadOptions cad;         ///< --deflection, --angular-deflection, --isos (CAD input)
 };
 
 unsigned char srgbByte(float linear) {
@@ -230,7 +233,8 @@ ViewOptions parse(const std::vector<std::string>& a) {
       o.mask = need(i);
       if (o.mask != "4x4" && o.mask != "8x4" && o.mask != "8x8") throw UsageError("option --mask: expected 4x4, 8x4 or 8x8");
     } else if (a[i] == "--threads") o.threads = parsePositiveInt("--threads", need(i));
-    else if (a[i] == "--quiet") {
+    else if (parseCadOption(a, i, o.cad)) {
+    } else if (a[i] == "--quiet") {
     } else if (!a[i].empty() && a[i][0] == '-') throw UsageError("view: unknown option '" + a[i] + "'");
     else if (o.input.empty()) o.input = a[i];
     else throw UsageError("view: more than one input ('" + o.input + "' and '" + a[i] + "')");
@@ -251,7 +255,9 @@ double median(std::vector<double> v) {
 
 int runView(const std::vector<std::string>& args) {
   const ViewOptions o = parse(args);
-  SceneFile sf = loadInput(o.input, o.style);  // bad input first: exit 2, whatever the display
+  SceneOverrides overrides;
+  overrides.cad = o.cad;
+  SceneFile sf = loadInput(o.input, o.style, overrides);  // bad input first: exit 2, whatever the display
   // Debian's VTK 9.1 draws through X (GLX) even off-screen, and aborts the process when it
   // cannot open the display: check first, and say so in one line.
   {

@@ -1,0 +1,301 @@
+#include "cad_input.h"
+
+#include "cli.h"
+
+#include "core/srgb.h"
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkIdList.h>
+#include <vtkIntArray.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkUnsignedCharArray.h>
+
+#ifdef WIREFUR_CAD_LIBRARY
+#include "vtkWireFurCADReader.h"
+#include <dlfcn.h>
+#endif
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <mutex>
+
+namespace wfapp {
+
+bool isCadFile(const std::string& path) {
+  std::string e = std::filesystem::path(path).extension().string();
+  for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return e == ".step" || e == ".stp" || e == ".iges" || e == ".igs" || e == ".brep" || e == ".fcstd";
+}
+
+bool parseCadOption(const std::vector<std::string>& a, size_t& i, CadOptions& o) {
+  auto need = [&]() -> std::string {
+    if (i + 1 >= a.size()) throw UsageError("option " + a[i] + " needs a value");
+    return a[++i];
+  };
+  auto number = [&](const std::string& option, double lo, double hi) {
+    const std::string v = need();
+    char* end = nullptr;
+    const double x = std::strtod(v.c_str(), &end);
+    if (v.empty() || *end != '\0' || !std::isfinite(x) || x < lo || x > hi)
+      throw UsageError("option " + option + ": expected a number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" + v + "'");
+    return x;
+  };
+  if (a[i] == "--deflection") {
+    o.deflection = number("--deflection", 1e-7, 0.5);
+    o.absoluteDeflection = false;
+  } else if (a[i] == "--linear-deflection") {
+    o.deflection = number("--linear-deflection", 1e-12, 1e30);
+    o.absoluteDeflection = true;
+  } else if (a[i] == "--angular-deflection") {
+    o.angularDegrees = number("--angular-deflection", 1.0, 85.0);
+  } else if (a[i] == "--isos") {
+    const std::string v = need();
+    o.isos = v == "0" ? 0 : parsePositiveInt("--isos", v);
+    if (o.isos > 1000) throw UsageError("option --isos: at most 1000 per face");
+  } else {
+    return false;
+  }
+  return true;
+}
+
+#ifdef WIREFUR_CAD_LIBRARY
+
+namespace {
+
+using Factory = vtkWireFurCADReader* (*)();
+
+// Opens the CAD module once: first the library this program was built with, then by name (an
+// installed copy on the library path).
+Factory cadFactory() {
+  static std::once_flag once;
+  static Factory factory = nullptr;
+  static std::string problem;
+  std::call_once(once, [] {
+    void* h = dlopen(WIREFUR_CAD_LIBRARY, RTLD_NOW | RTLD_LOCAL);
+    if (!h) h = dlopen(std::filesystem::path(WIREFUR_CAD_LIBRARY).filename().c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (!h) {
+      const char* e = dlerror();
+      problem = e ? e : "dlopen failed";
+      return;
+    }
+    factory = reinterpret_cast<Factory>(dlsym(h, "wirefur_cad_new_reader"));
+    if (!factory) problem = "the CAD module has no entry point wirefur_cad_new_reader";
+  });
+  if (!factory) throw std::runtime_error("CAD support could not be loaded: " + problem);
+  return factory;
+}
+
+}  // namespace
+
+CadGeometry readCad(const std::string& path, const CadOptions& o) {
+  vtkSmartPointer<vtkWireFurCADReader> reader;
+  reader.TakeReference(cadFactory()());
+  reader->SetFileName(path.c_str());
+  if (o.deflection > 0) {
+    reader->SetRelativeDeflection(!o.absoluteDeflection);
+    reader->SetLinearDeflection(o.deflection);
+  }
+  if (o.angularDegrees > 0) reader->SetAngularDeflection(o.angularDegrees * M_PI / 180.0);
+  reader->SetNumberOfUIsoLines(o.isos);
+  reader->SetNumberOfVIsoLines(o.isos);
+  reader->SetNumberOfThreads(o.threads);
+  reader->SetMaximumTriangles(8388608);  // the scene budget of generated primitives (SceneBudget)
+  reader->GlobalWarningDisplayOff();
+  reader->Update();
+  const std::string error = reader->GetErrorMessage();
+  if (!error.empty()) throw UsageError(error);
+
+  CadGeometry out;
+  for (int p = 0; p < reader->GetNumberOfParts(); ++p) out.partNames.push_back(reader->GetPartName(p));
+  out.warning = reader->GetWarningMessage();
+
+  vtkPolyData* faces = reader->GetOutput(0);
+  wf::TriangleMesh& m = out.geometry.mesh;
+  const vtkIdType np = faces->GetNumberOfPoints();
+  vtkDataArray* normals = faces->GetPointData()->GetNormals();
+  vtkDataArray* su = faces->GetPointData()->GetArray("Su");
+  vtkDataArray* sv = faces->GetPointData()->GetArray("Sv");
+  vtkDataArray* uv = faces->GetPointData()->GetTCoords();
+  vtkUnsignedCharArray* rgb = vtkUnsignedCharArray::SafeDownCast(faces->GetPointData()->GetArray("Colors"));
+  if (np > 0 && (!normals || !su || !sv || !uv || !rgb)) throw std::runtime_error(path + ": the CAD reader left out its point arrays");
+  m.positions.resize(size_t(np));
+  m.normals.resize(size_t(np));
+  m.derivU.resize(size_t(np));
+  m.derivV.resize(size_t(np));
+  m.uvs.resize(size_t(np));
+  m.colours.resize(size_t(np));
+  for (vtkIdType i = 0; i < np; ++i) {
+    double t[3];
+    faces->GetPoint(i, t);
+    m.positions[size_t(i)] = {t[0], t[1], t[2]};
+    normals->GetTuple(i, t);
+    m.normals[size_t(i)] = {t[0], t[1], t[2]};
+    su->GetTuple(i, t);
+    m.derivU[size_t(i)] = {t[0], t[1], t[2]};
+    sv->GetTuple(i, t);
+    m.derivV[size_t(i)] = {t[0], t[1], t[2]};
+    uv->GetTuple(i, t);
+    m.uvs[size_t(i)] = {t[0], t[1]};
+    m.colours[size_t(i)] = {wf::srgbToLinear(float(rgb->GetValue(3 * i)) / 255.0f), wf::srgbToLinear(float(rgb->GetValue(3 * i + 1)) / 255.0f),
+                            wf::srgbToLinear(float(rgb->GetValue(3 * i + 2)) / 255.0f)};
+  }
+  vtkDataArray* facePart = faces->GetCellData()->GetArray("PartId");
+  vtkIdType cell = 0;
+  {
+    vtkCellArray* polys = faces->GetPolys();
+    vtkNew<vtkIdList> ids;
+    m.triangles.reserve(size_t(polys->GetNumberOfCells()));
+    for (polys->InitTraversal(); polys->GetNextCell(ids); ++cell)
+      if (ids->GetNumberOfIds() == 3) {
+        m.triangles.emplace_back(std::uint32_t(ids->GetId(0)), std::uint32_t(ids->GetId(1)), std::uint32_t(ids->GetId(2)));
+        out.trianglePart.push_back(facePart ? int(facePart->GetTuple1(cell)) : 0);
+      }
+  }
+
+  vtkPolyData* edges = reader->GetOutput(1);
+  vtkDataArray* kind = edges->GetCellData()->GetArray("Kind");
+  vtkDataArray* edgePart = edges->GetCellData()->GetArray("PartId");
+  {
+    vtkCellArray* lines = edges->GetLines();
+    vtkNew<vtkIdList> ids;
+    cell = 0;
+    for (lines->InitTraversal(); lines->GetNextCell(ids); ++cell) {
+      std::vector<glm::dvec3> line;
+      for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k) {
+        double p[3];
+        edges->GetPoint(ids->GetId(k), p);
+        line.emplace_back(p[0], p[1], p[2]);
+      }
+      const int k = kind ? int(kind->GetTuple1(cell)) : 0;
+      if (k == 0) {
+        out.geometry.lines.add(line);
+        out.edgePart.push_back(edgePart ? int(edgePart->GetTuple1(cell)) : 0);
+      } else {
+        out.isoLines.add(line);
+      }
+    }
+  }
+  out.info = {{"file", path},
+              {"parts", reader->GetNumberOfParts()},
+              {"faces", reader->GetNumberOfFaces()},
+              {"faces_meshed", reader->GetNumberOfMeshedFaces()},
+              {"faces_skipped", reader->GetNumberOfSkippedFaces()},
+              {"edges", reader->GetNumberOfEdges()},
+              {"iso_lines", out.isoLines.polylineCount()},
+              {"model_size", reader->GetModelSize()},
+              {"linear_deflection", reader->GetAppliedLinearDeflection()},
+              {"linear_deflection_relative", reader->GetAppliedLinearDeflection() / reader->GetModelSize()},
+              {"angular_deflection_degrees", reader->GetAngularDeflection() * 180.0 / M_PI},
+              {"seconds_read", reader->GetReadSeconds()},
+              {"seconds_mesh", reader->GetMeshSeconds()}};
+  return out;
+}
+
+#else
+
+CadGeometry readCad(const std::string& path, const CadOptions&) {
+  throw std::runtime_error(path + ": this build has no CAD support (configure with WIREFUR_WITH_CAD=ON and OpenCASCADE)");
+}
+
+#endif
+
+SceneFile sceneForCadFile(const std::string& path, const std::string& style, const CadOptions& options) {
+  if (style != "wire" && style != "wire-over-surface" && style != "burnished")
+    throw UsageError("--style " + style + ": for CAD input expected wire, wire-over-surface or burnished");
+  CadGeometry cad = readCad(path, options);
+  if (!cad.warning.empty()) std::cerr << "wirefur: warning: " << cad.warning << "\n";
+  SceneFile sf;
+  sf.title = std::filesystem::path(path).stem().string();
+  sf.caption = path + " as " + style;
+  sf.inputStats = cad.info;
+  wf::Scene& s = sf.scene;
+  s.lights = wf::LightRig::studioRig(3);
+  s.lightsFollowCamera = true;
+  // 0 default, 1 the parts (their own colours multiply it), 2 the wire, 3 brushed steel, 4 iso lines.
+  wf::Material part;
+  part.name = "part";
+  part.phong = {glm::dvec3(0.8), glm::dvec3(0.25), 30.0};
+  wf::Material wire;
+  wire.name = "wire";
+  wire.phong = {glm::dvec3(0.6, 0.3, 0.1), glm::dvec3(0.9), 40.0};  // copper: it stands out from grey parts
+  wf::Material steel;
+  steel.name = "brushed steel";
+  steel.phong = {glm::dvec3(0.18), glm::dvec3(5.0), 30.0};
+  steel.burnish.grain = wf::Burnish::Grain::U;
+  wf::Material iso = wire;
+  iso.name = "iso lines";
+  iso.phong.diffuse = glm::dvec3(0.3, 0.32, 0.36);
+  s.materials = {wf::Material{}, part, wire, steel, iso};
+
+  const bool surfaces = style != "wire";
+  if (surfaces && !cad.geometry.mesh.triangles.empty()) {
+    // One surface per part, named after it.
+    wf::TriangleMesh& all = cad.geometry.mesh;
+    if (style == "burnished") all.colours.clear();  // steel: the file's colours would paint it
+    const size_t parts = std::max<size_t>(1, cad.partNames.size());
+    std::vector<wf::TriangleMesh> meshes(parts);
+    std::vector<std::vector<std::uint32_t>> remap(parts);
+    for (size_t t = 0; t < all.triangles.size(); ++t) {
+      const size_t p = std::min(parts - 1, size_t(std::max(0, cad.trianglePart[t])));
+      wf::TriangleMesh& m = meshes[p];
+      std::vector<std::uint32_t>& r = remap[p];
+      if (r.empty()) r.assign(all.positions.size(), ~0u);
+      glm::uvec3 tri;
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t v = all.triangles[t][k];
+        if (r[v] == ~0u) {
+          r[v] = std::uint32_t(m.positions.size());
+          m.positions.push_back(all.positions[v]);
+          m.normals.push_back(all.normals[v]);
+          m.derivU.push_back(all.derivU[v]);
+          m.derivV.push_back(all.derivV[v]);
+          m.uvs.push_back(all.uvs[v]);
+          if (!all.colours.empty()) m.colours.push_back(all.colours[v]);
+        }
+        tri[k] = r[v];
+      }
+      m.triangles.push_back(tri);
+    }
+    for (size_t p = 0; p < parts; ++p) {
+      if (meshes[p].triangles.empty()) continue;
+      const std::string name = p < cad.partNames.size() ? cad.partNames[p] : "part";
+      s.surfaces.push_back({name, std::move(meshes[p]), style == "burnished" ? 3 : 1});
+    }
+  }
+  if (style != "burnished") {
+    if (!cad.geometry.lines.points.empty()) {
+      wf::SceneWire w;
+      w.name = "edges";
+      w.material = 2;
+      w.lines = std::move(cad.geometry.lines);
+      w.thickness = style == "wire" ? 1.5 : 2.0;
+      w.thicknessInPixels = true;
+      s.wires.push_back(std::move(w));
+    }
+  }
+  if (!cad.isoLines.points.empty()) {
+    wf::SceneWire w;
+    w.name = "iso lines";
+    w.material = 4;
+    w.lines = std::move(cad.isoLines);
+    w.thickness = 0.9;
+    w.thicknessInPixels = true;
+    s.wires.push_back(std::move(w));
+  }
+  if (s.surfaces.empty() && s.wires.empty())
+    throw UsageError(path + ": nothing to draw as " + style + (style == "burnished" ? " (no faces)" : " (no faces and no edges)"));
+  // Framed from the bounds like a scene without an eye (refitted by reframe() for --size).
+  sf.framed = true;
+  glm::dvec3 centre(0.0);
+  double radius = 1.0;
+  if (!s.boundingSphere(centre, radius)) centre = glm::dvec3(0.0), radius = 1.0;
+  s.camera = wf::frameSphere(centre, radius, double(sf.width) / sf.height, wf::Camera::Projection::Perspective, sf.frameDirection);
+  return sf;
+}
+
+}  // namespace wfapp

@@ -1,0 +1,45 @@
+// CAD input for the wirefur command (.step .stp .iges .igs .brep .FCStd): read by the VTK
+// module WireFur::CAD (vtkWireFurCADReader, OpenCASCADE), which this program opens at run time
+// only when a CAD file is given, so that nothing else pays for loading OpenCASCADE (DESIGN.md:
+// "load OpenCASCADE only for CAD input"). See docs/cad.md.
+#pragma once
+
+#include "mesh_io.h"
+#include "scene_file.h"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+namespace wfapp {
+
+/// True for the CAD extensions (any case).
+bool isCadFile(const std::string& path);
+
+/// Consumes a CAD option at args[i] (advancing i past its value) and returns true, or returns
+/// false when args[i] is not one. Throws UsageError for a bad value.
+bool parseCadOption(const std::vector<std::string>& args, size_t& i, CadOptions& options);
+
+/// What a CAD file gives: the faces as one mesh with exact (u, v), Su, Sv and normals and the
+/// file's colours; the edges (lines) and iso lines as polylines; per-triangle part index.
+struct CadGeometry {
+  LoadedGeometry geometry;             ///< mesh: all faces; lines: the edges
+  wf::PolylineSet isoLines;
+  std::vector<std::string> partNames;
+  std::vector<int> trianglePart;       ///< part of each triangle of geometry.mesh
+  std::vector<int> edgePart;           ///< part of each edge polyline
+  nlohmann::ordered_json info;         ///< counts, deflection, seconds (for --stats)
+  std::string warning;                 ///< faces skipped, or empty
+};
+
+/// Reads a CAD file. Bad input: UsageError("FILE: entity: problem"); CAD support missing from
+/// this build: std::runtime_error.
+CadGeometry readCad(const std::string& path, const CadOptions& options);
+
+/// A scene around one CAD file in one of the contract's styles: "wire" (the edges as shaded
+/// wire), "wire-over-surface" (shaded wire over the shaded parts, in the file's colours: the
+/// paper's image 11 from a real file), "burnished" (brushed steel, grain along each face's u).
+SceneFile sceneForCadFile(const std::string& path, const std::string& style, const CadOptions& options);
+
+}  // namespace wfapp
