@@ -52,8 +52,9 @@ class CapturePrinter : public Message_Printer {
     std::string line = text.ToCString();
     for (char& ch : line)
       if (ch == '\n' || ch == '\r' || ch == '\t') ch = ' ';
-    while (!line.empty() && line.back() == ' ') line.pop_back();
-    while (!line.empty() && line.front() == ' ') line.erase(line.begin());
+    // OpenCASCADE frames some messages in asterisks ("**** ERR StepFile : ... ****").
+    while (!line.empty() && (line.back() == ' ' || line.back() == '*')) line.pop_back();
+    while (!line.empty() && (line.front() == ' ' || line.front() == '*')) line.erase(line.begin());
     if (line.empty()) return;
     if (gravity >= Message_Fail && c->firstFail.empty()) c->firstFail = line;
     else if (gravity == Message_Alarm && c->firstAlarm.empty()) c->firstAlarm = line;

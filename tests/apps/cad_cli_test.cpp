@@ -1,0 +1,177 @@
+// `wirefur render | export | view` on CAD files (docs/cad.md), as users call them: the three
+// styles of the contract on data/cad/mould.step and product.step (made by data/cad/make_samples.cpp
+// with OpenCASCADE), the counts and deflection in --stats against what the files hold, bad input
+// as one line with exit status 2 and nothing written, determinism across thread counts, and
+// OpenCASCADE kept out of the executable's link (it is opened only for CAD input).
+#include "cli_support.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+using Result = wf::test::CliResult;
+Result run(const std::string& args) { return wf::test::runWirefur(args); }
+
+fs::path dir() {
+  static const fs::path d = [] {
+    const fs::path p = fs::temp_directory_path() / ("wirefur-cad-cli-" + std::to_string(::getpid()));
+    fs::remove_all(p);
+    fs::create_directories(p);
+    return p;
+  }();
+  return d;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+std::string write(const std::string& name, const std::string& bytes) {
+  const fs::path p = dir() / name;
+  std::ofstream(p, std::ios::binary) << bytes;
+  return p.string();
+}
+
+const std::string kCad = std::string(WIREFUR_SOURCE_DIR) + "/data/cad/";
+
+json renderStats(const std::string& input, const std::string& extra, const std::string& tag) {
+  const fs::path png = dir() / (tag + ".png"), stats = dir() / (tag + ".json");
+  const Result r = run("render '" + input + "' -o '" + png.string() + "' --size 240x180 --stats '" + stats.string() + "' " + extra);
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(fs::exists(png));
+  if (!fs::exists(stats)) return json::object();
+  return json::parse(slurp(stats));
+}
+
+}  // namespace
+
+// mould.step holds two parts (an XCAF assembly of two named, coloured solids): 46 faces and 96
+// edges, counted by OpenCASCADE when the file was made. Each style draws what the contract says.
+TEST(CadCli, ThreeStylesDrawWhatTheySay) {
+  const json wos = renderStats(kCad + "mould.step", "", "wos");
+  ASSERT_TRUE(wos.contains("input"));
+  const json& cad = wos["input"]["cad"];
+  EXPECT_EQ(cad["parts"], 2);
+  EXPECT_EQ(cad["faces"], 46);
+  EXPECT_EQ(cad["faces_meshed"], 46);
+  EXPECT_EQ(cad["faces_skipped"], 0);
+  EXPECT_EQ(cad["edges"], 96);
+  EXPECT_GT(wos["triangles"].get<long>(), 46);
+  EXPECT_GT(wos["segments"].get<long>(), 96);
+  // The default deflection is 1e-3 of the model's diagonal (exactly, up to rounding).
+  EXPECT_NEAR(cad["linear_deflection_relative"].get<double>(), 1e-3, 1e-15);
+  EXPECT_NEAR(cad["linear_deflection"].get<double>(), 1e-3 * cad["model_size"].get<double>(), 1e-12);
+  // Reported in pixels too; at 240x180 a thousandth of the model is well under a pixel.
+  const double px = wos["error_estimate"]["tessellation_deflection_px"].get<double>();
+  EXPECT_GT(px, 0.0);
+  EXPECT_LT(px, 0.5);
+
+  const json wire = renderStats(kCad + "mould.step", "--style wire", "wire");
+  EXPECT_EQ(wire["triangles"], 0);  // edges only
+  EXPECT_EQ(wire["segments"], wos["segments"]);
+  const json steel = renderStats(kCad + "mould.step", "--style burnished", "steel");
+  EXPECT_EQ(steel["segments"], 0);  // surfaces only
+  EXPECT_EQ(steel["triangles"], wos["triangles"]);
+  EXPECT_EQ(steel["left_out"]["pseudo_reflectance_maps_built"].get<long>() > 0, true);  // grain shades through the map
+}
+
+// A coarser relative deflection gives fewer triangles, and the stats report the value asked for.
+TEST(CadCli, DeflectionOptionsChangeTheTessellation) {
+  const json fine = renderStats(kCad + "product.step", "--style burnished", "fine");
+  const json coarse = renderStats(kCad + "product.step", "--style burnished --deflection 0.01 --angular-deflection 40", "coarse");
+  EXPECT_LT(coarse["triangles"].get<long>(), fine["triangles"].get<long>());
+  EXPECT_NEAR(coarse["input"]["cad"]["linear_deflection_relative"].get<double>(), 0.01, 1e-15);
+  EXPECT_NEAR(coarse["input"]["cad"]["angular_deflection_degrees"].get<double>(), 40.0, 1e-9);
+  const json abs = renderStats(kCad + "product.step", "--style burnished --linear-deflection 0.25", "abs");
+  EXPECT_NEAR(abs["input"]["cad"]["linear_deflection"].get<double>(), 0.25, 1e-15);
+  // Iso lines: 2 u and 2 v lines on each of the tray's 35 faces (more pieces where faces are
+  // trimmed, none where an iso misses a face); each is a polyline of its own.
+  const json isos = renderStats(kCad + "product.step", "--style wire --isos 2", "isos");
+  EXPECT_GT(isos["input"]["cad"]["iso_lines"].get<long>(), 35);
+  EXPECT_GT(isos["segments"].get<long>(), fine["input"]["cad"]["edges"].get<long>());
+}
+
+// Same input, same image, bit for bit, for 1 and 2 threads (meshing and faces run in parallel).
+TEST(CadCli, SameImageForAnyThreadCount) {
+  const fs::path a = dir() / "t1.png", b = dir() / "t2.png";
+  ASSERT_EQ(run("render '" + kCad + "mould.step' -o '" + a.string() + "' --size 200x150 --threads 1").status, 0);
+  ASSERT_EQ(run("render '" + kCad + "mould.step' -o '" + b.string() + "' --size 200x150 --threads 2").status, 0);
+  EXPECT_EQ(slurp(a), slurp(b));
+}
+
+// Bad CAD input: one line naming the file and the problem, exit status 2, no PNG.
+TEST(CadCli, BadInputIsOneLineExitTwoAndNothingWritten) {
+  const std::string step = slurp(kCad + "product.step");
+  struct Case {
+    std::string file, expect;
+  } cases[] = {
+      {(dir() / "missing.step").string(), "no such file"},
+      {write("empty.step", ""), "empty file"},
+      {write("text.step", "hello, I am not a STEP file\n"), "not a STEP file"},
+      {write("truncated.step", step.substr(0, step.size() / 2)), ""},
+      {write("png.step", std::string("\x89PNG\r\n\x1a\n", 8) + std::string(64, '\0')), "not a STEP file"},
+      {write("noise.igs", std::string(200, 'x')), "not an IGES file"},
+      {write("noise.brep", "random words\n"), "not a BREP file"},
+      {write("bad.brep", "CASCADE Topology V3, (c) Open Cascade\nLocations 1\n1\n 1 2 3\n"), ""},
+      {write("notzip.FCStd", "PK but not a zip"), "zip"},
+  };
+  for (const Case& c : cases) {
+    const fs::path png = dir() / "bad.png";
+    fs::remove(png);
+    const Result r = run("render '" + c.file + "' -o '" + png.string() + "'");
+    EXPECT_EQ(r.status, 2) << c.file << ": " << r.err;
+    EXPECT_EQ(wf::test::lineCount(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(c.file), std::string::npos) << r.err;
+    if (!c.expect.empty()) EXPECT_NE(r.err.find(c.expect), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(png)) << c.file;
+  }
+  // A style the CAD path does not draw, and a cad block on a mesh object.
+  const Result fur = run("render '" + kCad + "product.step' -o '" + (dir() / "f.png").string() + "' --style fur");
+  EXPECT_EQ(fur.status, 2);
+  EXPECT_EQ(wf::test::lineCount(fur.err), 1) << fur.err;
+  write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const std::string scene = write("cadkey.json", R"({"objects": [{"file": "tri.obj", "cad": {"isos": 2}}]})");
+  const Result key = run("render '" + scene + "' -o '" + (dir() / "k.png").string() + "'");
+  EXPECT_EQ(key.status, 2);
+  EXPECT_NE(key.err.find("/objects/0/cad"), std::string::npos) << key.err;
+}
+
+// export writes the tessellation with its tangent arrays: the VTK XML file names Su, Sv,
+// Normals and TCoords.
+TEST(CadCli, ExportWritesTheTessellationWithTangents) {
+  const fs::path out = dir() / "mould.vtp";
+  const Result r = run("export '" + kCad + "mould.step' -o '" + out.string() + "' --style burnished");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string xml = slurp(out);
+  for (const char* name : {"Name=\"Su\"", "Name=\"Sv\"", "Name=\"Normals\"", "Name=\"TCoords\""})
+    EXPECT_NE(xml.find(name), std::string::npos) << name;
+}
+
+// OpenCASCADE is not linked into the executable: it is opened (with the CAD module) only when
+// a CAD file is read (DESIGN.md: "load OpenCASCADE only for CAD input").
+TEST(CadCli, OpenCascadeIsNotLinkedIntoTheCommand) {
+  FILE* p = popen(("ldd '" + std::string(WIREFUR_EXE) + "'").c_str(), "r");
+  ASSERT_NE(p, nullptr);
+  std::string out;
+  char buf[4096];
+  while (size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
+  pclose(p);
+  ASSERT_NE(out.find("libvtkCommonCore"), std::string::npos) << "ldd gave no library list:\n" << out;
+  EXPECT_EQ(out.find("libTKernel"), std::string::npos) << out;
+  EXPECT_EQ(out.find("WireFurCAD"), std::string::npos) << out;
+}
