@@ -664,7 +664,12 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint16_
       }
       poly.removeDuplicates();
       Primitive prim;
-      const double k0 = view.depthKey(s.d0), k1 = view.depthKey(s.d1);
+      // The wire is drawn at its visible front, the cylinder's surface nearest the eye, one
+      // radius in front of its axis: a wire lying on a surface (a CAD edge, a mesh's own edge)
+      // then shows whole in front of it instead of tying with it pixel by pixel.
+      const double f0 = std::max(view.nearPlane, s.d0 - s.w0 / view.pixelsPerWorld(s.d0));
+      const double f1 = std::max(view.nearPlane, s.d1 - s.w1 / view.pixelsPerWorld(s.d1));
+      const double k0 = view.depthKey(f0), k1 = view.depthKey(f1);
       if (s.length > 1e-12) {
         const glm::dvec2 u = (s.p1 - s.p0) / (s.length * s.length);
         prim.qa = (k1 - k0) * u.x;
@@ -674,8 +679,8 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint16_
         prim.qa = prim.qb = 0;
         prim.qc = view.perspective ? std::max(k0, k1) : std::min(k0, k1);
       }
-      prim.zlo = float(std::min(s.d0, s.d1));
-      prim.zhi = float(std::max(s.d0, s.d1));
+      prim.zlo = float(std::min(f0, f1));
+      prim.zhi = float(std::max(f0, f1));
       prim.tag = tag;
       prim.mayMerge = nseg > 1;  // a one-segment polyline (a straight hair) has nothing to merge with
       prim.opacity = safeOpacity(wire.opacity);

@@ -860,3 +860,39 @@ TEST(Render, BufferMemoryIsBoundedByTheBudgetNotTheDepthComplexity) {
 
 }  // namespace
 }  // namespace wf
+
+namespace wf {
+namespace {
+
+// A wire lying exactly on a surface (a CAD edge on its face, a mesh's own edge) is drawn at its
+// visible front, one radius in front of its axis, so it shows whole: the same picture, within
+// rounding, as with the wire lifted clearly in front of the surface. Drawn at the axis depth it
+// tied with the surface pixel by pixel and came out dashed (worst difference about 1).
+TEST(WireOnSurface, ShowsWholeNotDashed) {
+  const int W = 64, H = 48;
+  auto depthAt = [](const V2& p) { return 5.0 + 0.013 * p.x + 0.007 * p.y; };  // a tilted plane
+  auto render = [&](double lift) {
+    Scene s = test::baseScene(W, H);
+    SceneSurface plane;
+    for (const V2& p : {V2(2, 2), V2(62, 2), V2(62, 46), V2(2, 46)}) {
+      plane.mesh.positions.push_back(test::world(p, depthAt(p), W, H));
+      plane.mesh.colours.push_back(glm::vec3(1, 0, 0));
+    }
+    plane.mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
+    s.surfaces.push_back(plane);
+    SceneWire w = test::plainWire({}, 1.5, 0.0, W, H);
+    std::vector<glm::dvec3> pts;
+    for (int k = 0; k <= 20; ++k) {
+      const V2 p(6 + 2.6 * k, 8 + 1.5 * k);
+      pts.push_back(test::world(p, depthAt(p) - lift, W, H));
+    }
+    w.lines.add(pts);
+    s.wires.push_back(w);
+    return wf::render(s, test::smallOptions(W, H)).image;
+  };
+  const ImageRGBA onPlane = render(0.0), lifted = render(0.5);
+  EXPECT_LT(test::maxDiff(onPlane, lifted), 1e-3);
+}
+
+}  // namespace
+}  // namespace wf
