@@ -4,6 +4,7 @@
 
 #include "core/srgb.h"
 
+#include <vtkCallbackCommand.h>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
@@ -19,6 +20,7 @@
 #endif
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -106,6 +108,26 @@ CadGeometry readCad(const std::string& path, const CadOptions& o) {
   reader->SetNumberOfThreads(o.threads);
   reader->SetMaximumTriangles(8388608);  // the scene budget of generated primitives (SceneBudget)
   reader->GlobalWarningDisplayOff();
+  // Progress on a terminal: a line at every tenth (OpenCASCADE reports from its worker threads).
+  vtkNew<vtkCallbackCommand> progress;
+  struct ProgressState {
+    std::string path;
+    std::atomic<int> shown{-1};
+  } state{path};
+  if (o.showProgress) {
+    progress->SetClientData(&state);
+    progress->SetCallback([](vtkObject* caller, unsigned long, void* client, void*) {
+      auto* st = static_cast<ProgressState*>(client);
+      const int tenth = int(std::floor(static_cast<vtkAlgorithm*>(caller)->GetProgress() * 10.0 + 1e-9));
+      int was = st->shown.load();
+      while (tenth > was)
+        if (st->shown.compare_exchange_weak(was, tenth)) {
+          std::cerr << "wirefur: reading and meshing " + st->path + ": " + std::to_string(10 * tenth) + "%\n";
+          break;
+        }
+    });
+    reader->AddObserver(vtkCommand::ProgressEvent, progress);
+  }
   reader->Update();
   const std::string error = reader->GetErrorMessage();
   if (!error.empty()) throw UsageError(error);

@@ -138,6 +138,7 @@ int runRender(const RenderCommandOptions& o) {
   overrides.time = o.time;
   overrides.cad = o.cad;
   overrides.cad.threads = o.threads;
+  overrides.cad.showProgress = progress.enabled();
   SceneFile sf = loadInput(o.input, o.style, overrides);
   const double readSeconds = secondsSince(t0);
   wf::RenderOptions ro = renderOptionsFor(sf);

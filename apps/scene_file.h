@@ -40,6 +40,7 @@ struct CadOptions {
   double angularDegrees = 0.0;     ///< 0: the reader's default (about 20 degrees)
   int isos = 0;                    ///< u and v iso lines per face
   int threads = 0;
+  bool showProgress = false;       ///< progress lines on stderr while reading and meshing
 };
 
 /// What the command line may override in a scene while it is read.

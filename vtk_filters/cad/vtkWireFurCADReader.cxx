@@ -27,6 +27,8 @@
 #include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
 #include <GCPnts_TangentialDeflection.hxx>
+#include <Message_ProgressIndicator.hxx>
+#include <Message_ProgressScope.hxx>
 #include <Poly_Polygon3D.hxx>
 #include <Poly_PolygonOnTriangulation.hxx>
 #include <Poly_Triangulation.hxx>
@@ -229,6 +231,34 @@ std::vector<gp_Pnt> edgePoints(const TopoDS_Edge& edge, const TopTools_ListOfSha
   return pts;
 }
 
+// OpenCASCADE's progress of one meshing run, forwarded to the algorithm's progress events (the
+// range [from, to] of the whole update), and VTK's abort flag back as a user break. OpenCASCADE
+// calls Show under its own lock, from whichever thread advanced.
+class MeshProgress : public Message_ProgressIndicator
+{
+public:
+  MeshProgress(vtkAlgorithm* algorithm, double from, double to)
+    : Algorithm(algorithm)
+    , From(from)
+    , To(to)
+  {
+  }
+  Standard_Boolean UserBreak() override { return this->Algorithm->GetAbortExecute() != 0; }
+  void Show(const Message_ProgressScope&, const Standard_Boolean force) override
+  {
+    const double p = this->From + (this->To - this->From) * std::clamp(this->GetPosition(), 0.0, 1.0);
+    if (force || p >= this->Last + 0.01)
+    {
+      this->Last = p;
+      this->Algorithm->UpdateProgress(p);
+    }
+  }
+
+private:
+  vtkAlgorithm* Algorithm;
+  double From, To, Last = -1.0;
+};
+
 } // namespace
 
 class vtkWireFurCADReader::vtkInternals
@@ -379,9 +409,15 @@ int vtkWireFurCADReader::RequestData(vtkInformation*, vtkInformationVector**, vt
       try
       {
         BRepTools::Clean(distinct[i]);
+        const double from = 0.3 + 0.3 * double(i) / double(distinct.size());
+        Handle(MeshProgress) progress = new MeshProgress(this, from, from + 0.3 / double(distinct.size()));
         arena.execute([&] {
-          BRepMesh_IncrementalMesh mesher(distinct[i], in.appliedDeflection, Standard_False, angular,
-                                          this->NumberOfThreads != 1);
+          IMeshTools_Parameters params;
+          params.Deflection = in.appliedDeflection;
+          params.Angle = angular;
+          params.Relative = Standard_False;
+          params.InParallel = this->NumberOfThreads != 1;
+          BRepMesh_IncrementalMesh mesher(distinct[i], params, progress->Start());
         });
       }
       catch (const Standard_Failure&)
