@@ -3,6 +3,7 @@
 #include "cli.h"
 #include "plot.h"
 #include "accuracy_abuffer.h"
+#include "accuracy_cad.h"
 #include "accuracy_textures.h"
 
 #include "shading/cylinder_shading.h"
@@ -436,6 +437,8 @@ int runAccuracy(const AccuracyOptions& opt) {
   doc["textures"] = texturesStudy(opt.quick, progress, abufferPlots);
   std::printf("\nTessellation resolution of a smooth surface against 768 x 512 (exact shading):\n");
   doc["tessellation"] = tessellationStudy(opt.quick, progress, abufferPlots);
+  std::printf("\nCAD tessellation (chordal deflection) against deflection 2e-5 of the model (exact shading):\n");
+  doc["cad_tessellation"] = cadTessellationStudy(opt.quick, progress, abufferPlots);
 
   if (!opt.plotsDir.empty()) {
     progress.say("plots into " + opt.plotsDir);
