@@ -2,7 +2,12 @@
 // OpenCASCADE's messages.
 #include "wf_cad_model.h"
 
+#include <BRepBndLib.hxx>
+#include <BRepBuilderAPI_Sewing.hxx>
 #include <BinTools.hxx>
+#include <Bnd_Box.hxx>
+#include <NCollection_DataMap.hxx>
+#include <TopTools_ShapeMapHasher.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
 #include <IFSelect_ReturnStatus.hxx>
@@ -26,6 +31,7 @@
 #include <XCAFDoc_ShapeTool.hxx>
 
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -167,6 +173,46 @@ struct XcafWalker {
   }
 };
 
+// IGES files are often written face by face, without shared topology: every face has its own
+// edges, so an edge between two faces would be drawn twice and shared points would not be
+// shared. Sewing (tolerance 1e-5 of the part's size) joins coincident edges; face colours follow
+// their faces through it.
+void sew(Part& p) {
+  int faces = 0;
+  for (TopExp_Explorer e(p.shape, TopAbs_FACE); e.More(); e.Next()) ++faces;
+  if (faces < 2) return;
+  Bnd_Box box;
+  BRepBndLib::Add(p.shape, box, Standard_False);
+  if (box.IsVoid()) return;
+  const double size = std::sqrt(box.SquareExtent());
+  if (!(size > 0) || !std::isfinite(size)) return;
+  try {
+    BRepBuilderAPI_Sewing sewing(1e-5 * size);
+    sewing.Add(p.shape);
+    sewing.Perform();
+    const TopoDS_Shape sewn = sewing.SewedShape();
+    if (sewn.IsNull()) return;
+    std::vector<std::optional<Quantity_Color>> colours;
+    if (!p.faceColours.empty()) {
+      NCollection_DataMap<TopoDS_Shape, Quantity_Color, TopTools_ShapeMapHasher> byFace;
+      int k = 0;
+      for (TopExp_Explorer e(p.shape, TopAbs_FACE); e.More(); e.Next(), ++k)
+        if (size_t(k) < p.faceColours.size() && p.faceColours[size_t(k)]) {
+          const TopoDS_Shape f = sewing.IsModified(e.Current()) ? sewing.Modified(e.Current()) : e.Current();
+          byFace.Bind(f, *p.faceColours[size_t(k)]);
+        }
+      for (TopExp_Explorer e(sewn, TopAbs_FACE); e.More(); e.Next()) {
+        const Quantity_Color* c = byFace.Seek(e.Current());
+        colours.push_back(c ? std::optional<Quantity_Color>(*c) : std::nullopt);
+      }
+    }
+    p.shape = sewn;
+    p.faceColours = colours;
+  } catch (const Standard_Failure&) {
+    // Left unsewn: drawn all the same, with doubled edges.
+  }
+}
+
 }  // namespace
 
 Model readStepOrIges(const std::string& path, bool iges) {
@@ -233,6 +279,8 @@ Model readStepOrIges(const std::string& path, bool iges) {
   }
   app->Close(doc);
   if (model.parts.empty()) throw CadError(std::string(format) + " file has no shapes");
+  if (iges)
+    for (Part& p : model.parts) sew(p);
   return model;
 }
 
