@@ -3,6 +3,7 @@
 #include "cli.h"
 
 #include "core/srgb.h"
+#include "growth/fur.h"
 
 #include <vtkCallbackCommand.h>
 #include <vtkCellArray.h>
@@ -16,11 +17,13 @@
 
 #ifdef WIREFUR_CAD_LIBRARY
 #include "vtkWireFurCADReader.h"
+#include "wf_cad_plugin.h"
 #include <dlfcn.h>
 #endif
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -71,6 +74,8 @@ namespace {
 
 using Factory = vtkWireFurCADReader* (*)();
 
+WireFurCadFacesFunction facesFunction = nullptr;
+
 // Opens the CAD module once: first the library this program was built with, then by name (an
 // installed copy on the library path).
 Factory cadFactory() {
@@ -86,6 +91,7 @@ Factory cadFactory() {
       return;
     }
     factory = reinterpret_cast<Factory>(dlsym(h, "wirefur_cad_new_reader"));
+    facesFunction = reinterpret_cast<WireFurCadFacesFunction>(dlsym(h, "wirefur_cad_face_surfaces"));
     if (!factory) problem = "the CAD module has no entry point wirefur_cad_new_reader";
   });
   if (!factory) throw std::runtime_error("CAD support could not be loaded: " + problem);
@@ -94,7 +100,7 @@ Factory cadFactory() {
 
 }  // namespace
 
-CadGeometry readCad(const std::string& path, const CadOptions& o) {
+CadGeometry readCad(const std::string& path, const CadOptions& o, bool withSurfaces) {
   vtkSmartPointer<vtkWireFurCADReader> reader;
   reader.TakeReference(cadFactory()());
   reader->SetFileName(path.c_str());
@@ -133,6 +139,12 @@ CadGeometry readCad(const std::string& path, const CadOptions& o) {
   if (!error.empty()) throw UsageError(error);
 
   CadGeometry out;
+  if (withSurfaces) {
+    if (!facesFunction) throw std::runtime_error("the CAD module has no entry point wirefur_cad_face_surfaces");
+    std::vector<WireFurCadFace> faces;
+    facesFunction(reader, &faces);
+    for (WireFurCadFace& f : faces) out.faces.push_back({std::move(f.surface), std::move(f.inside), f.faceId, f.part});
+  }
   for (int p = 0; p < reader->GetNumberOfParts(); ++p) out.partNames.push_back(reader->GetPartName(p));
   out.warning = reader->GetWarningMessage();
 
@@ -220,16 +232,70 @@ CadGeometry readCad(const std::string& path, const CadOptions& o) {
 
 #else
 
-CadGeometry readCad(const std::string& path, const CadOptions&) {
+CadGeometry readCad(const std::string& path, const CadOptions&, bool) {
   throw std::runtime_error(path + ": this build has no CAD support (configure with WIREFUR_WITH_CAD=ON and OpenCASCADE)");
 }
 
 #endif
 
+namespace {
+
+// Fur on the exact faces (paper §4.2 and its future work): area-correct roots over each face's
+// own surface, only where the face is (its trimming as the density map), curved hairs with a
+// little droop, lengths and thickness relative to the model's size, about 60,000 hairs in all.
+void growCadFur(const CadGeometry& cad, SceneFile& sf) {
+  const wf::TriangleMesh& m = cad.geometry.mesh;
+  double area = 0.0;
+  for (const glm::uvec3& t : m.triangles)
+    area += 0.5 * glm::length(glm::cross(m.positions[t.y] - m.positions[t.x], m.positions[t.z] - m.positions[t.x]));
+  const double size = cad.info.value("model_size", 1.0);
+  if (!(area > 0) || !std::isfinite(area) || cad.faces.empty()) return;
+  wf::Material hair;
+  hair.name = "fur";
+  hair.phong = {glm::dvec3(0.55, 0.42, 0.3), glm::dvec3(0.25), 12.0};
+  sf.scene.materials.push_back(hair);
+  const int material = int(sf.scene.materials.size()) - 1;
+  wf::FurParams p;
+  p.placement = wf::FurParams::Placement::AreaCorrect;
+  p.density = 60000.0 / area;
+  p.cellsU = p.cellsV = 32;
+  p.lengthMode = wf::FurParams::LengthMode::Fixed;
+  p.length = 0.03 * size;
+  p.lengthVariation = 0.3;
+  p.unitTangents = true;
+  p.orientation = glm::dvec3(0.25, 0.0, 1.0);
+  p.segments = 3;
+  p.gravity = 0.35;
+  p.thickness = 0.0012 * size;
+  p.rootColour = glm::vec3(0.28f, 0.18f, 0.1f);
+  p.tipColour = glm::vec3(0.75f, 0.6f, 0.42f);
+  p.seed = 7;
+  double pointsLeft = 8388608.0;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (const CadFaceSurface& f : cad.faces) {
+    wf::FurParams q = p;
+    q.densityMap = f.inside;
+    q.maxPoints = std::max(0.0, pointsLeft);
+    wf::Fur fur = wf::growFur(*f.surface, q, std::uint32_t(f.faceId));
+    pointsLeft -= double(fur.hairs.points.size());
+    sf.hairsGrown += fur.hairs.polylineCount();
+    if (fur.hairs.points.empty()) continue;
+    wf::SceneWire w;
+    w.name = "fur of face " + std::to_string(f.faceId);
+    w.lines = std::move(fur.hairs);
+    w.thickness = p.thickness;
+    w.material = material;
+    sf.scene.wires.push_back(std::move(w));
+  }
+  sf.generateSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
 SceneFile sceneForCadFile(const std::string& path, const std::string& style, const CadOptions& options) {
-  if (style != "wire" && style != "wire-over-surface" && style != "burnished")
-    throw UsageError("--style " + style + ": for CAD input expected wire, wire-over-surface or burnished");
-  CadGeometry cad = readCad(path, options);
+  if (style != "wire" && style != "wire-over-surface" && style != "burnished" && style != "fur")
+    throw UsageError("--style " + style + ": for CAD input expected wire, wire-over-surface, burnished or fur (scales are not offered: they would grow over the trimmed-away parts of faces)");
+  CadGeometry cad = readCad(path, options, style == "fur");
   if (!cad.warning.empty()) std::cerr << "wirefur: warning: " << cad.warning << "\n";
   SceneFile sf;
   sf.title = std::filesystem::path(path).stem().string();
@@ -289,7 +355,8 @@ SceneFile sceneForCadFile(const std::string& path, const std::string& style, con
       s.surfaces.push_back({name, std::move(meshes[p]), style == "burnished" ? 3 : 1});
     }
   }
-  if (style != "burnished") {
+  if (style == "fur") growCadFur(cad, sf);
+  if (style != "burnished" && style != "fur") {
     if (!cad.geometry.lines.points.empty()) {
       wf::SceneWire w;
       w.name = "edges";

@@ -7,7 +7,12 @@
 #include "mesh_io.h"
 #include "scene_file.h"
 
+#include "surface/surface.h"
+#include "texture/texture.h"
+
 #include <nlohmann/json.hpp>
+
+#include <memory>
 
 #include <string>
 #include <vector>
@@ -21,6 +26,14 @@ bool isCadFile(const std::string& path);
 /// false when args[i] is not one. Throws UsageError for a bad value.
 bool parseCadOption(const std::vector<std::string>& args, size_t& i, CadOptions& options);
 
+/// One face of a CAD file as the core's surface concept, with its trimming as a 0 / 1 mask over
+/// the face's unit (s, t) square (growth's density map), so generators grow on the face only.
+struct CadFaceSurface {
+  std::shared_ptr<const wf::Surface> surface;
+  std::shared_ptr<const wf::ScalarTexture> inside;
+  int faceId = 0, part = 0;
+};
+
 /// What a CAD file gives: the faces as one mesh with exact (u, v), Su, Sv and normals and the
 /// file's colours; the edges (lines) and iso lines as polylines; per-triangle part index.
 struct CadGeometry {
@@ -31,15 +44,17 @@ struct CadGeometry {
   std::vector<int> edgePart;           ///< part of each edge polyline
   nlohmann::ordered_json info;         ///< counts, deflection, seconds (for --stats)
   std::string warning;                 ///< faces skipped, or empty
+  std::vector<CadFaceSurface> faces;   ///< the exact faces, when asked for (readCad's withSurfaces)
 };
 
 /// Reads a CAD file. Bad input: UsageError("FILE: entity: problem"); CAD support missing from
 /// this build: std::runtime_error.
-CadGeometry readCad(const std::string& path, const CadOptions& options);
+CadGeometry readCad(const std::string& path, const CadOptions& options, bool withSurfaces = false);
 
 /// A scene around one CAD file in one of the contract's styles: "wire" (the edges as shaded
 /// wire), "wire-over-surface" (shaded wire over the shaded parts, in the file's colours: the
-/// paper's image 11 from a real file), "burnished" (brushed steel, grain along each face's u).
+/// paper's image 11 from a real file), "burnished" (brushed steel, grain along each face's u),
+/// "fur" (curved hairs grown on the exact faces, area-correct, only where each face is).
 SceneFile sceneForCadFile(const std::string& path, const std::string& style, const CadOptions& options);
 
 }  // namespace wfapp

@@ -35,7 +35,7 @@ constexpr const char* kUsage =
     "           [--view-grid N] [--measure-error] [--quiet] [CAD options]\n"
     "                                               INPUT: scene .json, CAD .step .stp .iges .igs .brep .FCStd,\n"
     "                                               or mesh .vtp .vtk .stl .obj .ply; none: built-in scene\n"
-    "           STYLE for CAD: wire, wire-over-surface (default), burnished; for meshes: wire, wire-over-surface\n"
+    "           STYLE for CAD: wire, wire-over-surface (default), burnished, fur; for meshes: wire, wire-over-surface\n"
     "           CAD options: --deflection D (of the model's size, default 0.001) | --linear-deflection L (world)\n"
     "                        --angular-deflection DEG (default 20) --isos N (u and v iso lines per face)\n"
     "  export   INPUT -o OUT.vtp|.vtk|.obj|.ply [--style STYLE] [--time T] [--quiet] [CAD options]\n"

@@ -106,6 +106,18 @@ TEST(CadCli, DeflectionOptionsChangeTheTessellation) {
   EXPECT_GT(isos["segments"].get<long>(), fine["input"]["cad"]["edges"].get<long>());
 }
 
+// Fur on the exact faces: area-correct roots at a density of 60,000 per total face area, only where
+// each face is (its trimming as the density map). The count is a sum of Poisson-like draws per
+// cell (sd about 245); 2,000 also allows for the cells at trimmed edges whose bound sees no inside
+// sample. Three segments per hair.
+TEST(CadCli, FurGrowsOnTheExactFaces) {
+  const json fur = renderStats(kCad + "product.step", "--style fur", "fur");
+  const long hairs = fur["generated"]["hairs"].get<long>();
+  EXPECT_NEAR(double(hairs), 60000.0, 2000.0);
+  EXPECT_EQ(fur["segments"].get<long>(), 3 * hairs);
+  EXPECT_GT(fur["triangles"].get<long>(), 0);  // the tray's surfaces under the fur
+}
+
 // Same input, same image, bit for bit, for 1 and 2 threads (meshing and faces run in parallel).
 TEST(CadCli, SameImageForAnyThreadCount) {
   const fs::path a = dir() / "t1.png", b = dir() / "t2.png";
@@ -141,9 +153,9 @@ TEST(CadCli, BadInputIsOneLineExitTwoAndNothingWritten) {
     EXPECT_FALSE(fs::exists(png)) << c.file;
   }
   // A style the CAD path does not draw, and a cad block on a mesh object.
-  const Result fur = run("render '" + kCad + "product.step' -o '" + (dir() / "f.png").string() + "' --style fur");
-  EXPECT_EQ(fur.status, 2);
-  EXPECT_EQ(wf::test::lineCount(fur.err), 1) << fur.err;
+  const Result scales = run("render '" + kCad + "product.step' -o '" + (dir() / "f.png").string() + "' --style scales");
+  EXPECT_EQ(scales.status, 2);
+  EXPECT_EQ(wf::test::lineCount(scales.err), 1) << scales.err;
   write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   const std::string scene = write("cadkey.json", R"({"objects": [{"file": "tri.obj", "cad": {"isos": 2}}]})");
   const Result key = run("render '" + scene + "' -o '" + (dir() / "k.png").string() + "'");

@@ -1,6 +1,7 @@
 #include "vtkWireFurCADReader.h"
 
 #include "wf_cad_model.h"
+#include "wf_cad_plugin.h"
 #include "wf_cad_surface.h"
 
 #include "core/srgb.h"
@@ -268,8 +269,36 @@ public:
   int faces = 0, meshedFaces = 0, skippedFaces = 0, edges = 0;
   double appliedDeflection = 0.0, modelSize = 0.0, readSeconds = 0.0, meshSeconds = 0.0;
   std::string error, warning;
+  // The meshed faces (located), their FaceId and part: for wirefur_cad_face_surfaces.
+  std::vector<TopoDS_Face> faceShapes;
+  std::vector<int> faceIds, faceParts;
   void clear() { *this = vtkInternals(); }
 };
+
+extern "C" WIREFURCAD_EXPORT int wirefur_cad_face_surfaces(vtkWireFurCADReader* reader, std::vector<WireFurCadFace>* faces)
+{
+  if (!reader || !faces)
+    return 0;
+  const vtkWireFurCADReader::vtkInternals& in = *reader->GetInternals();
+  faces->clear();
+  for (size_t i = 0; i < in.faceShapes.size(); ++i)
+  {
+    try
+    {
+      WireFurCadFace f;
+      auto surface = std::make_shared<wfcad::FaceSurface>(in.faceShapes[i]);
+      f.inside = std::make_shared<wfcad::FaceMask>(in.faceShapes[i], surface->domain());
+      f.surface = surface;
+      f.faceId = in.faceIds[i];
+      f.part = in.faceParts[i];
+      faces->push_back(std::move(f));
+    }
+    catch (const Standard_Failure&)
+    {
+    }
+  }
+  return int(faces->size());
+}
 
 vtkWireFurCADReader::vtkWireFurCADReader()
   : Internals(new vtkInternals)
@@ -513,6 +542,9 @@ int vtkWireFurCADReader::RequestData(vtkInformation*, vtkInformationVector**, vt
         continue;
       }
       ++in.meshedFaces;
+      in.faceShapes.push_back(jobs[size_t(m.faceId)].face);
+      in.faceIds.push_back(m.faceId);
+      in.faceParts.push_back(m.part);
       const vtkIdType n = vtkIdType(m.positions.size() / 3);
       for (vtkIdType i = 0; i < n; ++i)
       {

@@ -141,11 +141,17 @@ protected:
   vtkIdType MaximumTriangles = 20000000;
   int NumberOfThreads = 0;
 
+public:
+#ifndef __VTK_WRAP__
+  /// The module's own C entry points (wf_cad_plugin.h) read the faces kept from the last update.
+  class vtkInternals;
+  vtkInternals* GetInternals() { return this->Internals; }
+#endif
+
 private:
   vtkWireFurCADReader(const vtkWireFurCADReader&) = delete;
   void operator=(const vtkWireFurCADReader&) = delete;
 
-  class vtkInternals;
   vtkInternals* Internals;
 };
 

@@ -4,6 +4,7 @@
 #include <GeomAbs_SurfaceType.hxx>
 #include <TopAbs_Orientation.hxx>
 #include <gp_Pnt.hxx>
+#include <gp_Pnt2d.hxx>
 #include <gp_Vec.hxx>
 
 #include <algorithm>
@@ -57,6 +58,17 @@ std::string FaceSurface::describe() const {
                                 "surface of revolution", "surface of extrusion", "offset surface", "other surface"};
   const int t = int(adaptor_.GetType());
   return std::string("CAD face (") + (t >= 0 && t <= 10 ? names[t] : "surface") + ")";
+}
+
+FaceMask::FaceMask(const TopoDS_Face& face, const wf::ParameterDomain& domain)
+    : classifier_(face, 1e-9 * std::max({1.0, std::abs(domain.du()), std::abs(domain.dv())})), domain_(domain) {}
+
+double FaceMask::value(const glm::dvec2& st) const {
+  if (!std::isfinite(st.x) || !std::isfinite(st.y)) return 0.0;
+  const glm::dvec2 uv = domain_.fromUnit(std::clamp(st.x, 0.0, 1.0), std::clamp(st.y, 0.0, 1.0));
+  std::lock_guard<std::mutex> guard(lock_);
+  const TopAbs_State s = classifier_.Perform(gp_Pnt2d(uv.x, uv.y));
+  return s == TopAbs_IN || s == TopAbs_ON ? 1.0 : 0.0;
 }
 
 }  // namespace wfcad

@@ -5,6 +5,9 @@
 #pragma once
 
 #include "surface/surface.h"
+#include "texture/texture.h"
+
+#include <BRepTopAdaptor_FClass2d.hxx>
 
 #include <BRepAdaptor_Surface.hxx>
 #include <TopoDS_Face.hxx>
@@ -27,6 +30,22 @@ class FaceSurface final : public wf::Surface {
   BRepAdaptor_Surface adaptor_;
   wf::ParameterDomain domain_;
   double sign_ = 1.0;
+  mutable std::mutex lock_;
+};
+
+/// A face's trimming as a texture over its unit (s, t) square (the FaceSurface's domain): 1 where
+/// (u, v) is on the face (inside its wires, or on them), 0 where trimmed away. Serialised like
+/// FaceSurface. Its gradient is 0 (a mask, not a height).
+class FaceMask final : public wf::ScalarTexture {
+ public:
+  FaceMask(const TopoDS_Face& face, const wf::ParameterDomain& domain);
+  double value(const glm::dvec2& st) const override;
+  glm::dvec2 gradient(const glm::dvec2&) const override { return glm::dvec2(0.0); }
+  std::string describe() const override { return "CAD face trimming mask"; }
+
+ private:
+  BRepTopAdaptor_FClass2d classifier_;
+  wf::ParameterDomain domain_;
   mutable std::mutex lock_;
 };
 
