@@ -21,9 +21,19 @@
 #include <dlfcn.h>
 #endif
 
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <thread>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -47,7 +57,11 @@ bool parseCadOption(const std::vector<std::string>& a, size_t& i, CadOptions& o)
     char* end = nullptr;
     const double x = std::strtod(v.c_str(), &end);
     if (v.empty() || *end != '\0' || !std::isfinite(x) || x < lo || x > hi)
-      throw UsageError("option " + option + ": expected a number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" + v + "'");
+    {
+      char range[96];
+      std::snprintf(range, sizeof range, "[%g, %g]", lo, hi);
+      throw UsageError("option " + option + ": expected a number in " + range + ", got '" + v + "'");
+    }
     return x;
   };
   if (a[i] == "--deflection") {
@@ -58,6 +72,8 @@ bool parseCadOption(const std::vector<std::string>& a, size_t& i, CadOptions& o)
     o.absoluteDeflection = true;
   } else if (a[i] == "--angular-deflection") {
     o.angularDegrees = number("--angular-deflection", 1.0, 85.0);
+  } else if (a[i] == "--cad-timeout") {
+    o.timeoutSeconds = number("--cad-timeout", 0.1, 1e6);
   } else if (a[i] == "--isos") {
     const std::string v = need();
     o.isos = v == "0" ? 0 : parsePositiveInt("--isos", v);
@@ -100,7 +116,9 @@ Factory cadFactory() {
 
 }  // namespace
 
-CadGeometry readCad(const std::string& path, const CadOptions& o, bool withSurfaces) {
+namespace {
+
+CadGeometry readCadInProcess(const std::string& path, const CadOptions& o, bool withSurfaces) {
   vtkSmartPointer<vtkWireFurCADReader> reader;
   reader.TakeReference(cadFactory()());
   reader->SetFileName(path.c_str());
@@ -230,13 +248,240 @@ CadGeometry readCad(const std::string& path, const CadOptions& o, bool withSurfa
   return out;
 }
 
+}  // namespace
+
 #else
 
-CadGeometry readCad(const std::string& path, const CadOptions&, bool) {
+namespace {
+CadGeometry readCadInProcess(const std::string& path, const CadOptions&, bool) {
   throw std::runtime_error(path + ": this build has no CAD support (configure with WIREFUR_WITH_CAD=ON and OpenCASCADE)");
 }
+}  // namespace
 
 #endif
+
+// ---------------------------------------------------------------------------------------------
+// The worker process. OpenCASCADE 7.6 can crash (a null entity in a corrupt STEP file) or loop
+// for ever (a BREP whose counts it reads from a failed stream) on bad input: fuzzing found both.
+// The command therefore reads and meshes CAD files in a child process of its own ("wirefur
+// cad-worker", not part of the contract), waits for it with a time limit, and takes the result
+// back through a temporary file. A crash or a hang becomes one line and exit status 2.
+
+namespace {
+
+constexpr char kBlobMagic[8] = {'W', 'F', 'C', 'A', 'D', '1', '\n', '\0'};
+
+class BlobWriter {
+ public:
+  explicit BlobWriter(std::ostream& out) : out_(out) {}
+  template <class T>
+  void pod(const T& v) { out_.write(reinterpret_cast<const char*>(&v), sizeof v); }
+  template <class T>
+  void vec(const std::vector<T>& v) {
+    pod(std::uint64_t(v.size()));
+    if (!v.empty()) out_.write(reinterpret_cast<const char*>(v.data()), std::streamsize(v.size() * sizeof(T)));
+  }
+  void str(const std::string& s) {
+    pod(std::uint64_t(s.size()));
+    out_.write(s.data(), std::streamsize(s.size()));
+  }
+
+ private:
+  std::ostream& out_;
+};
+
+class BlobReader {
+ public:
+  BlobReader(const std::string& bytes) : b_(bytes) {}
+  template <class T>
+  T pod() {
+    T v{};
+    need(sizeof v);
+    std::memcpy(&v, b_.data() + at_, sizeof v);
+    at_ += sizeof v;
+    return v;
+  }
+  template <class T>
+  std::vector<T> vec() {
+    const std::uint64_t n = pod<std::uint64_t>();
+    if (n > (b_.size() - at_) / sizeof(T)) throw std::runtime_error("CAD worker result is truncated");
+    std::vector<T> v;
+    v.resize(size_t(n));
+    if (n) std::memcpy(v.data(), b_.data() + at_, size_t(n) * sizeof(T));
+    at_ += size_t(n) * sizeof(T);
+    return v;
+  }
+  std::string str() {
+    const std::uint64_t n = pod<std::uint64_t>();
+    need(size_t(n));
+    std::string s = b_.substr(at_, size_t(n));
+    at_ += size_t(n);
+    return s;
+  }
+
+ private:
+  void need(size_t n) const {
+    if (b_.size() - at_ < n) throw std::runtime_error("CAD worker result is truncated");
+  }
+  const std::string& b_;
+  size_t at_ = 0;
+};
+
+void writeGeometry(BlobWriter& w, const CadGeometry& g) {
+  const wf::TriangleMesh& m = g.geometry.mesh;
+  w.vec(m.positions), w.vec(m.normals), w.vec(m.derivU), w.vec(m.derivV), w.vec(m.uvs), w.vec(m.colours), w.vec(m.triangles);
+  w.vec(g.trianglePart);
+  w.vec(g.geometry.lines.points), w.vec(g.geometry.lines.starts), w.vec(g.edgePart);
+  w.vec(g.isoLines.points), w.vec(g.isoLines.starts);
+  w.pod(std::uint64_t(g.partNames.size()));
+  for (const std::string& n : g.partNames) w.str(n);
+  w.str(g.info.dump());
+  w.str(g.warning);
+}
+
+CadGeometry readGeometry(BlobReader& r) {
+  CadGeometry g;
+  wf::TriangleMesh& m = g.geometry.mesh;
+  m.positions = r.vec<glm::dvec3>();
+  m.normals = r.vec<glm::dvec3>();
+  m.derivU = r.vec<glm::dvec3>();
+  m.derivV = r.vec<glm::dvec3>();
+  m.uvs = r.vec<glm::dvec2>();
+  m.colours = r.vec<glm::vec3>();
+  m.triangles = r.vec<glm::uvec3>();
+  g.trianglePart = r.vec<int>();
+  g.geometry.lines.points = r.vec<glm::dvec3>();
+  g.geometry.lines.starts = r.vec<std::uint32_t>();
+  g.edgePart = r.vec<int>();
+  g.isoLines.points = r.vec<glm::dvec3>();
+  g.isoLines.starts = r.vec<std::uint32_t>();
+  const std::uint64_t parts = r.pod<std::uint64_t>();
+  if (parts > (std::uint64_t(1) << 24)) throw std::runtime_error("CAD worker result is corrupt");
+  for (std::uint64_t i = 0; i < parts; ++i) g.partNames.push_back(r.str());
+  g.info = nlohmann::ordered_json::parse(r.str());
+  g.warning = r.str();
+  // The arrays must fit together before anyone indexes them.
+  const size_t nv = m.positions.size();
+  for (size_t n : {m.normals.size(), m.derivU.size(), m.derivV.size(), m.uvs.size(), m.colours.size()})
+    if (n != nv) throw std::runtime_error("CAD worker result is inconsistent");
+  for (const glm::uvec3& t : m.triangles)
+    if (t.x >= nv || t.y >= nv || t.z >= nv) throw std::runtime_error("CAD worker result is inconsistent");
+  if (g.trianglePart.size() != m.triangles.size()) throw std::runtime_error("CAD worker result is inconsistent");
+  return g;
+}
+
+std::string signalName(int sig) {
+  const char* d = strsignal(sig);
+  return std::string("signal ") + std::to_string(sig) + (d ? std::string(", ") + d : std::string());
+}
+
+CadGeometry readCadInWorker(const std::string& path, const CadOptions& o) {
+  char name[] = "/tmp/wirefur-cad-XXXXXX";
+  const int fd = mkstemp(name);
+  if (fd < 0) throw std::runtime_error("cannot make a temporary file for the CAD worker");
+  close(fd);
+  const std::string out = name;
+  struct Remove {
+    std::string p;
+    ~Remove() { std::remove(p.c_str()); }
+  } removeOut{out};
+  char number[64];
+  std::vector<std::string> args = {"wirefur", "cad-worker", path, out};
+  std::snprintf(number, sizeof number, "%.17g", o.deflection);
+  args.push_back(number);
+  args.push_back(o.absoluteDeflection ? "1" : "0");
+  std::snprintf(number, sizeof number, "%.17g", o.angularDegrees);
+  args.push_back(number);
+  args.push_back(std::to_string(o.isos));
+  args.push_back(std::to_string(o.threads));
+  args.push_back(o.showProgress ? "1" : "0");
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);  // OpenCASCADE prints
+  pid_t pid = 0;
+  const int spawned = posix_spawn(&pid, "/proc/self/exe", &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned != 0) throw std::runtime_error(std::string("cannot start the CAD worker: ") + std::strerror(spawned));
+  const auto t0 = std::chrono::steady_clock::now();
+  int status = 0;
+  while (true) {
+    const pid_t r = waitpid(pid, &status, WNOHANG);
+    if (r == pid) break;
+    if (r < 0 && errno != EINTR) throw std::runtime_error(std::string("waiting for the CAD worker: ") + std::strerror(errno));
+    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > o.timeoutSeconds) {
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      char limit[32];
+      std::snprintf(limit, sizeof limit, "%g", o.timeoutSeconds);
+      throw UsageError(path + ": reading and meshing did not finish within " + limit +
+                       " s (OpenCASCADE may loop on a corrupt file; --cad-timeout S sets the limit)");
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  if (WIFSIGNALED(status))
+    throw UsageError(path + ": OpenCASCADE crashed reading this file (" + signalName(WTERMSIG(status)) +
+                     "): it is corrupt, or uses something OpenCASCADE 7.6 cannot read");
+  std::ifstream in(out, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string bytes = ss.str();
+  if (bytes.size() < sizeof kBlobMagic || std::memcmp(bytes.data(), kBlobMagic, sizeof kBlobMagic) != 0)
+    throw std::runtime_error(path + ": the CAD worker stopped with status " + std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) +
+                             " and no result");
+  const std::string body = bytes.substr(sizeof kBlobMagic);
+  BlobReader r(body);
+  const std::uint8_t kind = r.pod<std::uint8_t>();
+  if (kind == 2) throw UsageError(r.str());
+  if (kind == 1) throw std::runtime_error(r.str());
+  return readGeometry(r);
+}
+
+}  // namespace
+
+CadGeometry readCad(const std::string& path, const CadOptions& o, bool withSurfaces) {
+  if (!o.isolate) return readCadInProcess(path, o, withSurfaces);
+  CadGeometry g = readCadInWorker(path, o);
+  // The exact surfaces live in this process only: once the worker has shown the file reads
+  // cleanly, it is read again here for them.
+  if (withSurfaces) return readCadInProcess(path, o, true);
+  return g;
+}
+
+int runCadWorker(const std::vector<std::string>& a) {
+  if (a.size() != 8) {
+    std::fprintf(stderr, "wirefur: cad-worker is internal (FILE OUT DEFLECTION ABSOLUTE ANGULAR ISOS THREADS PROGRESS)\n");
+    return 1;
+  }
+  CadOptions o;
+  o.deflection = std::strtod(a[2].c_str(), nullptr);
+  o.absoluteDeflection = a[3] == "1";
+  o.angularDegrees = std::strtod(a[4].c_str(), nullptr);
+  o.isos = std::atoi(a[5].c_str());
+  o.threads = std::atoi(a[6].c_str());
+  o.showProgress = a[7] == "1";
+  std::ofstream out(a[1], std::ios::binary | std::ios::trunc);
+  out.write(kBlobMagic, sizeof kBlobMagic);
+  BlobWriter w(out);
+  int status = 0;
+  try {
+    const CadGeometry g = readCadInProcess(a[0], o, false);
+    w.pod(std::uint8_t(0));
+    writeGeometry(w, g);
+  } catch (const UsageError& e) {
+    w.pod(std::uint8_t(2));
+    w.str(e.what());
+    status = 2;
+  } catch (const std::exception& e) {
+    w.pod(std::uint8_t(1));
+    w.str(e.what());
+    status = 1;
+  }
+  out.close();
+  return out ? status : 1;
+}
 
 namespace {
 

@@ -47,8 +47,9 @@ struct CadGeometry {
   std::vector<CadFaceSurface> faces;   ///< the exact faces, when asked for (readCad's withSurfaces)
 };
 
-/// Reads a CAD file. Bad input: UsageError("FILE: entity: problem"); CAD support missing from
-/// this build: std::runtime_error.
+/// Reads a CAD file, in a worker process of its own unless options.isolate is off (OpenCASCADE
+/// can crash or hang on corrupt files: those become UsageErrors too). Bad input:
+/// UsageError("FILE: entity: problem"); CAD support missing from this build: std::runtime_error.
 CadGeometry readCad(const std::string& path, const CadOptions& options, bool withSurfaces = false);
 
 /// A scene around one CAD file in one of the contract's styles: "wire" (the edges as shaded
@@ -56,5 +57,8 @@ CadGeometry readCad(const std::string& path, const CadOptions& options, bool wit
 /// paper's image 11 from a real file), "burnished" (brushed steel, grain along each face's u),
 /// "fur" (curved hairs grown on the exact faces, area-correct, only where each face is).
 SceneFile sceneForCadFile(const std::string& path, const std::string& style, const CadOptions& options);
+
+/// `wirefur cad-worker FILE OUT ...`: the worker process of readCad (internal, not in the contract).
+int runCadWorker(const std::vector<std::string>& args);
 
 }  // namespace wfapp

@@ -38,6 +38,7 @@ constexpr const char* kUsage =
     "           STYLE for CAD: wire, wire-over-surface (default), burnished, fur; for meshes: wire, wire-over-surface\n"
     "           CAD options: --deflection D (of the model's size, default 0.001) | --linear-deflection L (world)\n"
     "                        --angular-deflection DEG (default 20) --isos N (u and v iso lines per face)\n"
+    "                        --cad-timeout S (read and mesh in a worker process limited to S s, default 600)\n"
     "  export   INPUT -o OUT.vtp|.vtk|.obj|.ply [--style STYLE] [--time T] [--quiet] [CAD options]\n"
     "                                               the scene's geometry as drawn (tessellations, scales, wires,\n"
     "                                               fur) with normals, tangents, (u, v) and colours\n"
@@ -131,6 +132,7 @@ int run(const std::vector<std::string>& a) {
     }
     return wfapp::runRender(o);
   }
+  if (cmd == "cad-worker") return wfapp::runCadWorker(std::vector<std::string>(a.begin() + 1, a.end()));
   if (cmd == "export") return wfapp::runExport(std::vector<std::string>(a.begin() + 1, a.end()));
   if (cmd == "view") {
 #ifdef WIREFUR_WITH_VIEW

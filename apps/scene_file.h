@@ -41,6 +41,8 @@ struct CadOptions {
   int isos = 0;                    ///< u and v iso lines per face
   int threads = 0;
   bool showProgress = false;       ///< progress lines on stderr while reading and meshing
+  bool isolate = true;             ///< read in a worker process (crashes and hangs become errors)
+  double timeoutSeconds = 600.0;   ///< the worker's time limit (--cad-timeout)
 };
 
 /// What the command line may override in a scene while it is read.

@@ -10,6 +10,7 @@
 
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -161,6 +162,51 @@ TEST(CadCli, BadInputIsOneLineExitTwoAndNothingWritten) {
   const Result key = run("render '" + scene + "' -o '" + (dir() / "k.png").string() + "'");
   EXPECT_EQ(key.status, 2);
   EXPECT_NE(key.err.find("/objects/0/cad"), std::string::npos) << key.err;
+}
+
+// Inputs fuzzing found (tests/apps/cad_regressions/README.md): a crash inside OpenCASCADE, two
+// hangs and a 2 GiB allocation are each one line with exit status 2 within seconds (the crash
+// through the worker process), the fan-out document and the binary BREP read.
+TEST(CadCli, FuzzFindings) {
+  const std::string dirIn = std::string(WIREFUR_SOURCE_DIR) + "/tests/apps/cad_regressions/";
+  const fs::path png = dir() / "fuzz.png";
+  struct Case {
+    std::string file;
+    int status;
+    std::string expect;
+  } cases[] = {
+      {"step_segv_cartesianpoint.step", 2, "OpenCASCADE crashed reading this file (signal 11"},
+      {"brep_hang_one_char_mutation.brep", 2, "corrupt BREP"},
+      {"fcstd_lying_size_2GiB_allocation.FCStd", 2, "truncated entry"},
+      {"fcstd_container_fanout_hang.FCStd", 0, ""},
+      {"binary_brep_from_BinTools_Write.brep", 0, ""},
+  };
+  for (const Case& c : cases) {
+    fs::remove(png);
+    const auto t0 = std::chrono::steady_clock::now();
+    const Result r = run("render '" + dirIn + c.file + "' -o '" + png.string() + "' --size 64x48 --cad-timeout 60");
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_EQ(r.status, c.status) << c.file << ": " << r.err;
+    EXPECT_LT(secs, 30.0) << c.file;
+    if (c.status == 2) {
+      EXPECT_EQ(wf::test::lineCount(r.err), 1) << r.err;
+      EXPECT_NE(r.err.find(c.expect), std::string::npos) << r.err;
+      EXPECT_FALSE(fs::exists(png)) << c.file;
+    } else {
+      EXPECT_TRUE(fs::exists(png)) << c.file;
+    }
+  }
+}
+
+// A reading that runs past --cad-timeout is stopped: one line naming the limit, exit status 2.
+// A deflection of 1e-6 of the model makes meshing the mould take far longer than 0.1 s.
+TEST(CadCli, TimeLimitStopsTheWorker) {
+  const fs::path png = dir() / "slow.png";
+  const Result r = run("render '" + kCad + "mould.step' -o '" + png.string() + "' --deflection 0.000001 --cad-timeout 0.1");
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_EQ(wf::test::lineCount(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("did not finish within 0.1 s"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(png));
 }
 
 // export writes the tessellation with its tangent arrays: the VTK XML file names Su, Sv,

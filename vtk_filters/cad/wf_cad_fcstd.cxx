@@ -12,6 +12,7 @@
 #include <pugixml.hpp>
 #include <zip.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -54,15 +55,20 @@ class Archive {
     if (st.size > kMaxEntryBytes) throw CadError(name + ": " + std::to_string(st.size) + " bytes inflated, over the 2 GiB limit");
     std::unique_ptr<zip_file_t, int (*)(zip_file_t*)> f(zip_fopen(zip_.get(), name.c_str(), 0), zip_fclose);
     if (!f) throw CadError(name + ": cannot be opened in the archive: " + zip_strerror(zip_.get()));
-    std::string out(size_t(st.size), '\0');
-    zip_uint64_t got = 0;
-    while (got < st.size) {
-      const zip_int64_t n = zip_fread(f.get(), out.data() + got, st.size - got);
+    // The size in the archive's directory may lie: memory grows with what actually inflates,
+    // never ahead of it by more than a chunk, and stops at the limit.
+    std::string out;
+    out.reserve(size_t(std::min<zip_uint64_t>(st.size, zip_uint64_t(1) << 24)));
+    char chunk[1 << 16];
+    while (true) {
+      const zip_int64_t n = zip_fread(f.get(), chunk, sizeof chunk);
       if (n < 0) throw CadError(name + ": corrupt entry: " + zip_file_strerror(f.get()));
       if (n == 0) break;
-      got += zip_uint64_t(n);
+      if (out.size() + size_t(n) > st.size) throw CadError(name + ": inflates past the " + std::to_string(st.size) + " bytes the archive declares");
+      out.append(chunk, size_t(n));
     }
-    if (got != st.size) throw CadError(name + ": truncated entry (" + std::to_string(got) + " of " + std::to_string(st.size) + " bytes)");
+    if (out.size() != st.size)
+      throw CadError(name + ": truncated entry (" + std::to_string(out.size()) + " of " + std::to_string(st.size) + " bytes)");
     return out;
   }
 
@@ -192,6 +198,9 @@ Model readFreeCad(const std::string& path) {
     if (depth > 64) throw CadError("object '" + name + "': containers nested deeper than 64 (a cycle?)");
     auto it = objects.find(name);
     if (it == objects.end()) return;
+    // Each object is placed once, by the first container that names it: a document whose
+    // containers name the same children over and over (a fan-out found by fuzzing) stays linear.
+    if (parentPlacement.count(name)) return;
     const DocObject& d = it->second;
     parentPlacement[name] = t;
     parentVisible[name] = visible;

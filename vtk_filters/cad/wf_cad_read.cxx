@@ -289,6 +289,10 @@ TopoDS_Shape brepFromMemory(const std::string& bytes, bool binary, const std::st
   TopoDS_Shape shape;
   try {
     std::istringstream in(bytes, std::ios::binary);
+    // OpenCASCADE's BREP parsers do not check the stream: a token that is not a number leaves it
+    // failed, and a loop bound read from it runs on for billions of turns (a hang found by
+    // fuzzing). A failed extraction throws instead.
+    in.exceptions(std::ios::failbit | std::ios::badbit);
     if (binary) {
       BinTools::Read(shape, in);
     } else {
@@ -297,6 +301,8 @@ TopoDS_Shape brepFromMemory(const std::string& bytes, bool binary, const std::st
     }
   } catch (const Standard_Failure& f) {
     throw CadError(entity + ": corrupt BREP: " + failureText(f));
+  } catch (const std::ios_base::failure&) {
+    throw CadError(entity + ": corrupt BREP: a value is missing or not a number");
   }
   if (shape.IsNull()) {
     const std::string why = capture.firstFailure();
@@ -306,9 +312,11 @@ TopoDS_Shape brepFromMemory(const std::string& bytes, bool binary, const std::st
 }
 
 bool looksLikeBrep(const std::string& head, bool& binary) {
-  // BinTools writes "Open CASCADE Topology V<n> (c) ..." first; BRepTools a text header with
+  // BinTools writes "\nOpen CASCADE Topology V<n>, (c) ..." first; BRepTools a text header
   // "CASCADE Topology V<n>, (c) ..." (after an optional "DBRep_DrawableShape" line).
-  binary = head.rfind("Open CASCADE Topology V", 0) == 0;
+  size_t i = 0;
+  while (i < head.size() && std::isspace(static_cast<unsigned char>(head[i]))) ++i;
+  binary = head.compare(i, 23, "Open CASCADE Topology V") == 0;
   return binary || head.find("CASCADE Topology V") != std::string::npos;
 }
 
