@@ -131,7 +131,7 @@ std::array<unsigned char, 3> toSrgb8(const Quantity_Color& c)
   return { q(r), q(g), q(b) };
 }
 
-void meshFace(const FaceJob& job, FaceMesh& out)
+void meshFace(const FaceJob& job, double modelSize, FaceMesh& out)
 {
   out.part = job.part;
   out.faceId = job.faceId;
@@ -148,6 +148,9 @@ void meshFace(const FaceJob& job, FaceMesh& out)
   const wfcad::FaceSurface surface(job.face);
   Handle(ShapeAnalysis_Surface) projector;
   const int n = tri->NbNodes();
+  std::vector<char> degenerate;  // per node: Su x Sv vanishes there (the normal is a limit)
+  degenerate.reserve(size_t(n));
+  auto uvOf = [&](int node) { return gp_Pnt2d(out.uv[2 * size_t(node - 1)], out.uv[2 * size_t(node - 1) + 1]); };
   out.positions.reserve(3 * size_t(n));
   out.normals.reserve(3 * size_t(n));
   for (int i = 1; i <= n; ++i)
@@ -163,12 +166,13 @@ void meshFace(const FaceJob& job, FaceMesh& out)
       uv = tri->UVNode(i);
     else
     {
+      // BRep_Tool::Surface(face) is already placed by the face's location, like p.
       if (projector.IsNull())
         projector = new ShapeAnalysis_Surface(BRep_Tool::Surface(job.face));
-      // The projector works in the surface's own frame: undo the face's location.
-      uv = projector->ValueOfUV(p.Transformed(job.face.Location().Transformation().Inverted()), 1e-7);
+      uv = projector->ValueOfUV(p, 1e-7);
     }
     const wf::SurfaceFrame f = surface.frame(uv.X(), uv.Y());
+    degenerate.push_back(f.degenerate);
     out.positions.insert(out.positions.end(), { p.X(), p.Y(), p.Z() });
     out.normals.insert(out.normals.end(), { float(f.N.x), float(f.N.y), float(f.N.z) });
     out.su.insert(out.su.end(), { f.Su.x, f.Su.y, f.Su.z });
@@ -181,14 +185,74 @@ void meshFace(const FaceJob& job, FaceMesh& out)
   out.triangles.reserve(3 * size_t(tri->NbTriangles()));
   for (int t = 1; t <= tri->NbTriangles(); ++t)
   {
-    int a = 0, b = 0, c = 0;
-    tri->Triangle(t).Get(a, b, c);
-    if (a < 1 || b < 1 || c < 1 || a > n || b > n || c > n || a == b || b == c || a == c)
+    int k[3] = { 0, 0, 0 };
+    tri->Triangle(t).Get(k[0], k[1], k[2]);
+    if (k[0] < 1 || k[1] < 1 || k[2] < 1 || k[0] > n || k[1] > n || k[2] > n || k[0] == k[1] || k[1] == k[2] ||
+      k[0] == k[2])
       continue;
     if (flip)
-      std::swap(b, c);
-    out.triangles.insert(out.triangles.end(), { vtkIdType(a - 1), vtkIdType(b - 1), vtkIdType(c - 1) });
+      std::swap(k[1], k[2]);
+    vtkIdType ids[3];
+    for (int j = 0; j < 3; ++j)
+    {
+      ids[j] = vtkIdType(k[j] - 1);
+      if (!degenerate[size_t(k[j] - 1)])
+        continue;
+      // A degenerate vertex (a cone's apex, a sphere's pole) has no normal of its own: the limit
+      // differs along every meridian (the cone's). Each triangle gets its own copy, at the same
+      // point but on the triangle's own meridian: the parameter along the collapsed edge moved
+      // to the triangle's middle, where Surface::frame takes the limit along that meridian.
+      const gp_Pnt2d a = uvOf(k[j]), b = uvOf(k[(j + 1) % 3]), c = uvOf(k[(j + 2) % 3]);
+      const size_t src = size_t(k[j] - 1);
+      const glm::dvec3 at(out.positions[3 * src], out.positions[3 * src + 1], out.positions[3 * src + 2]);
+      const double tol = 1e-7 * std::max(1.0, glm::length(at)) + 1e-9 * modelSize;
+      gp_Pnt2d m((b.X() + c.X()) / 2, a.Y());  // the collapsed edge runs along u (v fixed) ...
+      if (glm::length(surface.evaluate(m.X(), m.Y()).P - at) > tol)
+        m = gp_Pnt2d(a.X(), (b.Y() + c.Y()) / 2);  // ... or along v
+      if (glm::length(surface.evaluate(m.X(), m.Y()).P - at) > tol)
+        m = a;  // neither: keep the node's own limit
+      const wf::SurfaceFrame f = surface.frame(m.X(), m.Y());
+      ids[j] = vtkIdType(out.positions.size() / 3);
+      out.positions.insert(out.positions.end(), { out.positions[3 * src], out.positions[3 * src + 1], out.positions[3 * src + 2] });
+      out.normals.insert(out.normals.end(), { float(f.N.x), float(f.N.y), float(f.N.z) });
+      out.su.insert(out.su.end(), { f.Su.x, f.Su.y, f.Su.z });
+      out.sv.insert(out.sv.end(), { f.Sv.x, f.Sv.y, f.Sv.z });
+      out.uv.insert(out.uv.end(), { m.X(), m.Y() });
+    }
+    out.triangles.insert(out.triangles.end(), { ids[0], ids[1], ids[2] });
   }
+  // Drop the vertices no triangle uses (a degenerate node replaced by its copies), so every point
+  // of the output belongs to a triangle of its face.
+  const size_t nv = out.positions.size() / 3;
+  std::vector<vtkIdType> remap(nv, -1);
+  for (vtkIdType id : out.triangles)
+    remap[size_t(id)] = 0;
+  vtkIdType next = 0;
+  for (size_t i = 0; i < nv; ++i)
+  {
+    if (remap[i] < 0)
+      continue;
+    const size_t to = size_t(next);
+    remap[i] = next++;
+    if (to == i)
+      continue;
+    for (int c = 0; c < 3; ++c)
+    {
+      out.positions[3 * to + c] = out.positions[3 * i + c];
+      out.normals[3 * to + c] = out.normals[3 * i + c];
+      out.su[3 * to + c] = out.su[3 * i + c];
+      out.sv[3 * to + c] = out.sv[3 * i + c];
+    }
+    out.uv[2 * to] = out.uv[2 * i];
+    out.uv[2 * to + 1] = out.uv[2 * i + 1];
+  }
+  out.positions.resize(3 * size_t(next));
+  out.normals.resize(3 * size_t(next));
+  out.su.resize(3 * size_t(next));
+  out.sv.resize(3 * size_t(next));
+  out.uv.resize(2 * size_t(next));
+  for (vtkIdType& id : out.triangles)
+    id = remap[size_t(id)];
 }
 
 // An edge as points: from a face's tessellation when the edge bounds one (the wire then lies on
@@ -400,7 +464,9 @@ int vtkWireFurCADReader::RequestData(vtkInformation*, vtkInformationVector**, vt
   Bnd_Box box;
   for (const wfcad::Part& p : model.parts)
   {
-    located.push_back(p.shape.Moved(p.placement));
+    // A mirroring placement (a mirrored instance) is a location with a negative scale, which
+    // OpenCASCADE refuses by default: allowed here, the normals' sign takes care of it.
+    located.push_back(p.shape.Moved(p.placement, Standard_False));
     in.partNames.push_back(p.name.empty() ? "part " + std::to_string(in.partNames.size() + 1) : p.name);
     try
     {
@@ -465,7 +531,7 @@ int vtkWireFurCADReader::RequestData(vtkInformation*, vtkInformationVector**, vt
     const wfcad::Part& part = model.parts[p];
     for (TopExp_Explorer e(part.shape, TopAbs_FACE); e.More(); e.Next(), ++k)
     {
-      FaceJob j{ int(p), int(jobs.size()), TopoDS::Face(e.Current().Moved(part.placement)), part.colour };
+      FaceJob j{ int(p), int(jobs.size()), TopoDS::Face(e.Current().Moved(part.placement, Standard_False)), part.colour };
       if (size_t(k) < part.faceColours.size() && part.faceColours[size_t(k)])
         j.colour = part.faceColours[size_t(k)];
       jobs.push_back(j);
@@ -491,7 +557,7 @@ int vtkWireFurCADReader::RequestData(vtkInformation*, vtkInformationVector**, vt
     tbb::parallel_for(size_t(0), jobs.size(), [&](size_t i) {
       try
       {
-        meshFace(jobs[i], meshes[i]);
+        meshFace(jobs[i], in.modelSize, meshes[i]);
       }
       catch (const Standard_Failure& f)
       {

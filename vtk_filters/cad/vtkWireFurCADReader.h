@@ -36,7 +36,10 @@
  * Bad input (missing, empty, truncated or corrupt file, another format, no faces and no edges, a
  * FreeCAD document without shapes) fails the update with one line in GetErrorMessage() naming
  * the file and the entity. Faces that fail to mesh are skipped and counted
- * (GetNumberOfSkippedFaces(), GetWarningMessage()); the rest is output.
+ * (GetNumberOfSkippedFaces(), GetWarningMessage()); the rest is output. Some corrupt STEP and
+ * IGES files crash OpenCASCADE 7.6 itself (fuzzing found null entities dereferenced in its STEP
+ * and IGES translators): a program that reads untrusted files should read them in a process of
+ * its own, as the wirefur command does (docs/cad.md).
  *
  * OpenCASCADE is private to this module (hidden behind a PIMPL): this header needs only VTK.
  */

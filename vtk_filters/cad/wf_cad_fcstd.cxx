@@ -217,7 +217,7 @@ Model readFreeCad(const std::string& path) {
     if (!children.count(name)) place(name, gp_Trsf(), true, 0);
 
   Model model;
-  int withShape = 0;
+  int withShape = 0, emptyShapes = 0;
   for (const std::string& name : order) {
     const DocObject& d = objects[name];
     if (d.shapeFile.empty()) continue;
@@ -226,7 +226,10 @@ Model readFreeCad(const std::string& path) {
     const std::string entity = "object '" + d.name + "' (" + d.shapeFile + ")";
     if (!zip.has(d.shapeFile)) throw CadError(entity + ": the shape file is not in the archive");
     const std::string bytes = zip.read(d.shapeFile);
-    if (bytes.empty()) continue;  // FreeCAD writes an empty file for an empty shape
+    if (bytes.empty()) {  // FreeCAD writes an empty file for an empty shape
+      ++emptyShapes;
+      continue;
+    }
     bool binary = false;
     if (!looksLikeBrep(bytes.substr(0, 256), binary)) throw CadError(entity + ": not a BREP shape file");
     Part p;
@@ -261,6 +264,8 @@ Model readFreeCad(const std::string& path) {
     model.parts.push_back(std::move(p));
   }
   if (withShape == 0) throw CadError("no object with a shape (Document.xml names " + std::to_string(objects.size()) + " objects)");
+  if (model.parts.empty() && emptyShapes > 0)
+    throw CadError("every visible object's shape is empty (" + std::to_string(emptyShapes) + " of them)");
   if (model.parts.empty()) throw CadError("every object with a shape is hidden (" + std::to_string(withShape) + " of them)");
   return model;
 }

@@ -30,6 +30,7 @@
 #include <XCAFDoc_DocumentTool.hxx>
 #include <XCAFDoc_ShapeTool.hxx>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -198,7 +199,9 @@ void sew(Part& p) {
       int k = 0;
       for (TopExp_Explorer e(p.shape, TopAbs_FACE); e.More(); e.Next(), ++k)
         if (size_t(k) < p.faceColours.size() && p.faceColours[size_t(k)]) {
-          const TopoDS_Shape f = sewing.IsModified(e.Current()) ? sewing.Modified(e.Current()) : e.Current();
+          // Modified() answers only for the shape given to Add; a face's sewn face is its
+          // modified sub-shape.
+          const TopoDS_Shape f = sewing.IsModifiedSubShape(e.Current()) ? sewing.ModifiedSubShape(e.Current()) : e.Current();
           byFace.Bind(f, *p.faceColours[size_t(k)]);
         }
       for (TopExp_Explorer e(sewn, TopAbs_FACE); e.More(); e.Next()) {
@@ -229,6 +232,20 @@ Model readStepOrIges(const std::string& path, bool iges) {
     const std::string first = head.substr(0, eol);
     if (first.size() < 73 || (first[72] != 'S' && first[72] != 'F' && first[72] != 'G'))
       throw CadError("not an IGES file (no Start record in column 73 of the first line)");
+    // The last record is the Terminate record (T in column 73). Without it the file was cut
+    // short, and OpenCASCADE would read a part of the model without a word (or crash).
+    std::ifstream in(path, std::ios::binary);
+    in.seekg(0, std::ios::end);
+    const std::streamoff size = in.tellg();
+    const std::streamoff from = std::max<std::streamoff>(0, size - 400);
+    std::string tail(size_t(size - from), '\0');
+    in.seekg(from);
+    in.read(tail.data(), std::streamsize(tail.size()));
+    while (!tail.empty() && (tail.back() == '\n' || tail.back() == '\r' || tail.back() == ' ' || tail.back() == '\0')) tail.pop_back();
+    const size_t lineStart = tail.find_last_of("\r\n");
+    const std::string last = lineStart == std::string::npos ? tail : tail.substr(lineStart + 1);
+    if (last.size() < 73 || last[72] != 'T')
+      throw CadError("IGES file is truncated (its last line is not a Terminate record, T in column 73)");
   }
   MessageCapture capture;
   Model model;

@@ -1,0 +1,95 @@
+// The exact faces handed out by the CAD module (wf_cad_plugin.h: wirefur_cad_face_surfaces) as
+// the core's surface concept, and fur grown on them (the wirefur command's --style fur):
+// a 40 x 30 plate, 5 thick, with a hole of radius 6 through it. The top face is a plane trimmed
+// by the hole. Checked: the surface's S(u, v) is the face's plane and its normal points up; the
+// trimming mask is 0 inside the hole and 1 on the face; hairs grown area-correct with the mask
+// as density map root on the face only (no root inside the hole, none outside the plate), and
+// their number matches density x the face's exact area (40 x 30 - pi 6^2).
+#include "cad_fixtures.h"
+
+#include "growth/fur.h"
+#include "wf_cad_plugin.h"
+
+#include <BRepAlgoAPI_Cut.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
+#include <gp_Ax2.hxx>
+
+#include <cmath>
+
+using namespace cadtest;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+TopoDS_Shape plateWithHole() {
+  const TopoDS_Shape plate = BRepPrimAPI_MakeBox(gp_Pnt(-20, -15, 0), 40, 30, 5).Shape();
+  const TopoDS_Shape hole = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, -1), gp_Dir(0, 0, 1)), 6, 7).Shape();
+  return BRepAlgoAPI_Cut(plate, hole).Shape();
+}
+
+}  // namespace
+
+TEST(CadFaceSurfaces, TopFaceSurfaceMaskAndFur) {
+  const Read r = readOk(writeBrep(plateWithHole(), "plate_hole.brep"));
+  std::vector<WireFurCadFace> faces;
+  ASSERT_EQ(wirefur_cad_face_surfaces(r.reader, &faces), r.reader->GetNumberOfMeshedFaces());
+  ASSERT_EQ(faces.size(), 7u);  // 6 planes and the hole's cylinder
+  // The top face: the one whose surface sits at z = 5 with its normal up.
+  const WireFurCadFace* top = nullptr;
+  for (const WireFurCadFace& f : faces) {
+    const wf::ParameterDomain d = f.surface->domain();
+    const wf::SurfaceFrame fr = f.surface->frame(0.5 * (d.u0 + d.u1), 0.5 * (d.v0 + d.v1));
+    if (std::abs(fr.P.z - 5.0) < 1e-9 && fr.N.z > 0.999) top = &f;
+  }
+  ASSERT_NE(top, nullptr);
+  const wf::ParameterDomain d = top->surface->domain();
+  // S(u, v) on the plane z = 5 everywhere in the domain (1e-12), normal exactly +z.
+  for (double s : {0.0, 0.3, 1.0})
+    for (double t : {0.0, 0.7, 1.0}) {
+      const glm::dvec2 uv = d.fromUnit(s, t);
+      const wf::SurfaceFrame fr = top->surface->frame(uv.x, uv.y);
+      EXPECT_NEAR(fr.P.z, 5.0, 1e-12);
+      EXPECT_NEAR(fr.N.z, 1.0, 1e-12);
+    }
+  // The mask: find (s, t) of the hole's centre and of a point near a corner of the plate by
+  // searching the domain for the (u, v) that lands there (a plane: S is affine in (u, v)).
+  auto stOf = [&](double x, double y) {
+    const wf::SurfacePoint o = top->surface->evaluate(d.u0, d.v0);
+    const glm::dvec3 a = o.Su, b = o.Sv, q(x - o.P.x, y - o.P.y, 0.0);
+    const double det = a.x * b.y - a.y * b.x;
+    const double u = (q.x * b.y - q.y * b.x) / det, v = (a.x * q.y - a.y * q.x) / det;
+    return d.toUnit(d.u0 + u, d.v0 + v);
+  };
+  EXPECT_EQ(top->inside->value(stOf(0, 0)), 0.0);     // the hole's centre
+  EXPECT_EQ(top->inside->value(stOf(0, 5.9)), 0.0);   // just inside the hole's rim
+  EXPECT_EQ(top->inside->value(stOf(0, 6.5)), 1.0);   // just outside it
+  EXPECT_EQ(top->inside->value(stOf(19, 14)), 1.0);   // near a corner of the plate
+
+  // Fur: area-correct, the mask as density map.
+  wf::FurParams p;
+  p.placement = wf::FurParams::Placement::AreaCorrect;
+  p.density = 20.0;  // per unit area: about 21,700 hairs expected
+  p.densityMap = top->inside;
+  p.length = 1.0;
+  p.lengthVariation = 0.0;
+  const wf::Fur fur = wf::growFur(*top->surface, p, std::uint32_t(top->faceId));
+  const double area = 40.0 * 30.0 - kPi * 36.0;
+  const double expected = p.density * area;
+  // Roots are placed by independent draws per cell: within 5 sigma of the expectation, plus
+  // what cells cut by the rim may miss (their weight bound is sampled).
+  EXPECT_NEAR(double(fur.hairs.polylineCount()), expected, 5 * std::sqrt(expected) + 0.01 * expected);
+  size_t inHole = 0, offPlate = 0, notOnTop = 0, notUp = 0;
+  for (size_t h = 0; h < fur.hairs.polylineCount(); ++h) {
+    const glm::dvec3 root = fur.hairs.points[fur.hairs.starts[h]], tip = fur.hairs.points[fur.hairs.starts[h + 1] - 1];
+    inHole += std::hypot(root.x, root.y) < 6.0 - 1e-9;
+    offPlate += std::abs(root.x) > 20 + 1e-9 || std::abs(root.y) > 15 + 1e-9;
+    notOnTop += std::abs(root.z - 5.0) > 1e-9;
+    notUp += std::abs(tip.z - root.z - 1.0) > 1e-9;  // straight out along +z, length 1
+  }
+  EXPECT_EQ(inHole, 0u);
+  EXPECT_EQ(offPlate, 0u);
+  EXPECT_EQ(notOnTop, 0u);
+  EXPECT_EQ(notUp, 0u);
+}
