@@ -24,6 +24,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -401,6 +402,9 @@ CadGeometry readCadInWorker(const std::string& path, const CadOptions& o) {
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);  // OpenCASCADE prints
+  // The worker's stderr carries its progress lines on a terminal; elsewhere it is silenced, so
+  // that what a dying worker prints (std::terminate's words) does not add to the one line.
+  if (!o.showProgress) posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
   pid_t pid = 0;
   const int spawned = posix_spawn(&pid, "/proc/self/exe", &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
@@ -423,6 +427,7 @@ CadGeometry readCadInWorker(const std::string& path, const CadOptions& o) {
   }
   if (WIFSIGNALED(status))
     throw UsageError(path + ": OpenCASCADE crashed reading this file (" + signalName(WTERMSIG(status)) +
+                     (WTERMSIG(status) == SIGKILL || WTERMSIG(status) == SIGABRT ? ", out of memory?" : "") +
                      "): it is corrupt, or uses something OpenCASCADE 7.6 cannot read");
   std::ifstream in(out, std::ios::binary);
   std::stringstream ss;
@@ -455,6 +460,18 @@ int runCadWorker(const std::vector<std::string>& a) {
     std::fprintf(stderr, "wirefur: cad-worker is internal (FILE OUT DEFLECTION ABSOLUTE ANGULAR ISOS THREADS PROGRESS)\n");
     return 1;
   }
+#if !defined(__SANITIZE_ADDRESS__)
+  // A memory cap: OpenCASCADE's mesher can be talked into allocating without end by one wrong
+  // digit (a parameter range of 1e14, found by fuzzing). Half the machine's memory, between 2 and
+  // 16 GiB of address space; the allocation then fails (or the worker dies) instead of the
+  // machine swapping. Not under AddressSanitizer, whose shadow memory needs the address space.
+  {
+    const double phys = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE));
+    const double cap = std::clamp(0.5 * phys, 2.0 * (1 << 30), 16.0 * (1 << 30));
+    const rlimit lim{rlim_t(cap), rlim_t(cap)};
+    setrlimit(RLIMIT_AS, &lim);
+  }
+#endif
   CadOptions o;
   o.deflection = std::strtod(a[2].c_str(), nullptr);
   o.absoluteDeflection = a[3] == "1";

@@ -1,0 +1,248 @@
+#!/usr/bin/env bash
+# Fuzzes the CAD reader for a bounded time (the ctest test cad_fuzz, LABELS fuzz).
+#
+#   run_fuzz.sh BUILD_DIR [CLANGXX] [CMAKE]
+#
+# 1. Configures and builds tests/fuzz/standalone with clang (libFuzzer, AddressSanitizer,
+#    UndefinedBehaviorSanitizer) into BUILD_DIR (incremental on a re-run).
+# 2. Writes the seed corpus with make_cad_seeds (OpenCASCADE + libzip, at run time) and lists
+#    what the reader makes of each seed (one that does not read is noted, not failed).
+# 3. Runs fuzz_cad_{step,iges,brep,fcstd} for WF_FUZZ_SECONDS each on a fresh copy of the seeds,
+#    with -rss_limit_mb=2048 -timeout=10. libFuzzer stops at a crash; it is started again on the
+#    grown corpus with the time left, so every target gets its full time and every crash,
+#    timeout and OOM is kept with its own report (BUILD_DIR/artifacts/<target>/, .log beside).
+# 4. Groups the failing inputs by where they fail and writes BUILD_DIR/findings.txt: per group a
+#    reproducer, the stack, and whether the faulting frame is in WireFur's code (vtk_filters/cad,
+#    src/surface, the harness's contract checks) or in a library (OpenCASCADE, libzip, pugixml,
+#    VTK).
+#
+# Exit status: 0 nothing found; 1 findings (see findings.txt); 2 the build failed; 77 skipped
+# (no clang++ or no libFuzzer: ctest reports the test as skipped).
+#
+# Environment:
+#   WF_FUZZ_SECONDS=20          fuzzing time per target
+#   WF_FUZZ_TARGETS="step iges brep fcstd"
+#   WF_FUZZ_JOBS=2              build parallelism
+#   WF_FUZZ_TIMEOUT=10          libFuzzer's -timeout (seconds per input)
+#   WF_FUZZ_STOP_AT_FIRST=0     1: stop each target at its first failing input
+#   WF_FUZZ_KEEP_CORPUS=0       1: keep BUILD_DIR/corpus/<target> between runs (grows coverage;
+#                               the initial pass over a large corpus is not bounded by the time)
+#   WF_FUZZ_FAIL_ON=all         ours: findings whose faulting frame is inside a library are
+#                               listed but do not fail the run
+#
+# Reproduce one input: BUILD_DIR/fuzz_cad_step BUILD_DIR/artifacts/step/crash-...
+# (or copy it to x.step and run the g++ build's reader on it).
+#
+# Leak checking is off (-detect_leaks=0): OpenCASCADE's data exchange initialises global
+# registries lazily (Interface_Static, IFSelect_Editor, TPrsStd_DriverTable), which
+# LeakSanitizer reports as direct leaks, and with OpenCASCADE uninstrumented (no frame
+# pointers) the stacks stop inside Standard_MMgrRaw::Allocate, so they cannot be told apart
+# from a leak per input. A leak per input shows as growing memory instead: run a kept input
+# with -runs=1000 and watch rss in libFuzzer's output.
+set -u
+
+if [[ $# -lt 1 ]]; then
+  echo "usage: $0 BUILD_DIR [CLANGXX] [CMAKE]" >&2
+  exit 2
+fi
+HERE=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+BUILD=$1
+CXX_IN=${2:-}
+CMAKE=${3:-cmake}
+SECONDS_PER_TARGET=${WF_FUZZ_SECONDS:-20}
+TARGETS=${WF_FUZZ_TARGETS:-step iges brep fcstd}
+JOBS=${WF_FUZZ_JOBS:-2}
+TIMEOUT=${WF_FUZZ_TIMEOUT:-10}
+STOP_AT_FIRST=${WF_FUZZ_STOP_AT_FIRST:-0}
+FUZZER_FAILED=0
+KEEP_CORPUS=${WF_FUZZ_KEEP_CORPUS:-0}
+FAIL_ON=${WF_FUZZ_FAIL_ON:-all}
+
+skip() {
+  echo "cad_fuzz: SKIPPED: $*"
+  exit 77
+}
+
+# --- clang and libFuzzer ---------------------------------------------------------------------
+CLANGXX=""
+for c in "$CXX_IN" clang++ clang++-16 clang++-15 clang++-14; do
+  [[ -n "$c" && "$c" != *NOTFOUND* ]] || continue
+  if command -v "$c" > /dev/null 2>&1; then
+    CLANGXX=$(command -v "$c")
+    break
+  fi
+done
+[[ -n "$CLANGXX" ]] || skip "no clang++ (Debian: apt install clang libclang-rt-dev)"
+mkdir -p "$BUILD" || exit 2
+BUILD=$(cd "$BUILD" && pwd)
+probe="$BUILD/probe"
+mkdir -p "$probe"
+printf '#include <cstddef>\n#include <cstdint>\nextern "C" int LLVMFuzzerTestOneInput(const uint8_t*, size_t) { return 0; }\n' > "$probe/probe.cpp"
+if ! "$CLANGXX" -fsanitize=fuzzer,address,undefined "$probe/probe.cpp" -o "$probe/probe" > "$probe/probe.log" 2>&1; then
+  cat "$probe/probe.log"
+  skip "$CLANGXX cannot link -fsanitize=fuzzer,address,undefined (Debian: apt install libclang-rt-14-dev)"
+fi
+echo "cad_fuzz: clang: $CLANGXX ($("$CLANGXX" --version | head -n 1))"
+
+# --- build -----------------------------------------------------------------------------------
+t0=$(date +%s)
+gen=()
+if [[ ! -f "$BUILD/CMakeCache.txt" ]] && command -v ninja > /dev/null 2>&1; then gen=(-G Ninja); fi
+if ! "$CMAKE" -S "$HERE/standalone" -B "$BUILD" "${gen[@]}" -DCMAKE_CXX_COMPILER="$CLANGXX" > "$BUILD/configure.log" 2>&1; then
+  cat "$BUILD/configure.log"
+  echo "cad_fuzz: FAILED: configuring $HERE/standalone"
+  exit 2
+fi
+if ! "$CMAKE" --build "$BUILD" -j "$JOBS" > "$BUILD/build.log" 2>&1; then
+  tail -n 60 "$BUILD/build.log"
+  echo "cad_fuzz: FAILED: building the fuzz targets"
+  exit 2
+fi
+echo "cad_fuzz: built in $(($(date +%s) - t0)) s (log: $BUILD/build.log)"
+
+# --- seeds -----------------------------------------------------------------------------------
+rm -rf "$BUILD/seeds"
+if ! "$BUILD/make_cad_seeds" "$BUILD/seeds"; then
+  echo "cad_fuzz: FAILED: make_cad_seeds"
+  exit 2
+fi
+
+export ASAN_OPTIONS="detect_leaks=0:handle_abort=1:symbolize=1:${WF_FUZZ_ASAN_OPTIONS:-}"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:${WF_FUZZ_UBSAN_OPTIONS:-}"
+
+# Every seed should read: one that does not is listed (a note, not a failure: the seeds are made
+# by this OpenCASCADE, so a seed that fails is a reader bug of its own, as the binary BREP was).
+seed_problems=0
+for t in $TARGETS; do
+  while IFS= read -r line; do
+    echo "cad_fuzz: seed $t: $line"
+    case "$line" in
+      *error:*) seed_problems=$((seed_problems + 1)) ;;
+    esac
+  done < <(WF_FUZZ_VERBOSE=1 "$BUILD/fuzz_cad_$t" -runs=0 "$BUILD/seeds/$t" 2>&1 | grep '^WF_FUZZ: [1-9]' | sort -u | sed 's/^WF_FUZZ: //')
+done
+
+# --- findings --------------------------------------------------------------------------------
+# A finding's signature: the harness's FINDING line; or the sanitizer's kind and faulting
+# function; or, for a timeout / OOM, the library call WireFur made that never came back. Ours
+# when the faulting frame (the innermost outside libFuzzer, the sanitizers and the C/C++
+# runtimes) is in WireFur's sources, or the harness found a broken contract.
+ROOT=$(cd "$HERE/../.." && pwd)
+fname() { sed -E 's/^ +#[0-9]+ 0x[0-9a-f]+ in //; s/\(.*//; s/ .*//' | cut -c1-120; }
+signature_of() {  # log -> "owner|signature"
+  local log=$1 sig stack frames owner="library" entry callee kind
+  stack=$(awk '/^ +#[0-9]+ 0x/ { s = 1; print; next } s { exit }' "$log")
+  frames=$(echo "$stack" | grep -vE ' in (fuzzer::|__sanitizer|__asan|__ubsan|__interceptor|__libc|_start|main |__GI_|abort|raise|std::terminate|__cxxabiv1|__cxa_|__dynamic_cast|__gnu_cxx::__verbose)|libc\.so|libstdc\+\+|compiler-rt| \(<unknown module>\)|^ +#[0-9]+ 0x[0-9a-f]+ +\(' |
+           grep -vE '/fuzz_cad_[a-z]+\+0x' || true)
+  if grep -q 'WIREFUR-CAD-FUZZ== FINDING' "$log"; then
+    sig=$(grep -m1 'FINDING:' "$log" | sed -E 's/.*FINDING: //; s/[0-9]+(\.[0-9]+)?/N/g' | cut -c1-160)
+    owner="ours"
+  elif grep -q 'ERROR: libFuzzer: ' "$log"; then
+    kind=$(grep -m1 'ERROR: libFuzzer: ' "$log" | sed -E 's/.*ERROR: libFuzzer: //; s/ (after|\().*//')
+    entry=$(echo "$frames" | grep -n -m1 -F "$ROOT/" | cut -d: -f1)
+    if [[ -n "$entry" && "$entry" -gt 1 ]]; then
+      callee=$(echo "$frames" | sed -n "$((entry - 1))p" | fname)
+      sig="$kind in $callee (called from $(echo "$frames" | sed -n "${entry}p" | fname))"
+    else
+      sig="$kind in $(echo "$frames" | head -n 1 | fname)"
+    fi
+  elif grep -q '^SUMMARY: ' "$log"; then
+    sig=$(grep -m1 '^SUMMARY: ' "$log" | sed -E 's/^SUMMARY: [A-Za-z]+Sanitizer: //; s/ \(BuildId: [0-9a-f]+\)//; s/\(\/[^)]*\+0x[0-9a-f]+\)//; s/ +/ /g' | cut -c1-200)
+  else
+    sig="$(grep -m1 -E 'ERROR|deadly signal' "$log" | cut -c1-120) (no report)"
+  fi
+  if echo "$frames" | head -n 1 | grep -qF "$ROOT/"; then owner="ours"; fi
+  echo "$owner|$sig"
+}
+
+# --- fuzz ------------------------------------------------------------------------------------
+# libFuzzer stops at the first crash; it is started again on the grown corpus with the time
+# left, so that every target gets its full time and every crash is kept with its own report.
+declare -A EXECS RATE KEPT RUNS GROUP_COUNT GROUP_EXAMPLE GROUP_OWNER GROUP_TARGET GROUP_LOG
+for t in $TARGETS; do
+  corpus="$BUILD/corpus/$t"
+  art="$BUILD/artifacts/$t"
+  logs="$BUILD/logs/$t"
+  [[ "$KEEP_CORPUS" == 1 ]] || rm -rf "$corpus"
+  rm -rf "$art" "$logs"
+  mkdir -p "$corpus" "$art" "$logs"
+  cp -n "$BUILD/seeds/$t"/* "$corpus"/ 2> /dev/null
+  echo "cad_fuzz: fuzzing $t for ${SECONDS_PER_TARGET} s ..."
+  start=$(date +%s.%N)
+  deadline=$(($(date +%s) + SECONDS_PER_TARGET))
+  n=0
+  k=0
+  while :; do
+    left=$((deadline - $(date +%s)))
+    [[ $left -ge 1 ]] || break
+    k=$((k + 1))
+    log="$logs/run-$k.log"
+    # A hard stop well past the time asked for: the initial pass over the corpus is not bounded.
+    timeout --signal=KILL $((left * 2 + 60)) "$BUILD/fuzz_cad_$t" -max_total_time="$left" -rss_limit_mb=2048 -timeout="$TIMEOUT" \
+      -close_fd_mask=1 -detect_leaks=0 -print_final_stats=1 -dict="$HERE/$t.dict" -artifact_prefix="$art/" "$corpus" > "$log" 2>&1
+    rc=$?
+    e=$(grep -E '^stat::number_of_executed_units:' "$log" | tail -n 1 | awk '{print $2}')
+    n=$((n + ${e:-0}))
+    unit=$(grep -m1 -oE 'Test unit written to [^ ]+' "$log" | sed 's/Test unit written to //')
+    if [[ -n "$unit" && -f "$unit" ]]; then
+      cp "$log" "$unit.log"
+      r=$(signature_of "$log")
+      owner=${r%%|*}
+      sig="$t: ${r#*|}"
+      if [[ -z "${GROUP_COUNT[$sig]:-}" ]]; then
+        GROUP_COUNT[$sig]=0
+        GROUP_EXAMPLE[$sig]=$unit
+        GROUP_OWNER[$sig]=$owner
+        GROUP_TARGET[$sig]=$t
+      fi
+      GROUP_COUNT[$sig]=$((GROUP_COUNT[$sig] + 1))
+      [[ "$STOP_AT_FIRST" == 1 ]] && break
+    elif [[ $rc -ne 0 ]]; then
+      echo "cad_fuzz: $t: libFuzzer exited with $rc and kept no input (log $log):"
+      tail -n 20 "$log"
+      FUZZER_FAILED=1
+      break
+    fi
+  done
+  elapsed=$(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
+  EXECS[$t]=$n
+  RUNS[$t]=$k
+  RATE[$t]=$(awk -v n="$n" -v s="$elapsed" 'BEGIN { printf "%.1f", (s > 0 ? n / s : 0) }')
+  KEPT[$t]=$(find "$art" -maxdepth 1 -type f ! -name '*.log' | wc -l)
+  echo "cad_fuzz: $t: ${EXECS[$t]} executions in ${elapsed} s (${RATE[$t]}/s), ${RUNS[$t]} libFuzzer runs, $(ls "$corpus" | wc -l) corpus inputs, ${KEPT[$t]} failing inputs kept"
+done
+
+findings="$BUILD/findings.txt"
+: > "$findings"
+ours_total=0
+libs_total=0
+for sig in "${!GROUP_COUNT[@]}"; do
+  ex=${GROUP_EXAMPLE[$sig]}
+  {
+    echo "=== [${GROUP_OWNER[$sig]}] $sig"
+    echo "    inputs: ${GROUP_COUNT[$sig]}; reproducer: $ex ($(stat -c %s "$ex") bytes)"
+    echo "    reproduce: $BUILD/fuzz_cad_${GROUP_TARGET[$sig]} $ex"
+    grep -E 'FINDING|^==[0-9]+==ERROR|^==[0-9]+== ERROR|runtime error' "$ex.log" | head -n 2 | sed 's/^/    /'
+    awk '/^ +#[0-9]+ 0x/ { s = 1; print; next } s { exit }' "$ex.log" | head -n 16 | sed -E 's/ \(BuildId: [0-9a-f]+\)//; s/^ +/      /' | cut -c1-220
+    echo
+  } >> "$findings"
+  if [[ ${GROUP_OWNER[$sig]} == ours ]]; then ours_total=$((ours_total + 1)); else libs_total=$((libs_total + 1)); fi
+done
+
+# --- summary ---------------------------------------------------------------------------------
+echo
+echo "cad_fuzz: summary (${SECONDS_PER_TARGET} s per target, -timeout=${TIMEOUT})"
+for t in $TARGETS; do
+  echo "  $t: ${EXECS[$t]} executions, ${RATE[$t]}/s, ${RUNS[$t]} libFuzzer runs, ${KEPT[$t]} failing inputs (logs $BUILD/logs/$t)"
+done
+if [[ -s "$findings" ]]; then
+  echo
+  echo "cad_fuzz: $((ours_total + libs_total)) distinct findings ($ours_total in WireFur's code, $libs_total in libraries); $findings:"
+  echo
+  cat "$findings"
+fi
+[[ $seed_problems -gt 0 ]] && echo "cad_fuzz: note: $seed_problems seed(s) did not read (see the seed lines above)"
+if [[ $ours_total -gt 0 || $FUZZER_FAILED -ne 0 ]]; then exit 1; fi
+if [[ $libs_total -gt 0 && "$FAIL_ON" != ours ]]; then exit 1; fi
+echo "cad_fuzz: no findings"
+exit 0
