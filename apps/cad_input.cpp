@@ -17,6 +17,7 @@
 
 #ifdef WIREFUR_CAD_LIBRARY
 #include "vtkWireFurCADReader.h"
+#include "wf_cad_mesh.h"
 #include "wf_cad_plugin.h"
 #include <dlfcn.h>
 #endif
@@ -167,47 +168,10 @@ CadGeometry readCadInProcess(const std::string& path, const CadOptions& o, bool 
   for (int p = 0; p < reader->GetNumberOfParts(); ++p) out.partNames.push_back(reader->GetPartName(p));
   out.warning = reader->GetWarningMessage();
 
-  vtkPolyData* faces = reader->GetOutput(0);
-  wf::TriangleMesh& m = out.geometry.mesh;
-  const vtkIdType np = faces->GetNumberOfPoints();
-  vtkDataArray* normals = faces->GetPointData()->GetNormals();
-  vtkDataArray* su = faces->GetPointData()->GetArray("Su");
-  vtkDataArray* sv = faces->GetPointData()->GetArray("Sv");
-  vtkDataArray* uv = faces->GetPointData()->GetTCoords();
-  vtkUnsignedCharArray* rgb = vtkUnsignedCharArray::SafeDownCast(faces->GetPointData()->GetArray("Colors"));
-  if (np > 0 && (!normals || !su || !sv || !uv || !rgb)) throw std::runtime_error(path + ": the CAD reader left out its point arrays");
-  m.positions.resize(size_t(np));
-  m.normals.resize(size_t(np));
-  m.derivU.resize(size_t(np));
-  m.derivV.resize(size_t(np));
-  m.uvs.resize(size_t(np));
-  m.colours.resize(size_t(np));
-  for (vtkIdType i = 0; i < np; ++i) {
-    double t[3];
-    faces->GetPoint(i, t);
-    m.positions[size_t(i)] = {t[0], t[1], t[2]};
-    normals->GetTuple(i, t);
-    m.normals[size_t(i)] = {t[0], t[1], t[2]};
-    su->GetTuple(i, t);
-    m.derivU[size_t(i)] = {t[0], t[1], t[2]};
-    sv->GetTuple(i, t);
-    m.derivV[size_t(i)] = {t[0], t[1], t[2]};
-    uv->GetTuple(i, t);
-    m.uvs[size_t(i)] = {t[0], t[1]};
-    m.colours[size_t(i)] = {wf::srgbToLinear(float(rgb->GetValue(3 * i)) / 255.0f), wf::srgbToLinear(float(rgb->GetValue(3 * i + 1)) / 255.0f),
-                            wf::srgbToLinear(float(rgb->GetValue(3 * i + 2)) / 255.0f)};
-  }
-  vtkDataArray* facePart = faces->GetCellData()->GetArray("PartId");
-  vtkIdType cell = 0;
-  {
-    vtkCellArray* polys = faces->GetPolys();
-    vtkNew<vtkIdList> ids;
-    m.triangles.reserve(size_t(polys->GetNumberOfCells()));
-    for (polys->InitTraversal(); polys->GetNextCell(ids); ++cell)
-      if (ids->GetNumberOfIds() == 3) {
-        m.triangles.emplace_back(std::uint32_t(ids->GetId(0)), std::uint32_t(ids->GetId(1)), std::uint32_t(ids->GetId(2)));
-        out.trianglePart.push_back(facePart ? int(facePart->GetTuple1(cell)) : 0);
-      }
+  try {
+    out.geometry.mesh = wfcad::facesToMesh(reader->GetOutput(0), &out.trianglePart);
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(path + ": " + e.what());
   }
 
   vtkPolyData* edges = reader->GetOutput(1);
@@ -216,7 +180,7 @@ CadGeometry readCadInProcess(const std::string& path, const CadOptions& o, bool 
   {
     vtkCellArray* lines = edges->GetLines();
     vtkNew<vtkIdList> ids;
-    cell = 0;
+    vtkIdType cell = 0;
     for (lines->InitTraversal(); lines->GetNextCell(ids); ++cell) {
       std::vector<glm::dvec3> line;
       for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k) {

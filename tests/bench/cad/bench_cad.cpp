@@ -33,6 +33,7 @@
 #include "core/srgb.h"
 
 #include "vtkWireFurCADReader.h"
+#include "wf_cad_mesh.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -203,48 +204,10 @@ wf::Scene toScene(vtkWireFurCADReader* reader) {
   wire.phong = {glm::dvec3(0.6, 0.3, 0.1), glm::dvec3(0.9), 40.0};
   s.materials = {wf::Material{}, part, wire};
 
-  vtkPolyData* faces = reader->GetOutput(0);
-  const vtkIdType np = faces->GetNumberOfPoints();
-  vtkDataArray* normals = faces->GetPointData()->GetNormals();
-  vtkDataArray* su = faces->GetPointData()->GetArray("Su");
-  vtkDataArray* sv = faces->GetPointData()->GetArray("Sv");
-  vtkDataArray* uv = faces->GetPointData()->GetTCoords();
-  vtkUnsignedCharArray* rgb = vtkUnsignedCharArray::SafeDownCast(faces->GetPointData()->GetArray("Colors"));
-  if (np > 0 && (!normals || !su || !sv || !uv || !rgb)) throw std::runtime_error("bench_cad: the reader left out its point arrays");
   wf::SceneSurface surface;
   surface.name = "blocks";
   surface.material = 1;
-  wf::TriangleMesh& m = surface.mesh;
-  m.positions.resize(size_t(np));
-  m.normals.resize(size_t(np));
-  m.derivU.resize(size_t(np));
-  m.derivV.resize(size_t(np));
-  m.uvs.resize(size_t(np));
-  m.colours.resize(size_t(np));
-  for (vtkIdType i = 0; i < np; ++i) {
-    double t[3];
-    faces->GetPoint(i, t);
-    m.positions[size_t(i)] = {t[0], t[1], t[2]};
-    normals->GetTuple(i, t);
-    m.normals[size_t(i)] = {t[0], t[1], t[2]};
-    su->GetTuple(i, t);
-    m.derivU[size_t(i)] = {t[0], t[1], t[2]};
-    sv->GetTuple(i, t);
-    m.derivV[size_t(i)] = {t[0], t[1], t[2]};
-    uv->GetTuple(i, t);
-    m.uvs[size_t(i)] = {t[0], t[1]};
-    const unsigned char* c = rgb->GetPointer(3 * i);
-    m.colours[size_t(i)] = {wf::srgbToLinear(float(c[0]) / 255.0f), wf::srgbToLinear(float(c[1]) / 255.0f),
-                            wf::srgbToLinear(float(c[2]) / 255.0f)};
-  }
-  {
-    vtkCellArray* polys = faces->GetPolys();
-    vtkNew<vtkIdList> ids;
-    m.triangles.reserve(size_t(polys->GetNumberOfCells()));
-    for (polys->InitTraversal(); polys->GetNextCell(ids);)
-      if (ids->GetNumberOfIds() == 3)
-        m.triangles.emplace_back(std::uint32_t(ids->GetId(0)), std::uint32_t(ids->GetId(1)), std::uint32_t(ids->GetId(2)));
-  }
+  surface.mesh = wfcad::facesToMesh(reader->GetOutput(0));
   s.surfaces.push_back(std::move(surface));
 
   vtkPolyData* edges = reader->GetOutput(1);

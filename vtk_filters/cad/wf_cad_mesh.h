@@ -1,0 +1,69 @@
+// The faces output of vtkWireFurCADReader (port 0) as the core's TriangleMesh: positions,
+// normals, Su and Sv (derivU, derivV), (u, v) and the colours (sRGB bytes to linear), with the
+// part of every triangle. Header-only (VTK and the core, no OpenCASCADE), shared by the wirefur
+// command and the CAD benchmark. Throws std::runtime_error when the arrays are missing.
+#pragma once
+
+#include "core/srgb.h"
+#include "render/scene.h"
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkIdList.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkUnsignedCharArray.h>
+
+#include <stdexcept>
+#include <vector>
+
+namespace wfcad {
+
+inline wf::TriangleMesh facesToMesh(vtkPolyData* faces, std::vector<int>* trianglePart = nullptr) {
+  wf::TriangleMesh m;
+  const vtkIdType np = faces->GetNumberOfPoints();
+  vtkDataArray* normals = faces->GetPointData()->GetNormals();
+  vtkDataArray* su = faces->GetPointData()->GetArray("Su");
+  vtkDataArray* sv = faces->GetPointData()->GetArray("Sv");
+  vtkDataArray* uv = faces->GetPointData()->GetTCoords();
+  vtkUnsignedCharArray* rgb = vtkUnsignedCharArray::SafeDownCast(faces->GetPointData()->GetArray("Colors"));
+  if (np > 0 && (!normals || !su || !sv || !uv || !rgb || rgb->GetNumberOfComponents() != 3))
+    throw std::runtime_error("the CAD reader's faces lack their point arrays");
+  m.positions.resize(size_t(np));
+  m.normals.resize(size_t(np));
+  m.derivU.resize(size_t(np));
+  m.derivV.resize(size_t(np));
+  m.uvs.resize(size_t(np));
+  m.colours.resize(size_t(np));
+  for (vtkIdType i = 0; i < np; ++i) {
+    double t[3];
+    faces->GetPoint(i, t);
+    m.positions[size_t(i)] = {t[0], t[1], t[2]};
+    normals->GetTuple(i, t);
+    m.normals[size_t(i)] = {t[0], t[1], t[2]};
+    su->GetTuple(i, t);
+    m.derivU[size_t(i)] = {t[0], t[1], t[2]};
+    sv->GetTuple(i, t);
+    m.derivV[size_t(i)] = {t[0], t[1], t[2]};
+    uv->GetTuple(i, t);
+    m.uvs[size_t(i)] = {t[0], t[1]};
+    const unsigned char* c = rgb->GetPointer(3 * i);
+    m.colours[size_t(i)] = {wf::srgbToLinear(float(c[0]) / 255.0f), wf::srgbToLinear(float(c[1]) / 255.0f),
+                            wf::srgbToLinear(float(c[2]) / 255.0f)};
+  }
+  vtkDataArray* part = faces->GetCellData()->GetArray("PartId");
+  vtkCellArray* polys = faces->GetPolys();
+  vtkNew<vtkIdList> ids;
+  m.triangles.reserve(size_t(polys->GetNumberOfCells()));
+  vtkIdType cell = 0;
+  for (polys->InitTraversal(); polys->GetNextCell(ids); ++cell)
+    if (ids->GetNumberOfIds() == 3) {
+      m.triangles.emplace_back(std::uint32_t(ids->GetId(0)), std::uint32_t(ids->GetId(1)), std::uint32_t(ids->GetId(2)));
+      if (trianglePart) trianglePart->push_back(part ? int(part->GetTuple1(cell)) : 0);
+    }
+  return m;
+}
+
+}  // namespace wfcad
