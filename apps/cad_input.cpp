@@ -397,9 +397,12 @@ CadGeometry readCadInWorker(const std::string& path, const CadOptions& o) {
   std::stringstream ss;
   ss << in.rdbuf();
   const std::string bytes = ss.str();
+  // No result at all: the worker died inside OpenCASCADE without a signal reaching us (a
+  // sanitizer's handler, for one, turns the crash into an exit status).
   if (bytes.size() < sizeof kBlobMagic || std::memcmp(bytes.data(), kBlobMagic, sizeof kBlobMagic) != 0)
-    throw std::runtime_error(path + ": the CAD worker stopped with status " + std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) +
-                             " and no result");
+    throw UsageError(path + ": OpenCASCADE crashed reading this file (the worker stopped with status " +
+                     std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) +
+                     " and no result): it is corrupt, or uses something OpenCASCADE 7.6 cannot read");
   const std::string body = bytes.substr(sizeof kBlobMagic);
   BlobReader r(body);
   const std::uint8_t kind = r.pod<std::uint8_t>();
@@ -443,9 +446,11 @@ int runCadWorker(const std::vector<std::string>& a) {
   o.isos = std::atoi(a[5].c_str());
   o.threads = std::atoi(a[6].c_str());
   o.showProgress = a[7] == "1";
-  std::ofstream out(a[1], std::ios::binary | std::ios::trunc);
-  out.write(kBlobMagic, sizeof kBlobMagic);
-  BlobWriter w(out);
+  // The result is made in memory and written at the end: a worker that dies on the way leaves
+  // the file empty, which the command reads as a crash.
+  std::ostringstream buffer(std::ios::binary);
+  buffer.write(kBlobMagic, sizeof kBlobMagic);
+  BlobWriter w(buffer);
   int status = 0;
   try {
     const CadGeometry g = readCadInProcess(a[0], o, false);
@@ -460,6 +465,9 @@ int runCadWorker(const std::vector<std::string>& a) {
     w.str(e.what());
     status = 1;
   }
+  std::ofstream out(a[1], std::ios::binary | std::ios::trunc);
+  const std::string bytes = buffer.str();
+  out.write(bytes.data(), std::streamsize(bytes.size()));
   out.close();
   return out ? status : 1;
 }

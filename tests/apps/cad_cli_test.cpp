@@ -175,10 +175,10 @@ TEST(CadCli, FuzzFindings) {
     int status;
     std::string expect;
   } cases[] = {
-      {"step_segv_cartesianpoint.step", 2, "OpenCASCADE crashed reading this file (signal 11"},
-      {"iges_segv_face_nbloops.iges", 2, "OpenCASCADE crashed reading this file (signal 11"},
-      {"brep_segv_in_mesher.brep", 2, "OpenCASCADE crashed reading this file (signal 11"},
-      {"fcstd_segv_trimmed_curve.FCStd", 2, "OpenCASCADE crashed reading this file (signal 11"},
+      {"step_segv_cartesianpoint.step", 2, "OpenCASCADE crashed reading this file ("},
+      {"iges_segv_face_nbloops.iges", 2, "OpenCASCADE crashed reading this file ("},
+      {"brep_segv_in_mesher.brep", 2, "OpenCASCADE crashed reading this file ("},
+      {"fcstd_segv_trimmed_curve.FCStd", 2, "OpenCASCADE crashed reading this file ("},
       {"brep_hang_one_char_mutation.brep", 2, "corrupt BREP"},
       {"fcstd_lying_size_2GiB_allocation.FCStd", 2, "truncated entry"},
       {"fcstd_container_fanout_hang.FCStd", 0, ""},

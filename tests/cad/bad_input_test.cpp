@@ -213,7 +213,8 @@ TEST(CadBadInput, RandomBytesFcstd) {
 
 // A PNG (signature, IHDR chunk, then bytes) named .step.
 TEST(CadBadInput, PngNamedStep) {
-  std::string png("\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR\0\0\0\x10\0\0\0\x10\x08\x02\0\0\0", 33);
+  const char header[] = "\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR\0\0\0\x10\0\0\0\x10\x08\x02\0\0\0";
+  std::string png(header, sizeof header - 1);  // 29 bytes: the literal, without its terminator
   png += randomBytes(1000, 5);
   const std::string p = tempPath("picture.step");
   writeBytes(p, png);
