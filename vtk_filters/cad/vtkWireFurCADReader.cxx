@@ -31,6 +31,7 @@
 #include <Message_ProgressIndicator.hxx>
 #include <Message_ProgressScope.hxx>
 #include <Poly_Polygon3D.hxx>
+#include <Precision.hxx>
 #include <Poly_PolygonOnTriangulation.hxx>
 #include <Poly_Triangulation.hxx>
 #include <Prs3d_Drawer.hxx>
@@ -486,7 +487,10 @@ int vtkWireFurCADReader::RequestData(vtkInformation*, vtkInformationVector**, vt
   if (in.modelSize <= 0.0)
     in.modelSize = 1.0;
   const double linear = this->RelativeDeflection ? this->LinearDeflection * in.modelSize : this->LinearDeflection;
-  in.appliedDeflection = std::max(linear, in.modelSize * 1e-9);
+  // OpenCASCADE's tolerances are absolute: its mesher fails below Precision::Confusion (1e-7),
+  // which a model of a few micrometres at the relative default asks for. Such a model meshes at
+  // 1e-7, with the angular deflection still bounding curved faces.
+  in.appliedDeflection = std::max({ linear, in.modelSize * 1e-9, Precision::Confusion() });
   const double angular = this->AngularDeflection;
 
   // Mesh each distinct shape once (instances share their faces' triangulations), dropping any
