@@ -16,7 +16,7 @@ namespace {
 glm::dvec3 toGlm(const gp_XYZ& p) { return {p.X(), p.Y(), p.Z()}; }
 }  // namespace
 
-FaceSurface::FaceSurface(const TopoDS_Face& face) : adaptor_(face, Standard_False) {
+FaceSurface::FaceSurface(const TopoDS_Face& face) : face_(face), adaptor_(face, Standard_False) {
   double u0 = 0, u1 = 1, v0 = 0, v1 = 1;
   BRepTools::UVBounds(face, u0, u1, v0, v1);
   if (!(std::isfinite(u0) && std::isfinite(u1) && u1 >= u0)) u0 = adaptor_.FirstUParameter(), u1 = adaptor_.LastUParameter();
@@ -41,12 +41,11 @@ wf::SurfacePoint FaceSurface::evaluate(double u, double v) const {
   }
   u = std::clamp(u, domain_.u0, domain_.u1);
   v = std::clamp(v, domain_.v0, domain_.v1);
+  std::unique_ptr<BRepAdaptor_Surface>& mine = perThread_.local();
+  if (!mine) mine = std::make_unique<BRepAdaptor_Surface>(face_, Standard_False);
   gp_Pnt p;
   gp_Vec du, dv;
-  {
-    std::lock_guard<std::mutex> guard(lock_);
-    adaptor_.D1(u, v, p, du, dv);
-  }
+  mine->D1(u, v, p, du, dv);
   s.P = toGlm(p.XYZ());
   s.Su = toGlm(du.XYZ());
   s.Sv = toGlm(dv.XYZ());
@@ -61,13 +60,14 @@ std::string FaceSurface::describe() const {
 }
 
 FaceMask::FaceMask(const TopoDS_Face& face, const wf::ParameterDomain& domain)
-    : classifier_(face, 1e-9 * std::max({1.0, std::abs(domain.du()), std::abs(domain.dv())})), domain_(domain) {}
+    : face_(face), tolerance_(1e-9 * std::max({1.0, std::abs(domain.du()), std::abs(domain.dv())})), domain_(domain) {}
 
 double FaceMask::value(const glm::dvec2& st) const {
   if (!std::isfinite(st.x) || !std::isfinite(st.y)) return 0.0;
   const glm::dvec2 uv = domain_.fromUnit(std::clamp(st.x, 0.0, 1.0), std::clamp(st.y, 0.0, 1.0));
-  std::lock_guard<std::mutex> guard(lock_);
-  const TopAbs_State s = classifier_.Perform(gp_Pnt2d(uv.x, uv.y));
+  std::unique_ptr<BRepTopAdaptor_FClass2d>& mine = perThread_.local();
+  if (!mine) mine = std::make_unique<BRepTopAdaptor_FClass2d>(face_, tolerance_);
+  const TopAbs_State s = mine->Perform(gp_Pnt2d(uv.x, uv.y));
   return s == TopAbs_IN || s == TopAbs_ON ? 1.0 : 0.0;
 }
 

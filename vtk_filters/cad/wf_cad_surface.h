@@ -12,7 +12,9 @@
 #include <BRepAdaptor_Surface.hxx>
 #include <TopoDS_Face.hxx>
 
-#include <mutex>
+#include <tbb/enumerable_thread_specific.h>
+
+#include <memory>
 
 namespace wfcad {
 
@@ -20,22 +22,24 @@ class FaceSurface final : public wf::Surface {
  public:
   explicit FaceSurface(const TopoDS_Face& face);
   wf::ParameterDomain domain() const override { return domain_; }
-  /// Clamped to the face's (u, v) bounds. Serialised by a lock: OpenCASCADE's B-spline
-  /// evaluation keeps a cache in the adaptor, so concurrent calls on one face must not overlap.
+  /// Clamped to the face's (u, v) bounds. Each thread evaluates through an adaptor of its own
+  /// (made on its first call): OpenCASCADE's B-spline evaluation keeps a cache in the adaptor, so
+  /// one adaptor must not serve two threads at once.
   wf::SurfacePoint evaluate(double u, double v) const override;
   std::string describe() const override;
   double normalSign() const override { return sign_; }
 
  private:
-  BRepAdaptor_Surface adaptor_;
+  TopoDS_Face face_;
+  BRepAdaptor_Surface adaptor_;  // for the constructor's questions and describe()
   wf::ParameterDomain domain_;
   double sign_ = 1.0;
-  mutable std::mutex lock_;
+  mutable tbb::enumerable_thread_specific<std::unique_ptr<BRepAdaptor_Surface>> perThread_;
 };
 
 /// A face's trimming as a texture over its unit (s, t) square (the FaceSurface's domain): 1 where
-/// (u, v) is on the face (inside its wires, or on them), 0 where trimmed away. Serialised like
-/// FaceSurface. Its gradient is 0 (a mask, not a height).
+/// (u, v) is on the face (inside its wires, or on them), 0 where trimmed away. A classifier per
+/// thread, like FaceSurface's adaptors. Its gradient is 0 (a mask, not a height).
 class FaceMask final : public wf::ScalarTexture {
  public:
   FaceMask(const TopoDS_Face& face, const wf::ParameterDomain& domain);
@@ -44,9 +48,10 @@ class FaceMask final : public wf::ScalarTexture {
   std::string describe() const override { return "CAD face trimming mask"; }
 
  private:
-  BRepTopAdaptor_FClass2d classifier_;
+  TopoDS_Face face_;
+  double tolerance_;
   wf::ParameterDomain domain_;
-  mutable std::mutex lock_;
+  mutable tbb::enumerable_thread_specific<std::unique_ptr<BRepTopAdaptor_FClass2d>> perThread_;
 };
 
 }  // namespace wfcad
