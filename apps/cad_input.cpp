@@ -161,9 +161,7 @@ CadGeometry readCadInProcess(const std::string& path, const CadOptions& o, bool 
   CadGeometry out;
   if (withSurfaces) {
     if (!facesFunction) throw std::runtime_error("the CAD module has no entry point wirefur_cad_face_surfaces");
-    std::vector<WireFurCadFace> faces;
-    facesFunction(reader, &faces);
-    for (WireFurCadFace& f : faces) out.faces.push_back({std::move(f.surface), std::move(f.inside), f.faceId, f.part});
+    facesFunction(reader, &out.faces);
   }
   for (int p = 0; p < reader->GetNumberOfParts(); ++p) out.partNames.push_back(reader->GetPartName(p));
   out.warning = reader->GetWarningMessage();
@@ -174,29 +172,8 @@ CadGeometry readCadInProcess(const std::string& path, const CadOptions& o, bool 
     throw std::runtime_error(path + ": " + e.what());
   }
 
-  vtkPolyData* edges = reader->GetOutput(1);
-  vtkDataArray* kind = edges->GetCellData()->GetArray("Kind");
-  vtkDataArray* edgePart = edges->GetCellData()->GetArray("PartId");
-  {
-    vtkCellArray* lines = edges->GetLines();
-    vtkNew<vtkIdList> ids;
-    vtkIdType cell = 0;
-    for (lines->InitTraversal(); lines->GetNextCell(ids); ++cell) {
-      std::vector<glm::dvec3> line;
-      for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k) {
-        double p[3];
-        edges->GetPoint(ids->GetId(k), p);
-        line.emplace_back(p[0], p[1], p[2]);
-      }
-      const int k = kind ? int(kind->GetTuple1(cell)) : 0;
-      if (k == 0) {
-        out.geometry.lines.add(line);
-        out.edgePart.push_back(edgePart ? int(edgePart->GetTuple1(cell)) : 0);
-      } else {
-        out.isoLines.add(line);
-      }
-    }
-  }
+  out.geometry.lines = wfcad::edgesToPolylines(reader->GetOutput(1), false);
+  out.isoLines = wfcad::edgesToPolylines(reader->GetOutput(1), true);
   out.info = {{"file", path},
               {"parts", reader->GetNumberOfParts()},
               {"faces", reader->GetNumberOfFaces()},
@@ -296,7 +273,7 @@ void writeGeometry(BlobWriter& w, const CadGeometry& g) {
   const wf::TriangleMesh& m = g.geometry.mesh;
   w.vec(m.positions), w.vec(m.normals), w.vec(m.derivU), w.vec(m.derivV), w.vec(m.uvs), w.vec(m.colours), w.vec(m.triangles);
   w.vec(g.trianglePart);
-  w.vec(g.geometry.lines.points), w.vec(g.geometry.lines.starts), w.vec(g.edgePart);
+  w.vec(g.geometry.lines.points), w.vec(g.geometry.lines.starts);
   w.vec(g.isoLines.points), w.vec(g.isoLines.starts);
   w.pod(std::uint64_t(g.partNames.size()));
   for (const std::string& n : g.partNames) w.str(n);
@@ -317,7 +294,6 @@ CadGeometry readGeometry(BlobReader& r) {
   g.trianglePart = r.vec<int>();
   g.geometry.lines.points = r.vec<glm::dvec3>();
   g.geometry.lines.starts = r.vec<std::uint32_t>();
-  g.edgePart = r.vec<int>();
   g.isoLines.points = r.vec<glm::dvec3>();
   g.isoLines.starts = r.vec<std::uint32_t>();
   const std::uint64_t parts = r.pod<std::uint64_t>();
@@ -506,7 +482,7 @@ void growCadFur(const CadGeometry& cad, SceneFile& sf) {
   p.seed = 7;
   double pointsLeft = 8388608.0;
   const auto t0 = std::chrono::steady_clock::now();
-  for (const CadFaceSurface& f : cad.faces) {
+  for (const WireFurCadFace& f : cad.faces) {
     wf::FurParams q = p;
     q.densityMap = f.inside;
     q.maxPoints = std::max(0.0, pointsLeft);

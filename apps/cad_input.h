@@ -7,8 +7,7 @@
 #include "mesh_io.h"
 #include "scene_file.h"
 
-#include "surface/surface.h"
-#include "texture/texture.h"
+#include "wf_cad_plugin.h"  // vtk_filters/cad: the exact faces' type (no OpenCASCADE in it)
 
 #include <nlohmann/json.hpp>
 
@@ -26,14 +25,6 @@ bool isCadFile(const std::string& path);
 /// false when args[i] is not one. Throws UsageError for a bad value.
 bool parseCadOption(const std::vector<std::string>& args, size_t& i, CadOptions& options);
 
-/// One face of a CAD file as the core's surface concept, with its trimming as a 0 / 1 mask over
-/// the face's unit (s, t) square (growth's density map), so generators grow on the face only.
-struct CadFaceSurface {
-  std::shared_ptr<const wf::Surface> surface;
-  std::shared_ptr<const wf::ScalarTexture> inside;
-  int faceId = 0, part = 0;
-};
-
 /// What a CAD file gives: the faces as one mesh with exact (u, v), Su, Sv and normals and the
 /// file's colours; the edges (lines) and iso lines as polylines; per-triangle part index.
 struct CadGeometry {
@@ -41,10 +32,11 @@ struct CadGeometry {
   wf::PolylineSet isoLines;
   std::vector<std::string> partNames;
   std::vector<int> trianglePart;       ///< part of each triangle of geometry.mesh
-  std::vector<int> edgePart;           ///< part of each edge polyline
   nlohmann::ordered_json info;         ///< counts, deflection, seconds (for --stats)
   std::string warning;                 ///< faces skipped, or empty
-  std::vector<CadFaceSurface> faces;   ///< the exact faces, when asked for (readCad's withSurfaces)
+  /// The exact faces with their trimming masks (wf_cad_plugin.h), when asked for (readCad's
+  /// withSurfaces).
+  std::vector<WireFurCadFace> faces;
 };
 
 /// Reads a CAD file, in a worker process of its own unless options.isolate is off (OpenCASCADE

@@ -1,6 +1,6 @@
-// The faces output of vtkWireFurCADReader (port 0) as the core's TriangleMesh: positions,
-// normals, Su and Sv (derivU, derivV), (u, v) and the colours (sRGB bytes to linear), with the
-// part of every triangle. Header-only (VTK and the core, no OpenCASCADE), shared by the wirefur
+// The outputs of vtkWireFurCADReader as the core's types: the faces (port 0) as a TriangleMesh
+// (positions, normals, Su and Sv as derivU and derivV, (u, v), the colours from sRGB bytes to
+// linear, and the part of every triangle), the edges and iso lines (port 1) as polylines. Header-only (VTK and the core, no OpenCASCADE), shared by the wirefur
 // command and the CAD benchmark. Throws std::runtime_error when the arrays are missing.
 #pragma once
 
@@ -64,6 +64,28 @@ inline wf::TriangleMesh facesToMesh(vtkPolyData* faces, std::vector<int>* triang
       if (trianglePart) trianglePart->push_back(part ? int(part->GetTuple1(cell)) : 0);
     }
   return m;
+}
+
+/// The edges output of vtkWireFurCADReader (port 1) as polylines: the model's edges
+/// (isoLines = false, cells of Kind 0) or its u and v iso lines (isoLines = true, Kind 1 and 2).
+inline wf::PolylineSet edgesToPolylines(vtkPolyData* edges, bool isoLines) {
+  wf::PolylineSet out;
+  vtkDataArray* kind = edges->GetCellData()->GetArray("Kind");
+  vtkCellArray* lines = edges->GetLines();
+  vtkNew<vtkIdList> ids;
+  std::vector<glm::dvec3> line;
+  vtkIdType cell = 0;
+  for (lines->InitTraversal(); lines->GetNextCell(ids); ++cell) {
+    if (((kind ? int(kind->GetTuple1(cell)) : 0) != 0) != isoLines) continue;
+    line.clear();
+    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k) {
+      double q[3];
+      edges->GetPoint(ids->GetId(k), q);
+      line.emplace_back(q[0], q[1], q[2]);
+    }
+    out.add(line);
+  }
+  return out;
 }
 
 }  // namespace wfcad

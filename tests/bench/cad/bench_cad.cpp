@@ -216,20 +216,7 @@ wf::Scene toScene(vtkWireFurCADReader* reader) {
   w.material = 2;
   w.thickness = 1.5;
   w.thicknessInPixels = true;
-  {
-    vtkCellArray* lines = edges->GetLines();
-    vtkNew<vtkIdList> ids;
-    std::vector<glm::dvec3> line;
-    for (lines->InitTraversal(); lines->GetNextCell(ids);) {
-      line.clear();
-      for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k) {
-        double p[3];
-        edges->GetPoint(ids->GetId(k), p);
-        line.emplace_back(p[0], p[1], p[2]);
-      }
-      w.lines.add(line);
-    }
-  }
+  w.lines = wfcad::edgesToPolylines(edges, false);
   s.wires.push_back(std::move(w));
 
   glm::dvec3 centre(0.0);
