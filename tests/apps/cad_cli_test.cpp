@@ -25,28 +25,9 @@ namespace {
 using Result = wf::test::CliResult;
 Result run(const std::string& args) { return wf::test::runWirefur(args); }
 
-fs::path dir() {
-  static const fs::path d = [] {
-    const fs::path p = fs::temp_directory_path() / ("wirefur-cad-cli-" + std::to_string(::getpid()));
-    fs::remove_all(p);
-    fs::create_directories(p);
-    return p;
-  }();
-  return d;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-std::string write(const std::string& name, const std::string& bytes) {
-  const fs::path p = dir() / name;
-  std::ofstream(p, std::ios::binary) << bytes;
-  return p.string();
-}
+fs::path dir() { return wf::test::scratchDir("wirefur-cad-cli"); }
+std::string slurp(const fs::path& p) { return wf::test::readFile(p); }
+std::string write(const std::string& name, const std::string& bytes) { return wf::test::writeFile(dir(), name, bytes); }
 
 const std::string kCad = std::string(WIREFUR_SOURCE_DIR) + "/data/cad/";
 
@@ -210,6 +191,41 @@ TEST(CadCli, TimeLimitStopsTheWorker) {
   EXPECT_EQ(wf::test::lineCount(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("did not finish within 0.1 s"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(png));
+}
+
+// Bad CAD options, on the command line and in a scene's cad block: NaN, zero, out of range,
+// overflow, negative, not a number. One line naming the option (or the JSON pointer), exit 2,
+// and no PNG.
+TEST(CadCli, BadCadOptionsAreOneLineExitTwo) {
+  const fs::path png = dir() / "opt.png";
+  const std::string in = "'" + kCad + "product.step' -o '" + png.string() + "' ";
+  struct Case {
+    std::string args, expect;
+  } cases[] = {
+      {"--deflection nan", "option --deflection"},     {"--deflection 0", "option --deflection"},
+      {"--deflection 1e400", "option --deflection"},   {"--linear-deflection -1", "option --linear-deflection"},
+      {"--angular-deflection 90", "option --angular-deflection"}, {"--isos -1", "option --isos"},
+      {"--isos 1001", "option --isos"},                {"--cad-timeout 0", "option --cad-timeout"},
+      {"--deflection", "needs a value"},
+  };
+  for (const Case& c : cases) {
+    fs::remove(png);
+    const Result r = run("render " + in + c.args);
+    EXPECT_EQ(r.status, 2) << c.args << ": " << r.err;
+    EXPECT_EQ(wf::test::lineCount(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(c.expect), std::string::npos) << c.args << ": " << r.err;
+    EXPECT_FALSE(fs::exists(png)) << c.args;
+  }
+  for (const auto& [block, pointer] : std::vector<std::pair<std::string, std::string>>{
+           {R"({"deflection": -1})", "/objects/0/cad/deflection"},
+           {R"({"isos": "two"})", "/objects/0/cad/isos"},
+           {R"({"deflection": 0.001, "linear_deflection": 1})", "/objects/0/cad"}}) {
+    const std::string scene = write("cadblock.json", R"({"objects": [{"file": ")" + kCad + R"(product.step", "cad": )" + block + "}]}");
+    const Result r = run("render '" + scene + "' -o '" + png.string() + "'");
+    EXPECT_EQ(r.status, 2) << block << ": " << r.err;
+    EXPECT_EQ(wf::test::lineCount(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(pointer), std::string::npos) << block << ": " << r.err;
+  }
 }
 
 // export writes the tessellation with its tangent arrays: the VTK XML file names Su, Sv,

@@ -20,15 +20,7 @@ using Result = wf::test::CliResult;
 Result run(const std::string& args) { return wf::test::runWirefur(args); }
 const std::string kScenes = std::string(WIREFUR_SOURCE_DIR) + "/data/scenes/";
 
-fs::path dir() {
-  static const fs::path d = [] {
-    const fs::path p = fs::temp_directory_path() / ("wirefur-export-" + std::to_string(::getpid()));
-    fs::remove_all(p);
-    fs::create_directories(p);
-    return p;
-  }();
-  return d;
-}
+fs::path dir() { return wf::test::scratchDir("wirefur-export"); }
 
 json renderStats(const std::string& input, const std::string& extra) {
   const fs::path png = dir() / "r.png", stats = dir() / "r.json";

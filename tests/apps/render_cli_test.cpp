@@ -24,28 +24,9 @@ namespace {
 using Result = wf::test::CliResult;
 Result run(const std::string& args) { return wf::test::runWirefur(args); }
 
-fs::path dir() {
-  static const fs::path d = [] {
-    const fs::path p = fs::temp_directory_path() / ("wirefur-render-" + std::to_string(::getpid()));
-    fs::remove_all(p);
-    fs::create_directories(p);
-    return p;
-  }();
-  return d;
-}
-
-std::string write(const std::string& name, const std::string& text) {
-  const fs::path p = dir() / name;
-  std::ofstream(p) << text;
-  return p.string();
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
+fs::path dir() { return wf::test::scratchDir("wirefur-render"); }
+std::string write(const std::string& name, const std::string& text) { return wf::test::writeFile(dir(), name, text); }
+std::string slurp(const fs::path& p) { return wf::test::readFile(p); }
 
 int lines(const std::string& s) { return wf::test::lineCount(s); }
 

@@ -43,18 +43,8 @@ fs::path testDir() {
   return p;
 }
 
-std::string write(const fs::path& d, const std::string& name, const std::string& bytes) {
-  const fs::path p = d / name;
-  std::ofstream(p, std::ios::binary) << bytes;
-  return p.string();
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
+std::string write(const fs::path& d, const std::string& name, const std::string& bytes) { return wf::test::writeFile(d, name, bytes); }
+std::string slurp(const fs::path& p) { return wf::test::readFile(p); }
 
 std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
 
