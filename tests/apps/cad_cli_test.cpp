@@ -131,7 +131,9 @@ TEST(CadCli, BadInputIsOneLineExitTwoAndNothingWritten) {
     EXPECT_EQ(r.status, 2) << c.file << ": " << r.err;
     EXPECT_EQ(wf::test::lineCount(r.err), 1) << r.err;
     EXPECT_NE(r.err.find(c.file), std::string::npos) << r.err;
-    if (!c.expect.empty()) EXPECT_NE(r.err.find(c.expect), std::string::npos) << r.err;
+    if (!c.expect.empty()) {
+      EXPECT_NE(r.err.find(c.expect), std::string::npos) << r.err;
+    }
     EXPECT_FALSE(fs::exists(png)) << c.file;
   }
   // A style the CAD path does not draw, and a cad block on a mesh object.
