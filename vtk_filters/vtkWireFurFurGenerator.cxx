@@ -227,23 +227,8 @@ int vtkWireFurFurGenerator::RequestData(
     return 1;
   }
 
-  this->UpdateProgress(0.0);
-  if (this->GetAbortExecute())
-  {
-    return 1;
-  }
   wf::Fur fur;
-  try
-  {
-    fur = wf::growFur(*surface, p, this->PatchIndex);
-  }
-  catch (const std::exception& e)
-  {
-    vtkErrorMacro(<< "fur on " << surface->describe() << ": " << e.what());
-    return 1;
-  }
-  this->UpdateProgress(0.8);
-  if (this->GetAbortExecute())
+  if (!wf::vtkio::runGrowth(this, "fur", *surface, [&] { fur = wf::growFur(*surface, p, this->PatchIndex); }))
   {
     return 1;
   }

@@ -84,23 +84,8 @@ int vtkWireFurScalesGenerator::RequestData(
     return 1;
   }
 
-  this->UpdateProgress(0.0);
-  if (this->GetAbortExecute())
-  {
-    return 1;
-  }
   wf::TriangleMesh mesh;
-  try
-  {
-    mesh = wf::growScales(*surface, p, this->PatchIndex);
-  }
-  catch (const std::exception& e)
-  {
-    vtkErrorMacro(<< "scales on " << surface->describe() << ": " << e.what());
-    return 1;
-  }
-  this->UpdateProgress(0.8);
-  if (this->GetAbortExecute())
+  if (!wf::vtkio::runGrowth(this, "scales", *surface, [&] { mesh = wf::growScales(*surface, p, this->PatchIndex); }))
   {
     return 1;
   }

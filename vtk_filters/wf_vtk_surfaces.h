@@ -21,15 +21,18 @@
 #include <tbb/parallel_for.h>
 
 #include <cstdint>
+#include <exception>
 #include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
 
 #include "WireFurFiltersModule.h"  // exported for the module's tests
+#include "vtkAlgorithm.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkPolyData.h"
+#include "vtkSetGet.h"
 #include "vtkSmartPointer.h"
 
 class vtkDataArray;
@@ -193,6 +196,23 @@ class FlippedSurface final : public Surface {
 /// neither is usable.
 WIREFURFILTERS_EXPORT std::shared_ptr<const Surface> growthSurface(vtkParametricFunction* function, vtkPolyData* mesh,
                                              std::string& problem, bool flip = false);
+
+/// What the fur and scale generators share around the core's growth: progress from 0 to 0.8
+/// around grow(), VTK's abort flag before and after, and the core's exceptions reported as one
+/// error "<what> on <surface>: <why>". False when the update should end with nothing output.
+template <class Grow>
+bool runGrowth(vtkAlgorithm* algorithm, const char* what, const Surface& surface, Grow&& grow) {
+  algorithm->UpdateProgress(0.0);
+  if (algorithm->GetAbortExecute()) return false;
+  try {
+    grow();
+  } catch (const std::exception& e) {
+    vtkErrorWithObjectMacro(algorithm, << what << " on " << surface.describe() << ": " << e.what());
+    return false;
+  }
+  algorithm->UpdateProgress(0.8);
+  return !algorithm->GetAbortExecute();
+}
 
 /// Burnish grain (paper §2.2; the core renderer's rule, src/render/surface_shading.cpp): the grain
 /// direction at a point, in the tangent plane of unit normal N, unit length. U: along Su; V: along
