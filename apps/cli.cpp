@@ -2,7 +2,10 @@
 
 #include <unistd.h>
 
+#include <cctype>
+#include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -28,6 +31,32 @@ int parsePositiveInt(const std::string& option, const std::string& value) {
   } catch (const std::exception&) {
     throw UsageError("option " + option + ": expected a positive integer, got '" + value + "'");
   }
+}
+
+std::size_t parseByteSize(const std::string& option, const std::string& value) {
+  const std::string bad = "option " + option + ": expected bytes or a size such as 512M, 2G (0: unlimited), got '" + value + "'";
+  std::string v = value;
+  for (const char* unit : {"iB", "B"})
+    if (v.size() > std::strlen(unit) && v.compare(v.size() - std::strlen(unit), std::string::npos, unit) == 0) {
+      v.resize(v.size() - std::strlen(unit));
+      break;
+    }
+  double scale = 1.0;
+  if (!v.empty()) {
+    switch (std::toupper(static_cast<unsigned char>(v.back()))) {
+      case 'K': scale = 1024.0; break;
+      case 'M': scale = 1024.0 * 1024; break;
+      case 'G': scale = 1024.0 * 1024 * 1024; break;
+      case 'T': scale = 1024.0 * 1024 * 1024 * 1024; break;
+      default: break;
+    }
+    if (scale > 1.0) v.pop_back();
+  }
+  if (v.empty() || v.find_first_not_of("0123456789.") != std::string::npos || v.front() == '.') throw UsageError(bad);
+  char* end = nullptr;
+  const double n = std::strtod(v.c_str(), &end) * scale;
+  if (*end != '\0' || !std::isfinite(n) || n < 0 || n > 1.0e18) throw UsageError(bad);
+  return std::size_t(n);
 }
 
 void ensureDirectory(const std::string& dir) {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <chrono>
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 
@@ -29,6 +30,11 @@ inline double secondsSince(std::chrono::steady_clock::time_point t0) {
 
 /// Parses a positive integer option value; throws UsageError naming the option.
 int parsePositiveInt(const std::string& option, const std::string& value);
+
+/// Parses a byte count: plain bytes ("1500000000") or a number with a binary suffix K, M, G or T
+/// ("512M", "1.5G"; an optional trailing "iB" or "B"); "0" means unlimited. Throws UsageError
+/// naming the option.
+std::size_t parseByteSize(const std::string& option, const std::string& value);
 
 /// Creates a directory (and parents); throws UsageError if it cannot.
 void ensureDirectory(const std::string& dir);

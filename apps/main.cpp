@@ -32,9 +32,10 @@ constexpr const char* kUsage =
     "  render   [INPUT] -o OUT.png [--size WxH] [--style STYLE] [--mask 4x4|8x4|8x8] [--threads N]\n"
     "           [--stats FILE] [--budget K] [--shading maps|exact] [--reference [--samples N]]\n"
     "           [--time T]\n"
-    "           [--view-grid N] [--measure-error] [--quiet] [CAD options]\n"
+    "           [--view-grid N] [--measure-error] [--memory-budget BYTES|NNM|NNG] [--quiet] [CAD options]\n"
     "                                               INPUT: scene .json, CAD .step .stp .iges .igs .brep .FCStd,\n"
     "                                               or mesh .vtp .vtk .stl .obj .ply; none: built-in scene\n"
+    "           --memory-budget: refuse (exit 2) a render estimated to need more (default: half the RAM; 0: no limit)\n"
     "           STYLE for CAD: wire, wire-over-surface (default), burnished, fur; for meshes: wire, wire-over-surface\n"
     "           CAD options: --deflection D (of the model's size, default 0.001) | --linear-deflection L (world)\n"
     "                        --angular-deflection DEG (default 20) --isos N (u and v iso lines per face)\n"
@@ -105,6 +106,7 @@ int run(const std::vector<std::string>& a) {
       else if (a[i] == "--threads") o.threads = wfapp::parsePositiveInt("--threads", need(a, i));
       else if (a[i] == "--stats") o.statsPath = need(a, i);
       else if (a[i] == "--budget") o.budget = wfapp::parsePositiveInt("--budget", need(a, i));
+      else if (a[i] == "--memory-budget") o.memoryBudget = wfapp::parseByteSize("--memory-budget", need(a, i));
       else if (a[i] == "--shading") {
         const std::string v = need(a, i);
         if (v != "maps" && v != "exact") throw wfapp::UsageError("option --shading: expected maps or exact");

@@ -153,7 +153,18 @@ int runRender(const RenderCommandOptions& o) {
   ro.shading = (o.exact || o.reference) ? wf::ShadingPath::Exact : wf::ShadingPath::Maps;
   ro.referenceSamples = o.samples;
   if (o.viewGrid > 0) ro.viewGrid = o.viewGrid;
+  if (o.memoryBudget) ro.memoryBudget = *o.memoryBudget;
   if (const std::string p = ro.problem(); !p.empty()) throw UsageError("render: " + p);
+  // The memory the render (and the reference of --measure-error) will need, with this scene,
+  // plus the 8-bit copy the PNG is encoded from: refused before anything large is allocated.
+  {
+    const std::size_t png = std::size_t(ro.width) * std::size_t(ro.height) * 3;
+    wf::RenderOptions check = ro;
+    if (check.memoryBudget > 0) check.memoryBudget = check.memoryBudget > png ? check.memoryBudget - png : 1;
+    std::string p = wf::memoryProblem(sf.scene, check, o.reference);
+    if (p.empty() && o.measureError) p = wf::memoryProblem(sf.scene, check, true);
+    if (!p.empty()) throw UsageError("render: " + (o.input.empty() ? std::string("built-in scene") : o.input) + ": " + p);
+  }
   // Make sure the outputs can be written before spending time on the render: the folder
   // exists, the name is not a folder, and a file can be created beside it.
   for (const std::string& f : {o.output, o.statsPath}) {

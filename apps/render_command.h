@@ -29,6 +29,7 @@ struct RenderCommandOptions {
   int viewGrid = 0;            ///< view-direction tables per side (0: from the scene)
   bool quiet = false;
   std::optional<double> time;  ///< --time: every fur's wind time (an animation frame)
+  std::optional<std::size_t> memoryBudget;  ///< --memory-budget: bytes (0: unlimited); unset: the core's default
   CadOptions cad;              ///< --deflection, --angular-deflection, --isos (CAD input)
 };
 

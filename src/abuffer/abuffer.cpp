@@ -56,6 +56,7 @@ void ABufferCounters::add(const ABufferCounters& o) {
   maxFragmentsPerPixel = std::max(maxFragmentsPerPixel, o.maxFragmentsPerPixel);
   maxListLength = std::max(maxListLength, o.maxListLength);
   peakBytes = std::max(peakBytes, o.peakBytes);
+  peakFragmentsHeld = std::max(peakFragmentsHeld, o.peakFragmentsHeld);
 }
 
 TileABuffer::TileABuffer(const MaskLayout& layout, int budget, float occlusionEpsilon)
@@ -76,6 +77,14 @@ void TileABuffer::reset(int w, int h) {
   subpixelDepth_.clear();
   subpixelDepth_.reserve(2 * size_t(w) * size_t(h) * size_t(layout_.samples()));  // no regrowth while filling
   solids_.clear();
+}
+
+std::size_t TileABuffer::bytesFor(int w, int h, const MaskLayout& layout, int entriesPerPixel) {
+  const std::size_t n = std::size_t(std::max(w, 0)) * std::size_t(std::max(h, 0));
+  const std::size_t blocks = std::size_t((std::max(w, 0) + 3) / 4) * std::size_t((std::max(h, 0) + 3) / 4);
+  return n * (sizeof(Pixel) + 2 * sizeof(float) + 2 * std::size_t(layout.samples()) * sizeof(float) +
+              std::size_t(std::max(entriesPerPixel, 0)) * sizeof(Node)) +
+         blocks * sizeof(float);
 }
 
 std::size_t TileABuffer::bytes() const {
@@ -372,6 +381,9 @@ void TileABuffer::finish(ABufferCounters& counters) {
     if (p.hasTail()) ++local_.pixelsOverBudget;
   }
   local_.peakBytes = std::max(peakBytes_, bytes());
+  // Nodes are reused from the free list before the list grows, so its size is this tile's peak
+  // of live entries; solid fragments are only replaced in place, never freed.
+  local_.peakFragmentsHeld = std::uint64_t(nodes_.size() + solids_.size());
   counters.add(local_);
   local_ = ABufferCounters{};
 }

@@ -68,6 +68,10 @@ struct ABufferCounters {
   std::uint32_t maxFragmentsPerPixel = 0;  ///< most fragments offered to one pixel
   std::uint32_t maxListLength = 0;         ///< longest list kept (budget-bounded)
   std::size_t peakBytes = 0;               ///< largest memory this buffer held
+  /// Most fragments one buffer held at once over its tiles (an upper bound: the peak of live
+  /// list entries plus the tile's solid fragments; tails are accumulators and not counted).
+  /// The renderer sums it over threads, like peakBytes.
+  std::uint64_t peakFragmentsHeld = 0;
   void add(const ABufferCounters& o);
 };
 
@@ -122,6 +126,9 @@ class TileABuffer {
 
   const MaskLayout& layout() const { return layout_; }
   std::size_t bytes() const;
+  /// What bytes() comes to for a tile of w x h pixels whose lists hold `entriesPerPixel`
+  /// fragments per pixel, every pixel with an occluder record (the renderer's memory estimate).
+  static std::size_t bytesFor(int w, int h, const MaskLayout& layout, int entriesPerPixel);
 
  private:
   struct Node {

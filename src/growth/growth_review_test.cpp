@@ -58,7 +58,9 @@ TEST(GrowthReview, FurOnNonFiniteSurfaceSkipsRootsAndStaysFinite) {
       const glm::dvec3 r = f.hairs.points[f.hairs.starts[h]], t = f.hairs.points[f.hairs.starts[h] + 1];
       EXPECT_GT(t.z - r.z, 0.0);
     }
-    if (placement == FurParams::Placement::Grid) EXPECT_GT(f.counts.skippedDegenerate, 0u);
+    if (placement == FurParams::Placement::Grid) {
+      EXPECT_GT(f.counts.skippedDegenerate, 0u);
+    }
   }
 }
 

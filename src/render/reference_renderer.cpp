@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 
 namespace wf {
 
@@ -55,6 +56,7 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   RenderResult result;
   RenderStats& st = result.stats;
+  if (std::string m = memoryProblem(scene, options, true); !m.empty()) throw std::length_error(m);  // before allocating
   result.image = ImageRGBA(options.width, options.height);
   const int S = options.referenceSamples, S2 = S * S;
   auto body = [&] {
@@ -192,7 +194,7 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
             alpha += 1.0f - T;
           }
           const glm::vec4 px4(rgb / float(S2), alpha / float(S2));
-          const glm::vec4& bg = scene.background;
+          const glm::vec4 bg = sanitizedBackground(scene.background);
           result.image.at(px, py) = glm::vec4(glm::vec3(px4) + (1 - px4.w) * glm::vec3(bg) * bg.w,
                                               px4.w + (1 - px4.w) * bg.w);
         }

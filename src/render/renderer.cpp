@@ -10,12 +10,83 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <climits>
 #include <cmath>
+#include <cstdio>
+#include <set>
+#include <stdexcept>
 
 namespace wf {
+
+size_t defaultMemoryBudget() {
+  static const size_t budget = [] {
+    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+    if (pages <= 0 || page <= 0) return size_t(8) << 30;
+    return size_t(pages) / 2 * size_t(page);
+  }();
+  return budget;
+}
+
+namespace {
+std::string describeBytes(double b) {
+  char buf[64];
+  if (b >= 1024.0 * 1024 * 1024) std::snprintf(buf, sizeof buf, "%.3g GiB", b / (1024.0 * 1024 * 1024));
+  else if (b >= 1024.0 * 1024) std::snprintf(buf, sizeof buf, "%.3g MiB", b / (1024.0 * 1024));
+  else std::snprintf(buf, sizeof buf, "%.0f bytes", b);
+  return buf;
+}
+}  // namespace
+
+size_t estimateRenderBytes(const Scene& scene, const RenderOptions& o, bool reference) {
+  // In double: a 16384^2 image with millions of primitives must not wrap.
+  const double w = std::max(o.width, 0), h = std::max(o.height, 0);
+  double bytes = w * h * double(sizeof(glm::vec4));  // the image
+  const int threads = o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
+  const int tile = std::clamp(o.tileSize, 1, 4096);
+  const int tw = int(std::min<double>(tile, w)), th = int(std::min<double>(tile, h));
+  const double tileBytes =
+      reference ? double(tw) * th * double(o.referenceSamples) * o.referenceSamples * (sizeof(float) + sizeof(std::int32_t))
+                : double(TileABuffer::bytesFor(tw, th, o.mask, std::clamp(o.budget, 1, 4)));
+  const double tiles = std::ceil(w / tile) * std::ceil(h / tile);
+  bytes += std::min<double>(threads, std::max(tiles, 1.0)) * tileBytes;
+  // Primitives: a triangle clips to at most 5 screen vertices, a segment is a quad (end-on: a
+  // 32-gon, rare); each lands in at least one tile's bin; twice for the chunks set-up joins.
+  double triangles = 0, segments = 0;
+  for (const SceneSurface& s : scene.surfaces) triangles += double(s.mesh.triangles.size());
+  for (const SceneWire& wr : scene.wires)
+    segments += std::max(0.0, double(wr.lines.points.size()) - double(wr.lines.polylineCount()));
+  const double perTriangle = sizeof(Primitive) + 5 * sizeof(glm::dvec2) + sizeof(TriangleAttributes);
+  const double perSegment = sizeof(Primitive) + 4 * sizeof(glm::dvec2) + sizeof(SegmentAttributes);
+  bytes += 2 * (triangles * perTriangle + segments * perSegment) +
+           (triangles + segments) * sizeof(TileBins::Item) + (tiles + 1) * sizeof(std::uint32_t);
+  // Shading tables (maps path): a pair of pseudo-reflectance maps per wire material, a
+  // reflectance sphere per surface material, for every node of the view grid.
+  if (o.shading == ShadingPath::Maps) {
+    const double nodes = double(std::clamp(o.viewGrid, 1, 16)) * std::clamp(o.viewGrid, 1, 16);
+    std::set<int> wireMaterials, surfaceMaterials;
+    const int nm = std::max(1, int(scene.materials.size()));
+    for (const SceneWire& wr : scene.wires)
+      if (wr.style == WireStyle::Shaded) wireMaterials.insert(std::clamp(wr.material, 0, nm - 1));
+    for (const SceneSurface& s : scene.surfaces) surfaceMaterials.insert(std::clamp(s.material, 0, nm - 1));
+    const double map = 2.0 * double(o.map.resolution) * o.map.resolution * sizeof(glm::vec3);
+    const double sphere = double(o.sphereResolution) * o.sphereResolution * sizeof(glm::vec3);
+    bytes += nodes * (double(wireMaterials.size()) * map + 2.0 * double(surfaceMaterials.size()) * std::max(map, sphere));
+  }
+  return bytes >= 1.8e19 ? SIZE_MAX : size_t(bytes);
+}
+
+std::string memoryProblem(const Scene& scene, const RenderOptions& o, bool reference) {
+  if (o.memoryBudget == 0) return {};
+  const size_t need = estimateRenderBytes(scene, o, reference);
+  if (need <= o.memoryBudget) return {};
+  return "image of " + std::to_string(o.width) + "x" + std::to_string(o.height) + " needs about " +
+         describeBytes(double(need)) + ", over the memory budget of " + describeBytes(double(o.memoryBudget)) +
+         " (RenderOptions::memoryBudget / --memory-budget)";
+}
 
 std::string RenderOptions::problem() const {
   if (width < 1 || height < 1 || width > 16384 || height > 16384)
@@ -32,6 +103,7 @@ std::string RenderOptions::problem() const {
   if (viewGrid < 1 || viewGrid > 16) return "view grid must be 1 ... 16";
   if (opaqueDepth && opaqueDepth->size() != size_t(width) * size_t(height))
     return "opaque depth must hold width x height values";
+  if (std::string m = memoryProblem(Scene{}, *this); !m.empty()) return m;
   return {};
 }
 
@@ -188,7 +260,9 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   RenderResult result;
   RenderStats& st = result.stats;
+  if (std::string m = memoryProblem(scene, options); !m.empty()) throw std::length_error(m);  // before allocating
   result.image = ImageRGBA(options.width, options.height);
+  const glm::vec4 background = sanitizedBackground(scene.background);  // NaN / Inf would reach every pixel
   inArena(options.threads, [&] {
     if (options.shadingCache) options.shadingCache->beginFrame();
     PreparedScene ps = prepareScene(scene, options, st);
@@ -207,7 +281,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
       const uint32_t b0 = bins.offsets[size_t(tile)], b1 = bins.offsets[size_t(tile) + 1];
       if (b0 == b1) {
         for (int y = ty0; y < ty1; ++y)
-          for (int x = tx0; x < tx1; ++x) result.image.at(x, y) = overBackground(glm::vec4(0), scene.background);
+          for (int x = tx0; x < tx1; ++x) result.image.at(x, y) = overBackground(glm::vec4(0), background);
         return;
       }
       TileABuffer& buf = buffers.local();
@@ -274,15 +348,18 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
       }
       for (int y = ty0; y < ty1; ++y)
         for (int x = tx0; x < tx1; ++x)
-          result.image.at(x, y) = overBackground(buf.resolve(x - tx0, y - ty0), scene.background);
+          result.image.at(x, y) = overBackground(buf.resolve(x - tx0, y - ty0), background);
       buf.finish(counters.local());
     });
     for (const ABufferCounters& c : counters) {
       const size_t peak = c.peakBytes;
+      const std::uint64_t held = c.peakFragmentsHeld;
       ABufferCounters copy = c;
       copy.peakBytes = 0;
+      copy.peakFragmentsHeld = 0;
       st.abuffer.add(copy);
       st.abuffer.peakBytes += peak;  // buffers of different threads live at the same time
+      st.abuffer.peakFragmentsHeld += held;
     }
     for (size_t n : occludedPrims) st.primitivesOccluded += n;
     st.raster = secondsSince(tr);

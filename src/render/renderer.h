@@ -27,6 +27,11 @@ enum class ShadingPath {
 
 class ShadingCache;
 
+/// The default RenderOptions::memoryBudget: half of the machine's physical memory (8 GiB where
+/// it cannot be read). A render that needs more would push the machine into swap or the
+/// out-of-memory killer (a crash); half leaves room for the caller, the PNG encoder and others.
+size_t defaultMemoryBudget();
+
 struct RenderOptions {
   int width = 640, height = 480;
   MaskLayout mask{8, 4};
@@ -62,6 +67,11 @@ struct RenderOptions {
   std::shared_ptr<ShadingCache> shadingCache;
   int referenceSamples = 16;  ///< brute-force reference: n x n stratified samples per pixel
   std::uint64_t referenceSeed = 1;
+  /// Most bytes one render may hold at its peak (estimateRenderBytes: image, tile buffers of
+  /// every thread, primitives and bins, shading tables), checked before anything large is
+  /// allocated: problem() reports the scene-independent part, render() and renderReference()
+  /// throw std::length_error with memoryProblem()'s line. 0: unlimited.
+  size_t memoryBudget = defaultMemoryBudget();
   /// Empty when usable; otherwise what is wrong.
   std::string problem() const;
 };
@@ -99,12 +109,23 @@ struct RenderResult {
   RenderStats stats;
 };
 
-/// The A-buffer render.
+/// Bytes render() (renderReference() when `reference`) of `scene` is expected to hold at its
+/// peak: the float RGBA image, one tile buffer per worker thread (fragment lists counted at
+/// min(budget, 4) entries per pixel: deeper pixels add up to `budget` each), the primitives,
+/// their attributes and bins (twice: set-up holds them per chunk while it joins them), and the
+/// shading tables the scene's materials need. Counted from the input alone, before set-up.
+size_t estimateRenderBytes(const Scene& scene, const RenderOptions& options, bool reference = false);
+/// Empty when estimateRenderBytes fits options.memoryBudget (or the budget is 0); otherwise one
+/// line: "image of WxH needs about X GiB, over the memory budget of Y GiB (...)".
+std::string memoryProblem(const Scene& scene, const RenderOptions& options, bool reference = false);
+
+/// The A-buffer render. Throws std::length_error (memoryProblem()) when over the memory budget.
 RenderResult render(const Scene& scene, const RenderOptions& options);
 
 /// Brute-force reference: options.referenceSamples^2 stratified point samples per pixel, each
 /// taking the nearest opaque primitive and the translucent ones in front of it (sorted), shaded
-/// by options.shading (Exact for a true reference). Same geometry as render().
+/// by options.shading (Exact for a true reference). Same geometry as render(). Throws
+/// std::length_error when over the memory budget, as render() does.
 RenderResult renderReference(const Scene& scene, const RenderOptions& options);
 
 }  // namespace wf

@@ -1,0 +1,124 @@
+// The memory budget (issue 7: "an image of 16384x16384, refused with a clear message if over the
+// memory budget"). A 16384^2 image is never allocated here: the refusals are checked to happen
+// before any allocation (the process's peak resident memory does not grow by the image's 4 GiB).
+#include "render/renderer.h"
+
+#include "render_test_scenes.h"
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <stdexcept>
+
+namespace wf {
+namespace {
+
+constexpr size_t kGiB = size_t(1) << 30;
+
+long peakRss() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return long(u.ru_maxrss) * 1024;
+}
+
+Scene tinyScene() {
+  Scene s = test::baseScene(64, 64);
+  s.surfaces.push_back(test::screenSurface({{{10, 10}, {50, 12}, {30, 55}}}, 5.0, 64, 64));
+  return s;
+}
+
+// The estimate's image part is the closed form W x H x 16 bytes (float RGBA): at least 4 GiB
+// for 16384^2, and the rest (tile buffers, primitives) small for a tiny scene (< 1%).
+TEST(RobustMemory, EstimateOfA16384SquareImageIsItsFloatImage) {
+  RenderOptions o;
+  o.width = o.height = 16384;
+  const double image = 16384.0 * 16384.0 * 16.0;
+  const double est = double(estimateRenderBytes(tinyScene(), o));
+  EXPECT_GE(est, image);
+  EXPECT_LT(est, image * 1.01);
+}
+
+// Over the budget: problem() names the size, the estimate, the budget and where to change it, in
+// one line; render() and renderReference() throw std::length_error with that line before they
+// allocate the image (peak RSS grows by far less than the 4 GiB the image would take).
+TEST(RobustMemory, A16384SquareImageOverTheBudgetIsRefusedBeforeAllocating) {
+  RenderOptions o;
+  o.width = o.height = 16384;
+  o.memoryBudget = 2 * kGiB;
+  const std::string p = o.problem();
+  EXPECT_NE(p.find("16384x16384"), std::string::npos) << p;
+  EXPECT_NE(p.find("4 GiB"), std::string::npos) << p;
+  EXPECT_NE(p.find("over the memory budget of 2 GiB"), std::string::npos) << p;
+  EXPECT_NE(p.find("memoryBudget"), std::string::npos) << p;
+  EXPECT_EQ(p.find('\n'), std::string::npos) << p;
+  const long before = peakRss();
+  for (bool reference : {false, true}) {
+    try {
+      const RenderResult r = reference ? renderReference(tinyScene(), o) : render(tinyScene(), o);
+      ADD_FAILURE() << "rendered " << r.image.width << "x" << r.image.height << " over the budget";
+    } catch (const std::length_error& e) {
+      EXPECT_EQ(std::string(e.what()), memoryProblem(tinyScene(), o, reference));
+      EXPECT_NE(std::string(e.what()).find("over the memory budget"), std::string::npos);
+    }
+  }
+  EXPECT_LT(peakRss() - before, long(256) << 20);
+  // Budget 0: unlimited; a budget that fits: no problem (nothing rendered).
+  o.memoryBudget = 0;
+  EXPECT_EQ(o.problem(), "");
+  o.memoryBudget = 64 * kGiB;
+  EXPECT_EQ(o.problem(), "");
+}
+
+// The scene's own share: with a budget between the empty scene's estimate and this scene's,
+// problem() passes (it knows no scene) and render() refuses. The scene's share grows linearly
+// with its primitives (closed form: n triangles cost the same per triangle).
+TEST(RobustMemory, SceneSharePrimitivesCountInTheEstimate) {
+  RenderOptions o;
+  o.width = o.height = 64;
+  Scene big = tinyScene();
+  TriangleMesh& m = big.surfaces[0].mesh;
+  const TriangleMesh one = m;
+  for (int k = 0; k < 100000; ++k) m.triangles.push_back(one.triangles[0]);
+  const size_t empty = estimateRenderBytes(Scene{}, o), full = estimateRenderBytes(big, o);
+  const size_t half = estimateRenderBytes(tinyScene(), o);
+  ASSERT_GT(full, empty + 100000 * 100);  // at least 100 bytes per triangle
+  Scene big2 = big;
+  for (int k = 0; k < 100000; ++k) big2.surfaces[0].mesh.triangles.push_back(one.triangles[0]);
+  const double perTriangle1 = double(full - half) / 100000, perTriangle2 = double(estimateRenderBytes(big2, o) - full) / 100000;
+  EXPECT_NEAR(perTriangle1, perTriangle2, 1.0);
+  o.memoryBudget = (empty + full) / 2;
+  EXPECT_EQ(o.problem(), "");
+  EXPECT_THROW(render(big, o), std::length_error);
+  EXPECT_NO_THROW(render(tinyScene(), o));
+}
+
+// Within the budget a large image renders, and the estimate is honest: within a factor 2 of what
+// the render reports it held (stats.peakBytes) plus its image (W x H x 16 bytes). 4096^2 of a
+// tiny scene (256 MiB image), budget 1 GiB.
+TEST(RobustMemory, A4096SquareImageWithinTheBudgetRendersAndTheEstimateIsWithin2x) {
+  RenderOptions o;
+  o.width = o.height = 4096;
+  o.memoryBudget = kGiB;
+  Scene s = tinyScene();
+  s.camera->orthoHeight = 64;  // the triangle fills part of the image
+  ASSERT_EQ(o.problem(), "");
+  const RenderResult r = render(s, o);
+  ASSERT_EQ(r.image.width, 4096);
+  const double actual = double(r.stats.peakBytes) + 4096.0 * 4096.0 * 16.0;
+  const double est = double(estimateRenderBytes(s, o));
+  EXPECT_LT(est, 2 * actual);
+  EXPECT_GT(est, actual / 2);
+  EXPECT_GT(test::sumAlpha(r.image), 1e5);  // a real picture: the triangle covers ~0.25 of it
+}
+
+// The default budget: half of the physical memory (sysconf), documented in renderer.h.
+TEST(RobustMemory, DefaultBudgetIsHalfThePhysicalMemory) {
+  const double phys = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
+  EXPECT_NEAR(double(RenderOptions{}.memoryBudget), phys / 2, double(sysconf(_SC_PAGE_SIZE)));
+}
+
+}  // namespace
+}  // namespace wf
