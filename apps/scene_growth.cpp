@@ -53,7 +53,7 @@ wf::FurParams readFurParams(const Reader& r, const json& j, const std::string& p
   r.keys(j, ptr, {"placement", "grid", "jitter", "density", "density_map", "orientation", "orientation_map", "unit_tangents",
                   "length", "length_mode", "length_per_su", "length_variation", "length_map", "segments", "gravity",
                   "gravity_direction", "curl", "clumping", "clumps", "wind", "root_colour", "tip_colour",
-                  "root_colour_map", "intensity_variation", "regions", "thickness", "material", "seed", "opacity"});
+                  "root_colour_map", "intensity_variation", "regions", "thickness", "material", "seed", "opacity", "ends"});
   wf::FurParams f;
   auto num = [&](const char* key, double lo, double hi, double& out) {
     if (j.contains(key)) out = r.number(j[key], Reader::at(ptr, key), lo, hi);
@@ -186,6 +186,7 @@ void readGrowth(const Reader& r, const json& obj, const std::string& ptr, const 
     w.style = wf::WireStyle::Shaded;
     w.material = material;
     w.opacity = opacity;
+    if (j.contains("ends")) w.roundEnds = r.choice(j["ends"], Reader::at(fp, "ends"), {"square", "round"}) == "round";
     scene.wires.push_back(std::move(w));
   }
   if (obj.contains("scales")) {

@@ -20,6 +20,7 @@ packages=(
   libocct-visualization-dev         #   iso-parametric lines (StdPrs_Isolines)
   libzip-dev libpugixml-dev pkgconf # FreeCAD documents: the zip (found with pkg-config) and its XML
   clang libclang-rt-14-dev          # libFuzzer targets (tests/fuzz)
+  libembree-dev                     # Embree 3: the ray-cast peer of the benchmarks only (tests/bench/peer)
 )
 
 missing=()

@@ -8,6 +8,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -543,6 +544,35 @@ void addStadium(const SegScreen& s, ScreenPolygon& poly) {
   for (size_t i = 0; i + 1 < k; ++i) poly.add(hull[i].x, hull[i].y);
 }
 
+// A half disc of radius r about c, bulging along `out`, from c + r side to c - r side (both
+// included), appended to `poly`. As few edges as keep every chord within 0.05 pixel of the
+// circle (2 ... 8), the inner vertices a little outside the circle so that the half polygon has
+// the half disc's exact area, pi r^2 / 2; the two end vertices stay on the wire's sides, so the
+// cap meets the body without a step.
+void addHalfDisc(const glm::dvec2& c, const glm::dvec2& out, const glm::dvec2& side, double r, ScreenPolygon& poly) {
+  constexpr int kMaxSides = 8;
+  // Fan about c: 2 triangles with one vertex at r and one at s r, n - 2 with both at s r, each
+  // of angle t = pi / n: (n - 2) s^2 sin t + 2 s sin t = pi / 2 ... solved for s, per n.
+  static const std::array<double, kMaxSides + 1> kScale = [] {
+    std::array<double, kMaxSides + 1> k{};
+    for (int n = 2; n <= kMaxSides; ++n) {
+      const double sn = std::sin(std::numbers::pi / n), a = (n - 2) * sn, b = 2 * sn;
+      k[size_t(n)] = a > 0 ? (-b + std::sqrt(b * b + 4 * a * std::numbers::pi)) / (2 * a) : std::numbers::pi / b;
+    }
+    return k;
+  }();
+  // Sagitta of a chord of angle t: r (1 - cos(t / 2)) <= 0.05 px.
+  int n = 2;
+  while (n < kMaxSides && r * (1 - std::cos(std::numbers::pi / (2 * n))) > 0.05) ++n;
+  const double inner = r * kScale[size_t(n)];
+  for (int i = 0; i <= n; ++i) {
+    const double ang = std::numbers::pi * i / n;
+    const double k = (i == 0 || i == n) ? r : inner;
+    const glm::dvec2 p = c + k * (std::cos(ang) * side + std::sin(ang) * out);
+    poly.add(p.x, p.y);
+  }
+}
+
 void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint16_t shader,
                     std::uint32_t tagBase, size_t begin, size_t end, ChunkOut& out) {
   const ViewTransform& view = ps.view;
@@ -567,6 +597,7 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint16_
     }
     if (ids.size() < 2) continue;
     const size_t nseg = ids.size() - 1;
+    const bool closed = nseg > 1 && L.points[ids.front()] == L.points[ids.back()];
     segs.assign(nseg, SegScreen{});
     for (size_t j = 0; j < nseg; ++j) {
       SegScreen& s = segs[j];
@@ -652,12 +683,23 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint16_
       } else {
         glm::dvec2 o0 = mitred[j] ? offsets[j] : s.nrm * s.w0;
         glm::dvec2 o1 = mitred[j + 1] ? offsets[j + 1] : s.nrm * s.w1;
+        // Round ends: a half disc at a free end of the polyline (not at a joint, not where the
+        // near or far plane cut the segment).
+        const bool cap0 = wire.roundEnds && j == 0 && !s.clipped0 && !closed;
+        const bool cap1 = wire.roundEnds && j + 1 == nseg && !s.clipped1 && !closed;
         auto quad = [&](const glm::dvec2& u0, const glm::dvec2& u1) {
+          // A free end is never mitred, so there u0 = nrm w0 and u1 = nrm w1: the caps run
+          // between the same corners the square ends would have.
           poly.count = 0;
-          poly.add(s.p0.x + u0.x, s.p0.y + u0.y);
-          poly.add(s.p1.x + u1.x, s.p1.y + u1.y);
-          poly.add(s.p1.x - u1.x, s.p1.y - u1.y);
-          poly.add(s.p0.x - u0.x, s.p0.y - u0.y);
+          if (cap0) addHalfDisc(s.p0, -s.dir, -s.nrm, s.w0, poly);  // from p0 - u0 round to p0 + u0
+          else poly.add(s.p0.x + u0.x, s.p0.y + u0.y);
+          if (cap1) {
+            addHalfDisc(s.p1, s.dir, s.nrm, s.w1, poly);  // from p1 + u1 round to p1 - u1
+          } else {
+            poly.add(s.p1.x + u1.x, s.p1.y + u1.y);
+            poly.add(s.p1.x - u1.x, s.p1.y - u1.y);
+          }
+          if (!cap0) poly.add(s.p0.x - u0.x, s.p0.y - u0.y);
         };
         quad(o0, o1);
         if (!isConvex(poly)) quad(s.nrm * s.w0, s.nrm * s.w1);  // a folding mitre: square ends
@@ -704,6 +746,8 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint16_
       sa.t1 = jointTangent(j + 1, s.tangent);
       sa.c0 = hasColours ? safeColour(L.colours[ids[j]]) : glm::vec3(1.0f);
       sa.c1 = hasColours ? safeColour(L.colours[ids[j + 1]]) : glm::vec3(1.0f);
+      sa.r0 = float(s.w0 / view.pixelsPerWorld(s.d0));
+      sa.r1 = float(s.w1 / view.pixelsPerWorld(s.d1));
       sa.shader = shader;
       if (sa.c0 == sa.c1) {
         if (slot.kind == ShaderSlot::Kind::WirePlain) {

@@ -22,6 +22,8 @@
 #include <glm/glm.hpp>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -59,6 +61,9 @@ struct SegmentAttributes {
   glm::dvec3 p0, p1;  ///< eye space (after near / far clipping)
   glm::dvec3 t0, t1;  ///< eye-space unit tangents at the two ends (averaged at joints)
   glm::vec3 c0, c1;   ///< per-point colours
+  /// Eye-space radius of the wire at the two ends (a pixel thickness turned into world units at
+  /// each end's depth): the cylinder the polygon stands for, for ray-casting peers.
+  float r0 = 0, r1 = 0;
   std::uint16_t shader;
 };
 
@@ -177,6 +182,14 @@ glm::vec3 shadeSurfaceFragment(const PreparedScene& ps, const Primitive& prim, d
                                const glm::dvec3& P, const glm::dvec3& V);
 /// The same at screen point (x, y) of a triangle primitive (on its plane); default for segments.
 SurfaceSample interpolateSurface(const PreparedScene& ps, const Primitive& prim, double x, double y);
+/// The scene's background as the renderers composite over it: a non-finite colour component
+/// is 0 (as colours are, safeColour), alpha NaN is 0 and alpha is clamped to [0, 1].
+inline glm::vec4 sanitizedBackground(const glm::vec4& bg) {
+  glm::vec4 b;
+  for (int c = 0; c < 3; ++c) b[c] = std::isfinite(bg[c]) ? bg[c] : 0.0f;
+  b.w = std::isnan(bg.w) ? 0.0f : std::clamp(bg.w, 0.0f, 1.0f);
+  return b;
+}
 /// Radiance of a primitive's fragment at screen point (x, y), view depth `depth`.
 glm::vec3 shadeFragment(const PreparedScene& ps, const Primitive& prim, double x, double y,
                         double depth);

@@ -103,6 +103,10 @@ struct SceneWire {
   bool thicknessInPixels = false;
   glm::vec3 colour{1.0f};          ///< plain and depth-cued styles
   float opacity = 1.0f;
+  /// Free ends of a polyline (not its joints) drawn as half discs: the outline of a round
+  /// cylinder with spherical caps, as ray casters draw round curves (Embree's round linear
+  /// curves). False: the paper's square-ended polygon.
+  bool roundEnds = false;
 };
 
 struct Scene {
