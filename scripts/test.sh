@@ -1,8 +1,27 @@
 #!/usr/bin/env bash
 # README command 2: set up (install what is missing, build), then every test with ctest.
 # The last lines are ctest's summary; a failing test fails the script.
+#
+# Under CI (CI=true), or with WIREFUR_TEST_SANITIZE=1, the whole suite first runs once more in a
+# second build, build-asan/, made with AddressSanitizer and UndefinedBehaviorSanitizer
+# (-DWIREFUR_SANITIZE=ON; the fuzz targets have their own sanitizer build, the benchmarks'
+# smoke runs are left out there); any report fails the run. WIREFUR_TEST_SANITIZE=0 skips it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
+jobs="$(nproc 2>/dev/null || echo 2)"
+sanitize="${WIREFUR_TEST_SANITIZE:-}"
+if [ -z "$sanitize" ] && [ "${CI:-}" = "true" ]; then sanitize=1; fi
+if [ "$sanitize" = "1" ]; then
+  echo "== the test suite under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/) =="
+  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWIREFUR_SANITIZE=ON -DWIREFUR_BUILD_BENCH=OFF >/dev/null
+  if ! cmake --build build-asan -j"$jobs" >build-asan/build.log 2>&1; then
+    grep -E -B2 -A8 "error|Error" build-asan/build.log | tail -60
+    echo "test.sh: the sanitizer build failed (build-asan/build.log)" >&2
+    exit 1
+  fi
+  (cd build-asan && ctest --output-on-failure --timeout 900 -j"$jobs" -LE "fuzz|bench")
+  echo "== the test suite (build/) =="
+fi
 cd build
-ctest --output-on-failure --timeout 900 -j"$(nproc 2>/dev/null || echo 2)" "$@"
+ctest --output-on-failure --timeout 900 -j"$jobs" "$@"

@@ -477,6 +477,8 @@ TEST(SceneKeysCli, FurKeysAreValidated) {
       {"f_root_colour.json", fur(R"({"root_colour": [1, -1, 0]})"), f + "/root_colour/1"},
       {"f_material.json", fur(R"({"material": "mink"})"), f + "/material"},
       {"f_opacity.json", fur(R"({"opacity": 2})"), f + "/opacity"},
+      {"f_ends.json", fur(R"({"ends": "pointy"})"), f + "/ends"},
+      {"f_ends_type.json", fur(R"({"ends": true})"), f + "/ends"},
       {"f_seed.json", fur(R"({"seed": -3})"), f + "/seed"},
   });
 }
