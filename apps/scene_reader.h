@@ -91,12 +91,20 @@ struct Reader {
   }
 };
 
+// The most primitives one scene may make (SceneBudget::kMaxPrimitives). The fuzz targets
+// (tests/fuzz) build with a smaller bound, so that a scene at the bound loads within libFuzzer's
+// time and memory limits; nothing else sets it.
+#ifndef WIREFUR_SCENE_MAX_PRIMITIVES
+#define WIREFUR_SCENE_MAX_PRIMITIVES 8388608.0
+#endif
+
 /// What one scene may make, checked before it is made: generated primitives (tessellated
-/// triangles, hair segments, scale triangles; the renderer needs a few hundred bytes for each)
+/// triangles, wire and hair segments, scale triangles; the renderer needs a few hundred bytes for each)
 /// and decoded texture texels; and the textures already decoded, shared by every material that
 /// names the same file.
 struct SceneBudget {
-  static constexpr double kMaxPrimitives = 8388608.0;  ///< about 4 GB of renderer memory
+  /// About 4 GB of renderer memory.
+  static constexpr double kMaxPrimitives = WIREFUR_SCENE_MAX_PRIMITIVES;
   static constexpr double kMaxTexels = 33554432.0;     ///< about 1.2 GB of texture tables
   double primitives = 0.0, texels = 0.0;
   double generateSeconds = 0.0;            ///< time spent growing fur and scales

@@ -1,27 +1,40 @@
 #!/usr/bin/env bash
-# Fuzzes the CAD reader for a bounded time (the ctest test cad_fuzz, LABELS fuzz).
+# Fuzzes WireFur's input readers for a bounded time (the ctest tests cad_fuzz, scene_fuzz and
+# mesh_fuzz, LABELS fuzz; each runs this script on its own targets).
 #
 #   run_fuzz.sh BUILD_DIR [CLANGXX] [CMAKE]
 #
-# 1. Configures and builds tests/fuzz/standalone with clang (libFuzzer, AddressSanitizer,
-#    UndefinedBehaviorSanitizer) into BUILD_DIR (incremental on a re-run).
-# 2. Writes the seed corpus with make_cad_seeds (OpenCASCADE + libzip, at run time) and lists
-#    what the reader makes of each seed (one that does not read is noted, not failed).
-# 3. Runs fuzz_cad_{step,iges,brep,fcstd} for WF_FUZZ_SECONDS each on a fresh copy of the seeds,
-#    with -rss_limit_mb=2048 -timeout=10. libFuzzer stops at a crash; it is started again on the
+# Targets (WF_FUZZ_TARGETS):
+#   step iges brep fcstd   the CAD reader (vtk_filters/cad), one per format: fuzz_cad_<format>;
+#                          only where OpenCASCADE, libzip and pugixml are found
+#   scene                  the scene loader (apps/scene_*.cpp), then a small render: fuzz_scene
+#   mesh                   the mesh / polyline readers (apps/mesh_io.cpp): fuzz_mesh
+#
+# 1. Configures tests/fuzz/standalone with clang (libFuzzer, AddressSanitizer,
+#    UndefinedBehaviorSanitizer) into BUILD_DIR and builds the targets asked for (incremental on
+#    a re-run; the CAD and the apps targets share the build folder).
+# 2. Writes the seed corpus at run time: make_cad_seeds (OpenCASCADE + libzip) for the CAD
+#    formats; make_app_seeds (VTK's writers) for mesh, and for scene the committed scenes of
+#    data/scenes plus a few that name mesh files and images. Lists what each target makes of
+#    each seed (one that does not read is noted, not failed).
+# 3. Runs each target for WF_FUZZ_SECONDS on a fresh copy of the seeds, with
+#    -rss_limit_mb=2048 -timeout=10. libFuzzer stops at a crash; it is started again on the
 #    grown corpus with the time left, so every target gets its full time and every crash,
 #    timeout and OOM is kept with its own report (BUILD_DIR/artifacts/<target>/, .log beside).
-# 4. Groups the failing inputs by where they fail and writes BUILD_DIR/findings.txt: per group a
-#    reproducer, the stack, and whether the faulting frame is in WireFur's code (vtk_filters/cad,
-#    src/surface, the harness's contract checks) or in a library (OpenCASCADE, libzip, pugixml,
-#    VTK).
+# 4. Groups the failing inputs by where they fail and writes BUILD_DIR/findings-<name>.txt: per
+#    group a reproducer, the stack, and whether the faulting frame is in WireFur's code (src/,
+#    apps/, vtk_filters/, the harnesses' contract checks: [ours]) or in a library (OpenCASCADE,
+#    libzip, pugixml, VTK, libpng: [library]).
 #
-# Exit status: 0 nothing found; 1 findings (see findings.txt); 2 the build failed; 77 skipped
-# (no clang++ or no libFuzzer: ctest reports the test as skipped).
+# Exit status: 0 nothing found; 1 findings (see the findings file); 2 the build failed; 77
+# skipped (no clang++, no libFuzzer, or none of the targets asked for can be built here: ctest
+# reports the test as skipped).
 #
 # Environment:
+#   WF_FUZZ_NAME=fuzz           the name in messages and of the findings file (the ctest test's)
 #   WF_FUZZ_SECONDS=20          fuzzing time per target
-#   WF_FUZZ_TARGETS="step iges brep fcstd"
+#   WF_FUZZ_TARGETS="step iges brep fcstd scene mesh"
+#                               targets that cannot be built here (no OpenCASCADE) are skipped
 #   WF_FUZZ_JOBS=2              build parallelism
 #   WF_FUZZ_TIMEOUT=10          libFuzzer's -timeout (seconds per input)
 #   WF_FUZZ_STOP_AT_FIRST=0     1: stop each target at its first failing input
@@ -30,8 +43,11 @@
 #   WF_FUZZ_FAIL_ON=all         ours: findings whose faulting frame is inside a library are
 #                               listed but do not fail the run
 #
-# Reproduce one input: BUILD_DIR/fuzz_cad_step BUILD_DIR/artifacts/step/crash-...
-# (or copy it to x.step and run the g++ build's reader on it).
+# Reproduce one input: BUILD_DIR/fuzz_cad_step BUILD_DIR/artifacts/step/crash-...,
+# BUILD_DIR/fuzz_scene BUILD_DIR/artifacts/scene/crash-... (WF_FUZZ_VERBOSE=1: what the code
+# under test made of it). A scene input is a scene file (save it as x.json in a folder holding
+# BUILD_DIR/seeds/assets/* and run the g++ build's `wirefur render x.json`); a mesh input is one
+# format byte (0 vtp, 1 vtk, 2 stl, 3 obj, 4 ply) and then the file (tail -c +2 INPUT > x.vtp).
 #
 # Leak checking is off (-detect_leaks=0): OpenCASCADE's data exchange initialises global
 # registries lazily (Interface_Static, IFSelect_Editor, TPrsStd_DriverTable), which
@@ -50,7 +66,8 @@ BUILD=$1
 CXX_IN=${2:-}
 CMAKE=${3:-cmake}
 SECONDS_PER_TARGET=${WF_FUZZ_SECONDS:-20}
-TARGETS=${WF_FUZZ_TARGETS:-step iges brep fcstd}
+TARGETS=${WF_FUZZ_TARGETS:-step iges brep fcstd scene mesh}
+NAME=${WF_FUZZ_NAME:-fuzz}
 JOBS=${WF_FUZZ_JOBS:-2}
 TIMEOUT=${WF_FUZZ_TIMEOUT:-10}
 STOP_AT_FIRST=${WF_FUZZ_STOP_AT_FIRST:-0}
@@ -59,7 +76,7 @@ KEEP_CORPUS=${WF_FUZZ_KEEP_CORPUS:-0}
 FAIL_ON=${WF_FUZZ_FAIL_ON:-all}
 
 skip() {
-  echo "cad_fuzz: SKIPPED: $*"
+  echo "$NAME: SKIPPED: $*"
   exit 77
 }
 
@@ -82,7 +99,7 @@ if ! "$CLANGXX" -fsanitize=fuzzer,address,undefined "$probe/probe.cpp" -o "$prob
   cat "$probe/probe.log"
   skip "$CLANGXX cannot link -fsanitize=fuzzer,address,undefined (Debian: apt install libclang-rt-14-dev)"
 fi
-echo "cad_fuzz: clang: $CLANGXX ($("$CLANGXX" --version | head -n 1))"
+echo "$NAME: clang: $CLANGXX ($("$CLANGXX" --version | head -n 1))"
 
 # --- build -----------------------------------------------------------------------------------
 t0=$(date +%s)
@@ -90,36 +107,70 @@ gen=()
 if [[ ! -f "$BUILD/CMakeCache.txt" ]] && command -v ninja > /dev/null 2>&1; then gen=(-G Ninja); fi
 if ! "$CMAKE" -S "$HERE/standalone" -B "$BUILD" "${gen[@]}" -DCMAKE_CXX_COMPILER="$CLANGXX" > "$BUILD/configure.log" 2>&1; then
   cat "$BUILD/configure.log"
-  echo "cad_fuzz: FAILED: configuring $HERE/standalone"
+  echo "$NAME: FAILED: configuring $HERE/standalone"
   exit 2
 fi
-if ! "$CMAKE" --build "$BUILD" -j "$JOBS" > "$BUILD/build.log" 2>&1; then
+# What this configuration can build (standalone/CMakeLists.txt writes it: the CAD targets only
+# with OpenCASCADE); targets asked for that it cannot are left out with a note.
+available=" $(cat "$BUILD/available_targets.txt" 2> /dev/null) "
+exe_of() { case "$1" in step | iges | brep | fcstd) echo "fuzz_cad_$1" ;; *) echo "fuzz_$1" ;; esac; }
+wanted=""
+build_targets=()
+need_cad_seeds=0
+need_app_seeds=0
+for t in $TARGETS; do
+  if [[ "$available" != *" $t "* ]]; then
+    echo "$NAME: note: target $t cannot be built here (see $BUILD/configure.log), left out"
+    continue
+  fi
+  wanted="$wanted $t"
+  build_targets+=(--target "$(exe_of "$t")")
+  case "$t" in
+    step | iges | brep | fcstd) need_cad_seeds=1 ;;
+    *) need_app_seeds=1 ;;
+  esac
+done
+TARGETS=${wanted# }
+[[ -n "$TARGETS" ]] || skip "none of the targets asked for (${WF_FUZZ_TARGETS:-default}) can be built here"
+[[ $need_cad_seeds == 1 ]] && build_targets+=(--target make_cad_seeds)
+[[ $need_app_seeds == 1 ]] && build_targets+=(--target make_app_seeds)
+if ! "$CMAKE" --build "$BUILD" -j "$JOBS" "${build_targets[@]}" > "$BUILD/build.log" 2>&1; then
   tail -n 60 "$BUILD/build.log"
-  echo "cad_fuzz: FAILED: building the fuzz targets"
+  echo "$NAME: FAILED: building the fuzz targets"
   exit 2
 fi
-echo "cad_fuzz: built in $(($(date +%s) - t0)) s (log: $BUILD/build.log)"
+echo "$NAME: built $TARGETS in $(($(date +%s) - t0)) s (log: $BUILD/build.log)"
 
 # --- seeds -----------------------------------------------------------------------------------
-rm -rf "$BUILD/seeds"
-if ! "$BUILD/make_cad_seeds" "$BUILD/seeds"; then
-  echo "cad_fuzz: FAILED: make_cad_seeds"
+ROOT=$(cd "$HERE/../.." && pwd)
+for t in $TARGETS; do rm -rf "$BUILD/seeds/$t"; done
+if [[ $need_cad_seeds == 1 ]] && ! "$BUILD/make_cad_seeds" "$BUILD/seeds"; then
+  echo "$NAME: FAILED: make_cad_seeds"
   exit 2
+fi
+if [[ $need_app_seeds == 1 ]]; then
+  rm -rf "$BUILD/seeds/assets"
+  if ! "$BUILD/make_app_seeds" "$BUILD/seeds"; then
+    echo "$NAME: FAILED: make_app_seeds"
+    exit 2
+  fi
+  cp "$ROOT"/data/scenes/*.json "$BUILD/seeds/scene/"
 fi
 
 export ASAN_OPTIONS="detect_leaks=0:handle_abort=1:symbolize=1:${WF_FUZZ_ASAN_OPTIONS:-}"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:${WF_FUZZ_UBSAN_OPTIONS:-}"
 
 # Every seed should read: one that does not is listed (a note, not a failure: the seeds are made
-# by this OpenCASCADE, so a seed that fails is a reader bug of its own, as the binary BREP was).
+# by this OpenCASCADE or VTK, or are the committed scenes, so a seed that fails is a bug of its
+# own, as the binary BREP was).
 seed_problems=0
 for t in $TARGETS; do
   while IFS= read -r line; do
-    echo "cad_fuzz: seed $t: $line"
+    echo "$NAME: seed $t: $line"
     case "$line" in
       *error:*) seed_problems=$((seed_problems + 1)) ;;
     esac
-  done < <(WF_FUZZ_VERBOSE=1 "$BUILD/fuzz_cad_$t" -runs=0 "$BUILD/seeds/$t" 2>&1 | grep '^WF_FUZZ: [1-9]' | sort -u | sed 's/^WF_FUZZ: //')
+  done < <(WF_FUZZ_VERBOSE=1 "$BUILD/$(exe_of "$t")" -runs=0 "$BUILD/seeds/$t" 2>&1 | grep '^WF_FUZZ: [1-9]' | sort -u | sed 's/^WF_FUZZ: //')
 done
 
 # --- findings --------------------------------------------------------------------------------
@@ -127,14 +178,13 @@ done
 # function; or, for a timeout / OOM, the library call WireFur made that never came back. Ours
 # when the faulting frame (the innermost outside libFuzzer, the sanitizers and the C/C++
 # runtimes) is in WireFur's sources, or the harness found a broken contract.
-ROOT=$(cd "$HERE/../.." && pwd)
 fname() { sed -E 's/^ +#[0-9]+ 0x[0-9a-f]+ in //; s/\(.*//; s/ .*//' | cut -c1-120; }
 signature_of() {  # log -> "owner|signature"
   local log=$1 sig stack frames owner="library" entry callee kind
   stack=$(awk '/^ +#[0-9]+ 0x/ { s = 1; print; next } s { exit }' "$log")
   frames=$(echo "$stack" | grep -vE ' in (fuzzer::|__sanitizer|__asan|__ubsan|__interceptor|__libc|_start|main |__GI_|abort|raise|std::terminate|__cxxabiv1|__cxa_|__dynamic_cast|__gnu_cxx::__verbose)|libc\.so|libstdc\+\+|compiler-rt| \(<unknown module>\)|^ +#[0-9]+ 0x[0-9a-f]+ +\(' |
-           grep -vE '/fuzz_cad_[a-z]+\+0x' || true)
-  if grep -q 'WIREFUR-CAD-FUZZ== FINDING' "$log"; then
+           grep -vE '/fuzz_[a-z_]+\+0x' || true)
+  if grep -qE 'WIREFUR-(CAD-)?FUZZ== FINDING' "$log"; then
     sig=$(grep -m1 'FINDING:' "$log" | sed -E 's/.*FINDING: //; s/[0-9]+(\.[0-9]+)?/N/g' | cut -c1-160)
     owner="ours"
   elif grep -q 'ERROR: libFuzzer: ' "$log"; then
@@ -167,7 +217,9 @@ for t in $TARGETS; do
   rm -rf "$art" "$logs"
   mkdir -p "$corpus" "$art" "$logs"
   cp -n "$BUILD/seeds/$t"/* "$corpus"/ 2> /dev/null
-  echo "cad_fuzz: fuzzing $t for ${SECONDS_PER_TARGET} s ..."
+  dict=()
+  [[ -f "$HERE/$t.dict" ]] && dict=(-dict="$HERE/$t.dict")
+  echo "$NAME: fuzzing $t for ${SECONDS_PER_TARGET} s ..."
   start=$(date +%s.%N)
   deadline=$(($(date +%s) + SECONDS_PER_TARGET))
   n=0
@@ -178,12 +230,13 @@ for t in $TARGETS; do
     k=$((k + 1))
     log="$logs/run-$k.log"
     # A hard stop well past the time asked for: the initial pass over the corpus is not bounded.
-    timeout --signal=KILL $((left * 2 + 60)) "$BUILD/fuzz_cad_$t" -max_total_time="$left" -rss_limit_mb=2048 -timeout="$TIMEOUT" \
-      -close_fd_mask=1 -detect_leaks=0 -print_final_stats=1 -dict="$HERE/$t.dict" -artifact_prefix="$art/" "$corpus" > "$log" 2>&1
+    timeout --signal=KILL $((left * 2 + 60)) "$BUILD/$(exe_of "$t")" -max_total_time="$left" -rss_limit_mb=2048 -timeout="$TIMEOUT" \
+      -close_fd_mask=1 -detect_leaks=0 -print_final_stats=1 "${dict[@]}" -artifact_prefix="$art/" "$corpus" > "$log" 2>&1
     rc=$?
     e=$(grep -E '^stat::number_of_executed_units:' "$log" | tail -n 1 | awk '{print $2}')
     n=$((n + ${e:-0}))
-    unit=$(grep -m1 -oE 'Test unit written to [^ ]+' "$log" | sed 's/Test unit written to //')
+    # Slow units (-report_slow_units) are kept by libFuzzer but are not failures: left out.
+    unit=$(grep -oE 'Test unit written to [^ ]+' "$log" | grep -v '/slow-unit-' | head -n 1 | sed 's/Test unit written to //')
     if [[ -n "$unit" && -f "$unit" ]]; then
       cp "$log" "$unit.log"
       r=$(signature_of "$log")
@@ -198,7 +251,7 @@ for t in $TARGETS; do
       GROUP_COUNT[$sig]=$((GROUP_COUNT[$sig] + 1))
       [[ "$STOP_AT_FIRST" == 1 ]] && break
     elif [[ $rc -ne 0 ]]; then
-      echo "cad_fuzz: $t: libFuzzer exited with $rc and kept no input (log $log):"
+      echo "$NAME: $t: libFuzzer exited with $rc and kept no input (log $log):"
       tail -n 20 "$log"
       FUZZER_FAILED=1
       break
@@ -208,11 +261,11 @@ for t in $TARGETS; do
   EXECS[$t]=$n
   RUNS[$t]=$k
   RATE[$t]=$(awk -v n="$n" -v s="$elapsed" 'BEGIN { printf "%.1f", (s > 0 ? n / s : 0) }')
-  KEPT[$t]=$(find "$art" -maxdepth 1 -type f ! -name '*.log' | wc -l)
-  echo "cad_fuzz: $t: ${EXECS[$t]} executions in ${elapsed} s (${RATE[$t]}/s), ${RUNS[$t]} libFuzzer runs, $(ls "$corpus" | wc -l) corpus inputs, ${KEPT[$t]} failing inputs kept"
+  KEPT[$t]=$(find "$art" -maxdepth 1 -type f ! -name '*.log' ! -name 'slow-unit-*' | wc -l)
+  echo "$NAME: $t: ${EXECS[$t]} executions in ${elapsed} s (${RATE[$t]}/s), ${RUNS[$t]} libFuzzer runs, $(ls "$corpus" | wc -l) corpus inputs, ${KEPT[$t]} failing inputs kept"
 done
 
-findings="$BUILD/findings.txt"
+findings="$BUILD/findings-$NAME.txt"
 : > "$findings"
 ours_total=0
 libs_total=0
@@ -221,7 +274,7 @@ for sig in "${!GROUP_COUNT[@]}"; do
   {
     echo "=== [${GROUP_OWNER[$sig]}] $sig"
     echo "    inputs: ${GROUP_COUNT[$sig]}; reproducer: $ex ($(stat -c %s "$ex") bytes)"
-    echo "    reproduce: $BUILD/fuzz_cad_${GROUP_TARGET[$sig]} $ex"
+    echo "    reproduce: $BUILD/$(exe_of "${GROUP_TARGET[$sig]}") $ex"
     grep -E 'FINDING|^==[0-9]+==ERROR|^==[0-9]+== ERROR|runtime error' "$ex.log" | head -n 2 | sed 's/^/    /'
     awk '/^ +#[0-9]+ 0x/ { s = 1; print; next } s { exit }' "$ex.log" | head -n 16 | sed -E 's/ \(BuildId: [0-9a-f]+\)//; s/^ +/      /' | cut -c1-220
     echo
@@ -231,18 +284,19 @@ done
 
 # --- summary ---------------------------------------------------------------------------------
 echo
-echo "cad_fuzz: summary (${SECONDS_PER_TARGET} s per target, -timeout=${TIMEOUT})"
+echo "$NAME: summary (${SECONDS_PER_TARGET} s per target, -timeout=${TIMEOUT})"
 for t in $TARGETS; do
   echo "  $t: ${EXECS[$t]} executions, ${RATE[$t]}/s, ${RUNS[$t]} libFuzzer runs, ${KEPT[$t]} failing inputs (logs $BUILD/logs/$t)"
 done
 if [[ -s "$findings" ]]; then
   echo
-  echo "cad_fuzz: $((ours_total + libs_total)) distinct findings ($ours_total in WireFur's code, $libs_total in libraries); $findings:"
+  echo "$NAME: $((ours_total + libs_total)) distinct findings ($ours_total in WireFur's code, $libs_total in libraries); $findings:"
   echo
   cat "$findings"
 fi
-[[ $seed_problems -gt 0 ]] && echo "cad_fuzz: note: $seed_problems seed(s) did not read (see the seed lines above)"
+[[ $seed_problems -gt 0 ]] && echo "$NAME: note: $seed_problems seed(s) did not read (see the seed lines above)"
 if [[ $ours_total -gt 0 || $FUZZER_FAILED -ne 0 ]]; then exit 1; fi
 if [[ $libs_total -gt 0 && "$FAIL_ON" != ours ]]; then exit 1; fi
-echo "cad_fuzz: no findings"
+if [[ $libs_total -gt 0 ]]; then echo "$NAME: no findings in WireFur's code ($libs_total in libraries, listed above)"
+else echo "$NAME: no findings"; fi
 exit 0
