@@ -57,6 +57,9 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
   RenderResult result;
   RenderStats& st = result.stats;
   if (std::string m = memoryProblem(scene, options, true); !m.empty()) throw std::length_error(m);  // before allocating
+  // Options out of range (a 0-pixel image, a 5x5 mask, 0 threads of 2000) are refused here as
+  // well as by the callers that check them first: nothing below is defined for them.
+  if (std::string m = options.problem(); !m.empty()) throw std::invalid_argument("render options: " + m);
   result.image = ImageRGBA(options.width, options.height);
   const int S = options.referenceSamples, S2 = S * S;
   auto body = [&] {

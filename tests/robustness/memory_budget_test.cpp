@@ -11,6 +11,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <stdexcept>
 
 namespace wf {
@@ -118,6 +119,40 @@ TEST(RobustMemory, A4096SquareImageWithinTheBudgetRendersAndTheEstimateIsWithin2
 TEST(RobustMemory, DefaultBudgetIsHalfThePhysicalMemory) {
   const double phys = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
   EXPECT_NEAR(double(RenderOptions{}.memoryBudget), phys / 2, double(sysconf(_SC_PAGE_SIZE)));
+}
+
+}  // namespace
+}  // namespace wf
+
+namespace wf {
+namespace {
+
+// Options out of range reach render() and renderReference() only from callers that skip
+// RenderOptions::problem(): both refuse them with that line (std::invalid_argument) instead of
+// running on, e.g. a 5x5 mask would index past the mask tables; a 0-pixel image, 0 tile size.
+TEST(RobustOptions, RenderersRefuseOptionsOutOfRange) {
+  const auto bad = [](auto&& edit) {
+    RenderOptions o = test::smallOptions(64, 64);
+    edit(o);
+    return o;
+  };
+  const RenderOptions cases[] = {
+      bad([](RenderOptions& o) { o.width = 0; }),       bad([](RenderOptions& o) { o.mask = {5, 5}; }),
+      bad([](RenderOptions& o) { o.budget = 0; }),      bad([](RenderOptions& o) { o.tileSize = 0; }),
+      bad([](RenderOptions& o) { o.threads = -1; }),    bad([](RenderOptions& o) { o.referenceSamples = 0; }),
+      bad([](RenderOptions& o) { o.occlusionEpsilon = std::nan(""); }),
+  };
+  for (const RenderOptions& o : cases) {
+    ASSERT_FALSE(o.problem().empty());
+    try {
+      (void)render(tinyScene(), o);
+      ADD_FAILURE() << "render() ran with: " << o.problem();
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(o.problem()), std::string::npos) << e.what();
+    }
+    EXPECT_THROW((void)renderReference(tinyScene(), o), std::invalid_argument) << o.problem();
+  }
+  EXPECT_NO_THROW((void)render(tinyScene(), test::smallOptions(64, 64)));
 }
 
 }  // namespace
