@@ -530,6 +530,31 @@ int objScan(const char* p, const char* end, const char* fmt, long long out[3]) {
   return n;
 }
 
+// VTK's XML reader sizes its arrays from the Piece's NumberOf... attributes before it reads a
+// value: a count no mesh WireFur can draw is refused here (fuzzing: NumberOfPoints 9e14 made it
+// ask for terabytes). Only the counts are scanned; VTK parses the file.
+void checkVtp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(1 << 16, '\0');
+  in.read(head.data(), std::streamsize(head.size()));
+  head.resize(size_t(in.gcount()));
+  constexpr double kMaxCount = 2147483647.0;  // VTK ids beyond int32 are not a mesh we can draw
+  for (const char* key : {"NumberOfPoints=\"", "NumberOfVerts=\"", "NumberOfLines=\"", "NumberOfStrips=\"",
+                          "NumberOfPolys=\""}) {
+    for (size_t at = head.find(key); at != std::string::npos; at = head.find(key, at + 1)) {
+      const size_t v = at + std::strlen(key);
+      const size_t end = head.find('"', v);
+      if (end == std::string::npos) break;
+      const std::string value = head.substr(v, end - v);
+      char* stop = nullptr;
+      const double n = std::strtod(value.c_str(), &stop);
+      if (stop == value.c_str() || *stop != '\0' || !(n >= 0) || n > kMaxCount)
+        throw UsageError(path + ": " + std::string(key, std::strlen(key) - 2) + " \"" + value.substr(0, 40) +
+                         "\" is not a count WireFur can read (0 ... 2147483647)");
+    }
+  }
+}
+
 void checkObj(const std::string& path) {
   FileCursor in(path);
   std::string line;
@@ -705,6 +730,7 @@ LoadedGeometry readGeometry(const std::string& path) {
   const std::string e = extension(path);
   vtkSmartPointer<vtkAlgorithm> reader;
   if (e == ".vtp") {
+    checkVtp(path);
     auto r = vtkSmartPointer<vtkXMLPolyDataReader>::New();
     r->SetFileName(path.c_str());
     reader = r;
