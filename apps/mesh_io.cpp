@@ -545,11 +545,16 @@ void checkVtp(const std::string& path) {
       const size_t v = at + std::strlen(key);
       const size_t end = head.find('"', v);
       if (end == std::string::npos) break;
-      const std::string value = head.substr(v, end - v);
-      char* stop = nullptr;
-      const double n = std::strtod(value.c_str(), &stop);
-      if (stop == value.c_str() || *stop != '\0' || !(n >= 0) || n > kMaxCount)
-        throw UsageError(path + ": " + std::string(key, std::strlen(key) - 2) + " \"" + value.substr(0, 40) +
+      // Only a plain integer is judged here (and quoted back: digits only, one line); anything
+      // else is VTK's to refuse as it parses.
+      std::string value = head.substr(v, end - v);
+      const size_t first = value.find_first_not_of(" \t");
+      value = first == std::string::npos ? std::string() : value.substr(first);
+      const size_t digits = value.find_first_not_of("0123456789", value.rfind('-', 0) == 0 ? 1 : 0);
+      if (value.empty() || value == "-" || digits != std::string::npos || value.size() > 40) continue;
+      const double n = std::strtod(value.c_str(), nullptr);
+      if (!(n >= 0) || n > kMaxCount)
+        throw UsageError(path + ": " + std::string(key, std::strlen(key) - 2) + " \"" + value +
                          "\" is not a count WireFur can read (0 ... 2147483647)");
     }
   }
