@@ -14,6 +14,7 @@
 
 #include "abuffer/coverage_mask.h"
 #include "abuffer/screen_polygon.h"
+#include "core/hash.h"
 #include "render/renderer.h"
 #include "shading/pseudo_reflectance_map.h"
 #include "shading/reflectance_sphere.h"
@@ -136,9 +137,23 @@ struct TileBins {
   size_t bytes() const { return offsets.capacity() * sizeof(std::uint32_t) + items.capacity() * sizeof(Item); }
 };
 
+/// Everything RenderOptions::problem() checks but the memory budget (render() and
+/// renderReference() check that against their own estimate of the scene).
+std::string optionsProblem(const RenderOptions& options);
+
 /// Camera, lights, shading tables, screen primitives. Fills the setup / maps times, input
 /// counts, warnings and error estimates of `stats`.
 PreparedScene prepareScene(const Scene& scene, const RenderOptions& options, RenderStats& stats);
+/// Sample s of the n x n stratified (jittered) samples of pixel (px, py): stratum (s mod n,
+/// s div n), jittered by a hash of (seed, pixel, s), so the same for any thread count. The
+/// brute-force reference and the ray-cast peer of the benchmarks sample pixels with it.
+inline glm::dvec2 stratifiedSample(std::uint64_t seed, int px, int py, int s, int n) {
+  const std::uint64_t h = mix64(seed * 0x100000001B3ull ^ mix64((std::uint64_t(px) << 32) ^ std::uint64_t(py)) ^
+                                std::uint64_t(s));
+  const double jx = double(h >> 40) * 0x1.0p-24, jy = double(h & 0xFFFFFF) * 0x1.0p-24;
+  return {px + ((s % n) + jx) / n, py + ((s / n) + jy) / n};
+}
+
 /// Runs f on at most `threads` worker threads (0: all cores).
 template <class F>
 void inArena(int threads, F&& f) {

@@ -22,13 +22,6 @@ namespace wf {
 
 namespace {
 
-std::uint64_t mix64(std::uint64_t z) {
-  z += 0x9E3779B97F4A7C15ull;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
 struct Translucent {
   std::uint32_t sample;
   float depth;
@@ -56,10 +49,9 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   RenderResult result;
   RenderStats& st = result.stats;
-  if (std::string m = memoryProblem(scene, options, true); !m.empty()) throw std::length_error(m);  // before allocating
-  // Options out of range (a 0-pixel image, a 5x5 mask, 0 threads of 2000) are refused here as
-  // well as by the callers that check them first: nothing below is defined for them.
-  if (std::string m = options.problem(); !m.empty()) throw std::invalid_argument("render options: " + m);
+  // As render(): options out of range, then the memory the scene needs, before allocating.
+  if (std::string m = optionsProblem(options); !m.empty()) throw std::invalid_argument("render options: " + m);
+  if (std::string m = memoryProblem(scene, options, true); !m.empty()) throw std::length_error(m);
   result.image = ImageRGBA(options.width, options.height);
   const int S = options.referenceSamples, S2 = S * S;
   auto body = [&] {
@@ -84,11 +76,9 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
       buf.prim.assign(size_t(tw) * th * S2, -1);
       buf.translucent.clear();
       auto samplePos = [&](int px, int py, int s, double& x, double& y) {
-        const std::uint64_t h = mix64(options.referenceSeed * 0x100000001B3ull ^
-                                      mix64((std::uint64_t(px) << 32) ^ std::uint64_t(py)) ^ std::uint64_t(s));
-        const double jx = double(h >> 40) * 0x1.0p-24, jy = double(h & 0xFFFFFF) * 0x1.0p-24;
-        x = px + ((s % S) + jx) / S;
-        y = py + ((s / S) + jy) / S;
+        const glm::dvec2 q = stratifiedSample(options.referenceSeed, px, py, s, S);
+        x = q.x;
+        y = q.y;
       };
       std::uint32_t order = 0;
       const std::uint32_t b0 = bins.offsets[size_t(tile)], b1 = bins.offsets[size_t(tile) + 1];

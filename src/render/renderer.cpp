@@ -88,23 +88,27 @@ std::string memoryProblem(const Scene& scene, const RenderOptions& o, bool refer
          " (RenderOptions::memoryBudget / --memory-budget)";
 }
 
-std::string RenderOptions::problem() const {
-  if (width < 1 || height < 1 || width > 16384 || height > 16384)
+std::string optionsProblem(const RenderOptions& o) {
+  if (o.width < 1 || o.height < 1 || o.width > 16384 || o.height > 16384)
     return "image size must be 1 ... 16384 on each side";
-  if (!mask.valid()) return "mask must be 4x4, 8x4 or 8x8";
-  if (budget < 1 || budget > 65535) return "budget must be 1 ... 65535";
-  if (!(occlusionEpsilon >= 0.0 && occlusionEpsilon <= 0.1)) return "occlusion epsilon must be 0 ... 0.1";
-  if (tileSize < 8 || tileSize > 256) return "tile size must be 8 ... 256";
-  if (threads < 0 || threads > 1024) return "threads must be 0 ... 1024";
-  if (referenceSamples < 1 || referenceSamples > 64) return "reference samples must be 1 ... 64";
-  if (map.resolution < 8 || map.resolution > 4096) return "map resolution must be 8 ... 4096";
-  if (map.samples < 1 || map.samples > 65536) return "map samples must be 1 ... 65536";
-  if (sphereResolution < 8 || sphereResolution > 8192) return "sphere resolution must be 8 ... 8192";
-  if (viewGrid < 1 || viewGrid > 16) return "view grid must be 1 ... 16";
-  if (opaqueDepth && opaqueDepth->size() != size_t(width) * size_t(height))
+  if (!o.mask.valid()) return "mask must be 4x4, 8x4 or 8x8";
+  if (o.budget < 1 || o.budget > 65535) return "budget must be 1 ... 65535";
+  if (!(o.occlusionEpsilon >= 0.0 && o.occlusionEpsilon <= 0.1)) return "occlusion epsilon must be 0 ... 0.1";
+  if (o.tileSize < 8 || o.tileSize > 256) return "tile size must be 8 ... 256";
+  if (o.threads < 0 || o.threads > 1024) return "threads must be 0 ... 1024";
+  if (o.referenceSamples < 1 || o.referenceSamples > 64) return "reference samples must be 1 ... 64";
+  if (o.map.resolution < 8 || o.map.resolution > 4096) return "map resolution must be 8 ... 4096";
+  if (o.map.samples < 1 || o.map.samples > 65536) return "map samples must be 1 ... 65536";
+  if (o.sphereResolution < 8 || o.sphereResolution > 8192) return "sphere resolution must be 8 ... 8192";
+  if (o.viewGrid < 1 || o.viewGrid > 16) return "view grid must be 1 ... 16";
+  if (o.opaqueDepth && o.opaqueDepth->size() != size_t(o.width) * size_t(o.height))
     return "opaque depth must hold width x height values";
-  if (std::string m = memoryProblem(Scene{}, *this); !m.empty()) return m;
   return {};
+}
+
+std::string RenderOptions::problem() const {
+  if (std::string m = optionsProblem(*this); !m.empty()) return m;
+  return memoryProblem(Scene{}, *this);  // the image and tile buffers alone
 }
 
 namespace {
@@ -260,10 +264,11 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   RenderResult result;
   RenderStats& st = result.stats;
-  if (std::string m = memoryProblem(scene, options); !m.empty()) throw std::length_error(m);  // before allocating
-  // Options out of range (a 0-pixel image, a 5x5 mask, 0 threads of 2000) are refused here as
-  // well as by the callers that check them first: nothing below is defined for them.
-  if (std::string m = options.problem(); !m.empty()) throw std::invalid_argument("render options: " + m);
+  // Options out of range (a 0-pixel image, a 5x5 mask, -1 threads) are refused here as well as
+  // by the callers that check them first: nothing below is defined for them. Then the memory
+  // the scene needs, before allocating.
+  if (std::string m = optionsProblem(options); !m.empty()) throw std::invalid_argument("render options: " + m);
+  if (std::string m = memoryProblem(scene, options); !m.empty()) throw std::length_error(m);
   result.image = ImageRGBA(options.width, options.height);
   const glm::vec4 background = sanitizedBackground(scene.background);  // NaN / Inf would reach every pixel
   inArena(options.threads, [&] {

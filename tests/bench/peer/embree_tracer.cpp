@@ -25,13 +25,6 @@ double since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-std::uint64_t mix64(std::uint64_t z) {
-  z += 0x9E3779B97F4A7C15ull;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
 struct MemoryMonitor {
   std::atomic<long long> now{0}, peak{0};
   static bool callback(void* self, ssize_t bytes, bool /*post*/) {
@@ -158,11 +151,9 @@ EmbreeResult renderEmbree(const wf::Scene& scene, const wf::RenderOptions& optio
     return !prim.isSegment && !prim.constantColour && ps.shaders[ps.triangles[prim.attribute].shader].variesInPixel;
   };
   auto samplePos = [&](int px, int py, int s, double& x, double& y) {
-    const std::uint64_t hh = mix64(eo.seed * 0x100000001B3ull ^ mix64((std::uint64_t(px) << 32) ^ std::uint64_t(py)) ^
-                                   std::uint64_t(s));
-    const double jx = double(hh >> 40) * 0x1.0p-24, jy = double(hh & 0xFFFFFF) * 0x1.0p-24;
-    x = px + ((s % n) + jx) / n;
-    y = py + ((s / n) + jy) / n;
+    const glm::dvec2 q = wf::stratifiedSample(eo.seed, px, py, s, n);  // as the reference renderer
+    x = q.x;
+    y = q.y;
   };
   // Rays go to Embree in streams (rtcIntersect1M, flagged coherent: the samples of neighbouring
   // pixels), up to kStream rays of whole pixels at a time, which Embree packs into SIMD packets.
