@@ -46,12 +46,7 @@ Scene scaledScene(double s) {
       const double u = -1 + 2.0 * i / n, v = -1 + 2.0 * j / n;
       surf.mesh.positions.push_back(P({u, v, 0.3 * std::sin(2 * u) * std::cos(2 * v) - 0.4}));
     }
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const std::uint32_t a = std::uint32_t(j * (n + 1) + i);
-      surf.mesh.triangles.push_back({a, a + 1, a + n + 2});
-      surf.mesh.triangles.push_back({a, a + n + 2, a + n + 1});
-    }
+  test::addGridTriangles(surf.mesh, n);
   sc.surfaces.push_back(surf);
   SceneWire shaded;
   shaded.thickness = 0.03 * s;

@@ -49,12 +49,7 @@ Scene richScene() {
       grid.mesh.uvs.push_back({u, v});
       grid.mesh.colours.push_back(glm::vec3(0.9f, 0.6f + 0.3f * float(u), 0.4f));
     }
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const std::uint32_t a = std::uint32_t(j * (n + 1) + i);
-      grid.mesh.triangles.push_back({a, a + 1, a + n + 2});
-      grid.mesh.triangles.push_back({a, a + n + 2, a + n + 1});
-    }
+  test::addGridTriangles(grid.mesh, n);
   s.surfaces.push_back(grid);
   SceneSurface quad;
   quad.material = 1;

@@ -72,6 +72,16 @@ inline SceneSurface screenSurface(const std::vector<Poly>& tris, double depth, i
   return s;
 }
 
+// The triangles of an (n + 1) x (n + 1) grid of vertices laid out row by row, two per cell.
+inline void addGridTriangles(TriangleMesh& mesh, int n) {
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const std::uint32_t a = std::uint32_t(j * (n + 1) + i);
+      mesh.triangles.push_back({a, a + 1, a + std::uint32_t(n) + 2});
+      mesh.triangles.push_back({a, a + std::uint32_t(n) + 2, a + std::uint32_t(n) + 1});
+    }
+}
+
 // An axis-aligned screen rectangle [x0, x1] x [y0, y1] as one mesh of two triangles sharing
 // the diagonal (shared vertices).
 inline SceneSurface screenRect(double x0, double y0, double x1, double y1, double depth, int W, int H, glm::vec3 colour,

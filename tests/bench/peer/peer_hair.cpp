@@ -8,6 +8,7 @@
 //
 // Under CI it runs with a small N as a smoke test; the full comparison is
 //   xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" build/peer_hair --json out/peer_hair.json
+#include "bench_support.h"
 #include "hair_torus.h"
 #include "vtk_tubes.h"
 
@@ -15,8 +16,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include <sys/resource.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -42,82 +41,38 @@ struct Args {
   std::string jsonPath;
 };
 
-long peakRss() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return long(u.ru_maxrss) * 1024;
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : (v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]));
-}
+using wfbench::median;
 
 wf::Scene hairScene(const std::vector<wfbench::HairSegment>& segs) {
   wf::Scene scene;
-  const wfbench::HairCamera hc;
-  wf::Camera cam;
-  cam.eye = hc.eye;
-  cam.target = hc.target;
-  cam.up = hc.up;
-  cam.fovYDegrees = hc.fovYDegrees;
-  cam.nearPlane = hc.nearPlane;
-  cam.farPlane = hc.farPlane;
-  scene.camera = cam;
+  scene.camera = wfbench::camera();
   scene.background = glm::vec4(0, 0, 0, 0);
   wf::SceneWire wire;
   wire.name = "hairs";
   wire.style = wf::WireStyle::Plain;  // white: the image's alpha is the coverage
   wire.thickness = wfbench::kHairWidthPixels;
   wire.thicknessInPixels = true;
-  wire.lines.points.reserve(segs.size() * 2);
-  wire.lines.starts.reserve(segs.size() + 1);
-  wire.lines.starts.push_back(0);
-  for (const auto& s : segs) {
-    wire.lines.points.push_back(s.p0);
-    wire.lines.points.push_back(s.p1);
-    wire.lines.starts.push_back(std::uint32_t(wire.lines.points.size()));
-  }
+  wire.lines = wfbench::polylines(segs);
   scene.wires.push_back(std::move(wire));
   return scene;
 }
 
-// Runs `work` in a child process; it writes its JSON summary and coverage to files.
+// Runs `work(json&, coverage&)` in a child process (wfbench::inChild); the coverage comes back
+// through a file beside the JSON.
 template <class F>
-bool inChild(const std::string& stem, F&& work) {
-  std::fflush(nullptr);
-  const pid_t pid = fork();
-  if (pid < 0) return false;
-  if (pid == 0) {
-    int rc = 0;
-    try {
-      json j;
-      std::vector<float> coverage;
-      work(j, coverage);
-      j["peak_rss_bytes"] = peakRss();
-      std::ofstream(stem + ".json") << j.dump();
-      std::ofstream(stem + ".cov", std::ios::binary)
-          .write(reinterpret_cast<const char*>(coverage.data()), std::streamsize(coverage.size() * sizeof(float)));
-    } catch (const std::exception& e) {
-      std::cerr << "peer_hair: " << stem << ": " << e.what() << "\n";
-      rc = 1;
-    }
-    std::fflush(nullptr);
-    _exit(rc);
-  }
-  int status = 0;
-  waitpid(pid, &status, 0);
-  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
-}
-
-bool readChild(const std::string& stem, json& j, std::vector<float>& coverage, size_t pixels) {
-  std::ifstream js(stem + ".json");
-  if (!js) return false;
-  js >> j;
+bool measure(const std::string& stem, json& out, std::vector<float>& coverage, size_t pixels, F&& work) {
+  const std::string covPath = stem + ".cov";
+  const bool ok = wfbench::inChild("peer_hair", stem + ".json", out, [&](json& j) {
+    std::vector<float> cov;
+    work(j, cov);
+    std::ofstream(covPath, std::ios::binary)
+        .write(reinterpret_cast<const char*>(cov.data()), std::streamsize(cov.size() * sizeof(float)));
+  });
   coverage.assign(pixels, 0.0f);
-  std::ifstream cv(stem + ".cov", std::ios::binary);
-  cv.read(reinterpret_cast<char*>(coverage.data()), std::streamsize(pixels * sizeof(float)));
-  return bool(cv);
+  std::ifstream in(covPath, std::ios::binary);
+  const bool read = ok && in.read(reinterpret_cast<char*>(coverage.data()), std::streamsize(pixels * sizeof(float)));
+  std::remove(covPath.c_str());
+  return read;
 }
 
 json coverageError(const std::vector<float>& a, const std::vector<float>& ref) {
@@ -179,7 +134,9 @@ int main(int argc, char** argv) {
   opt.threads = a.threads;
   opt.referenceSamples = a.samples;
 
-  const bool okA = inChild(tmp + "_abuffer", [&](json& j, std::vector<float>& cov) {
+  json ja, jr, jv;
+  std::vector<float> ca, cr, cv;
+  const bool okA = measure(tmp + "_abuffer", ja, ca, pixels, [&](json& j, std::vector<float>& cov) {
     const wf::Scene scene = hairScene(wfbench::hairTorus(a.segments));
     std::vector<double> times;
     wf::RenderResult r;
@@ -199,7 +156,7 @@ int main(int argc, char** argv) {
     cov.resize(pixels);
     for (size_t i = 0; i < pixels; ++i) cov[i] = r.image.pixels[i].w;
   });
-  const bool okR = inChild(tmp + "_reference", [&](json& j, std::vector<float>& cov) {
+  const bool okR = measure(tmp + "_reference", jr, cr, pixels, [&](json& j, std::vector<float>& cov) {
     const wf::Scene scene = hairScene(wfbench::hairTorus(a.segments));
     const wf::RenderResult r = wf::renderReference(scene, opt);
     j["seconds"] = r.stats.total;
@@ -209,7 +166,7 @@ int main(int argc, char** argv) {
   });
   bool okV = false;
   if (a.vtk)
-    okV = inChild(tmp + "_vtk", [&](json& j, std::vector<float>& cov) {
+    okV = measure(tmp + "_vtk", jv, cv, pixels, [&](json& j, std::vector<float>& cov) {
       const auto segs = wfbench::hairTorus(a.segments);
       const wfbench::VtkTubesResult v = wfbench::renderVtkTubes(segs, wfbench::HairCamera{}, W, H,
                                                                 wfbench::kHairWidthPixels, a.frames);
@@ -220,25 +177,19 @@ int main(int argc, char** argv) {
       cov = v.coverage;
     });
 
-  json ja, jr, jv;
-  std::vector<float> ca, cr, cv;
-  if (!okA || !readChild(tmp + "_abuffer", ja, ca, pixels) || !okR || !readChild(tmp + "_reference", jr, cr, pixels)) {
+  if (!okA || !okR) {
     std::cerr << "peer_hair: the WireFur renders failed\n";
     return 1;
   }
   ja["coverage_error"] = coverageError(ca, cr);
   report["wirefur_abuffer"] = ja;
   report["reference"] = jr;
-  if (okV && readChild(tmp + "_vtk", jv, cv, pixels)) {
+  if (okV) {
     jv["coverage_error"] = coverageError(cv, cr);
     report["vtk_render_lines_as_tubes"] = jv;
     report["speedup_vs_vtk"] = jv["median_seconds"].get<double>() / ja["median_seconds"].get<double>();
   } else if (a.vtk) {
     report["vtk_render_lines_as_tubes"] = "failed (no display? run under xvfb-run)";
-  }
-  for (const char* s : {"_abuffer", "_reference", "_vtk"}) {
-    std::remove((tmp + s + ".json").c_str());
-    std::remove((tmp + s + ".cov").c_str());
   }
   std::cout << report.dump(2) << "\n";
   if (!a.jsonPath.empty()) std::ofstream(a.jsonPath) << report.dump(2) << "\n";

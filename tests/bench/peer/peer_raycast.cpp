@@ -14,6 +14,7 @@
 // The full comparison (under Xvfb for the VTK peer): scripts/bench_peers.sh. `--check` (the CI
 // smoke test) fails, exit 3, when an error that must fall does not: Embree's error must fall
 // from 1 to the most rays, and the A-buffer's must lie below Embree's at 1 ray per pixel.
+#include "bench_support.h"
 #include "embree_tracer.h"
 #include "hair_torus.h"
 #include "vtk_tubes.h"
@@ -62,10 +63,7 @@ struct Args {
 // measured, and the full comparison stays within minutes.
 constexpr double kLongRun = 5.0;
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : (v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]));
-}
+using wfbench::median;
 
 std::vector<std::string> split(const std::string& s) {
   std::vector<std::string> out;

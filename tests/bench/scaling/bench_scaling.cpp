@@ -29,6 +29,7 @@
 // fails (exit 3) when the fitted exponent is not finite, when fragments do not grow with N within
 // tolerance, when the stacked scene does not reach its depth complexity, or when the tile buffers'
 // peak bytes exceed the bound.
+#include "bench_support.h"
 #include "hair_torus.h"
 
 #include "abuffer/abuffer.h"
@@ -39,8 +40,6 @@
 #include <nlohmann/json.hpp>
 #include <tbb/info.h>
 
-#include <sys/resource.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -74,16 +73,7 @@ struct Args {
 
 constexpr size_t kFitFrom = 100000;  // the second fit: N >= this
 
-long peakRss() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return long(u.ru_maxrss) * 1024;
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : (v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]));
-}
+using wfbench::median;
 
 std::vector<size_t> parseList(const std::string& s) {
   std::vector<size_t> out;
@@ -105,15 +95,7 @@ std::vector<size_t> parseList(const std::string& s) {
 // wire's table is built and looked up as in a real render.
 wf::Scene hairScene(const std::vector<wfbench::HairSegment>& segs, float opacity) {
   wf::Scene scene;
-  const wfbench::HairCamera hc;
-  wf::Camera cam;
-  cam.eye = hc.eye;
-  cam.target = hc.target;
-  cam.up = hc.up;
-  cam.fovYDegrees = hc.fovYDegrees;
-  cam.nearPlane = hc.nearPlane;
-  cam.farPlane = hc.farPlane;
-  scene.camera = cam;
+  scene.camera = wfbench::camera();
   scene.background = glm::vec4(0, 0, 0, 1);
   scene.lights.ambient = glm::dvec3(0.05);
   scene.lights.lights.push_back({glm::normalize(glm::dvec3(1.0, -1.0, 2.0)), glm::dvec3(0.9)});
@@ -131,14 +113,7 @@ wf::Scene hairScene(const std::vector<wfbench::HairSegment>& segs, float opacity
   wire.thickness = wfbench::kHairWidthPixels;
   wire.thicknessInPixels = true;
   wire.opacity = opacity;
-  wire.lines.points.reserve(segs.size() * 2);
-  wire.lines.starts.reserve(segs.size() + 1);
-  wire.lines.starts.push_back(0);
-  for (const auto& s : segs) {
-    wire.lines.points.push_back(s.p0);
-    wire.lines.points.push_back(s.p1);
-    wire.lines.starts.push_back(std::uint32_t(wire.lines.points.size()));
-  }
+  wire.lines = wfbench::polylines(segs);
   scene.wires.push_back(std::move(wire));
   return scene;
 }
@@ -187,36 +162,6 @@ json tileBound(const wf::RenderOptions& opt) {
   j["fragment_bytes"] = sizeof(wf::Fragment);
   j["list_entry_bytes"] = nodeBytes;
   return j;
-}
-
-// Runs `work` in a forked child that writes its JSON to `path`; the parent reads it back.
-template <class F>
-bool inChild(const std::string& path, json& out, F&& work) {
-  std::fflush(nullptr);
-  const pid_t pid = fork();
-  if (pid < 0) return false;
-  if (pid == 0) {
-    int rc = 0;
-    try {
-      json j;
-      work(j);
-      j["peak_rss_bytes"] = peakRss();
-      std::ofstream(path) << j.dump();
-    } catch (const std::exception& e) {
-      std::cerr << "bench_scaling: " << e.what() << "\n";
-      rc = 1;
-    }
-    std::fflush(nullptr);
-    _exit(rc);
-  }
-  int status = 0;
-  waitpid(pid, &status, 0);
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) return false;
-  std::ifstream in(path);
-  if (!in) return false;
-  in >> out;
-  std::remove(path.c_str());
-  return true;
 }
 
 // Everything a render reports about time, fragments and memory.
@@ -397,7 +342,7 @@ int main(int argc, char** argv) {
   for (size_t n : a.segments) {
     say("bench_scaling: " + std::to_string(n) + " segments ... ");
     json j;
-    const bool ok = inChild(tmp + "_n.json", j, [&](json& out) {
+    const bool ok = wfbench::inChild("bench_scaling", tmp + "_n.json", j, [&](json& out) {
       const wf::Scene scene = hairScene(wfbench::hairTorus(n), 1.0f);
       renderFigures(scene, opt, a.repeats, out);
     });
@@ -452,7 +397,7 @@ int main(int argc, char** argv) {
         wf::RenderOptions o = opt;
         if (translucent) o.occlusionEpsilon = 0.0;
         json j;
-        const bool ok = inChild(tmp + "_d.json", j, [&](json& out) {
+        const bool ok = wfbench::inChild("bench_scaling", tmp + "_d.json", j, [&](json& out) {
           const wf::Scene scene = hairScene(stackedHairs(hairs, stack), translucent ? 0.3f : 1.0f);
           renderFigures(scene, o, 1, out);
         });
