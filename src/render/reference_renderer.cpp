@@ -6,7 +6,7 @@
 // visible samples in the pixel, by options.shading (Exact: the cylinder integral / Phong at the
 // true view vector).
 #include "abuffer/screen_polygon.h"
-#include "render/primitives_setup.h"
+#include "render/pipeline.h"
 #include "render/renderer.h"
 
 #include <tbb/enumerable_thread_specific.h>

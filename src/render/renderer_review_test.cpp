@@ -8,7 +8,7 @@
 #include "render/renderer.h"
 
 #include "abuffer/screen_polygon.h"
-#include "render/primitives_setup.h"
+#include "render/pipeline.h"
 #include "render/view_tables.h"
 
 #include <gtest/gtest.h>
@@ -236,7 +236,7 @@ TEST(RenderReview, DuplicatePointInAPolylineKeepsTheMitre) {
   // A polyline bending by 90 degrees, 4 px wide, with its corner point repeated: the repeat is a
   // zero-length segment, dropped and counted, and should change nothing else: the image must
   // equal that of the polyline without the repeat (mitred joint, exact area 4 * (L1 + L2)).
-  // Bug: the dropped segment invalidates both joints around it (primitives_setup.cpp, the joint
+  // Bug: the dropped segment invalidates both joints around it (segment_setup.cpp, the joint
   // loop skips when a neighbour is !valid), so the two real segments get square ends: the
   // outer corner loses a 2 x 2 square and the inner one is covered twice.
   const int W = 48, H = 48;

@@ -8,7 +8,7 @@
 #include "render/renderer.h"
 
 #include "abuffer/screen_polygon.h"
-#include "render/primitives_setup.h"
+#include "render/pipeline.h"
 
 #include <gtest/gtest.h>
 

@@ -12,7 +12,7 @@
 // than a pixel is box-filtered over the (u, v) (or groove-coordinate) footprint of one pixel,
 // found by moving the eye point one pixel in x and in y on the triangle's plane. The reference
 // renderer point-samples instead and averages its sub-samples.
-#include "render/primitives_setup.h"
+#include "render/pipeline.h"
 
 #include "shading/cylinder_shading.h"
 #include "texture/bump.h"

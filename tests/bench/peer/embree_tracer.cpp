@@ -1,6 +1,6 @@
 #include "embree_tracer.h"
 
-#include "render/primitives_setup.h"
+#include "render/pipeline.h"
 
 #include <embree3/rtcore.h>
 

@@ -24,7 +24,7 @@
 #include "render_command.h"
 #include "scene_file.h"
 
-#include "render/primitives_setup.h"
+#include "render/pipeline.h"
 #include "render/renderer.h"
 
 #include <nlohmann/json.hpp>

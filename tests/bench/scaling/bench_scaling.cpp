@@ -34,7 +34,7 @@
 
 #include "abuffer/abuffer.h"
 #include "plot.h"
-#include "render/primitives_setup.h"
+#include "render/pipeline.h"
 #include "render/renderer.h"
 
 #include <nlohmann/json.hpp>

@@ -1,7 +1,18 @@
-// The stages before rasterisation, shared by the A-buffer renderer and its brute-force
-// reference: camera and eye-space lights, the shading tables a scene needs (and only those),
-// clipping and projection of triangles and wire segments into convex screen polygons, binning
-// into tiles, and per-fragment shading.
+// The A-buffer's data path, one stage per file, in the order render() (renderer.cpp) calls them:
+//
+//   scene -> camera          view_setup.cpp      chooseCamera: the scene's camera, or one framing it
+//         -> tables          shading_tables.cpp  prepareShaders: the shading tables the scene needs
+//         -> primitives      prepare_scene.cpp   prepareScene: the stages above, then clipping and
+//                            triangle_setup.cpp    projection of triangles and wire segments into
+//                            segment_setup.cpp     convex screen polygons
+//         -> bins            binning.cpp         binPrimitives: primitives into screen tiles
+//         -> fragments       rasterize.h         rasterizePolygon: exact area, mask, depth per pixel
+//         -> resolve         abuffer/abuffer.cpp TileABuffer: depth order, coverage, tails
+//         -> image
+//
+// Shading of a fragment (fragment_shading.cpp, surface_shading.cpp) is called from the fragment
+// stage. The brute-force reference (reference_renderer.cpp) and the benchmarks' ray caster share
+// every stage up to the bins. This header holds the data the stages hand each other.
 //
 // Wire segments follow the paper (§3): a polygon as thick as the wire, its narrow side across
 // the screen direction of the segment and its long side joining the end points. Consecutive
@@ -24,6 +35,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -208,5 +220,49 @@ inline glm::vec4 sanitizedBackground(const glm::vec4& bg) {
 /// Radiance of a primitive's fragment at screen point (x, y), view depth `depth`.
 glm::vec3 shadeFragment(const PreparedScene& ps, const Primitive& prim, double x, double y,
                         double depth);
+
+
+// ---- helpers the stages share ------------------------------------------------------------
+
+inline double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+inline bool finite3(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+/// Colours and opacities from the scene: NaN / Inf / negative would reach the image.
+inline glm::vec3 safeColour(const glm::vec3& c) {
+  auto f = [](float v) { return std::isfinite(v) ? std::max(v, 0.0f) : 0.0f; };
+  return {f(c.x), f(c.y), f(c.z)};
+}
+inline float safeOpacity(float a) { return std::isfinite(a) ? std::clamp(a, 0.0f, 1.0f) : 1.0f; }
+
+/// Stage "camera": the scene's camera when usable (else one framing its bounds, with a warning),
+/// near and far planes from the bounding sphere where the camera leaves them open.
+Camera chooseCamera(const Scene& scene, const RenderOptions& options, RenderStats& stats);
+/// Stage "tables": one shader slot per surface material and per wire, with the shading tables
+/// (pseudo-reflectance maps, reflectance spheres) the map path needs, and only those; fills the
+/// maps time, the table counts and the error estimates of the tables in `stats`.
+void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& options,
+                    std::vector<int>& surfaceShader, std::vector<int>& wireShader, RenderStats& stats);
+
+
+/// What one work item of the primitives stage produces (a chunk of triangles or polylines);
+/// prepareScene joins the chunks in a fixed order.
+struct ChunkOut {
+  std::vector<Primitive> prims;
+  std::vector<glm::dvec2> verts;
+  std::vector<TriangleAttributes> tris;
+  std::vector<SegmentAttributes> segs;
+  size_t triangles = 0, segments = 0, rejected = 0, zeroLength = 0, clipped = 0, endOn = 0;
+};
+/// Appends the screen polygon `poly` of `prim` to `out` with its bounding box; false (nothing
+/// appended) when it covers no area inside the image.
+bool finishPolygon(const ScreenPolygon& poly, const ViewTransform& view, Primitive& prim, ChunkOut& out);
+/// Triangles [begin, end) of a surface: clipped to near / far, projected, depth plane, attributes.
+void setupTriangles(const PreparedScene& ps, const SceneSurface& surf, std::uint32_t surfaceIndex,
+                    std::uint16_t shader, std::uint32_t tag, float opacity, size_t begin, size_t end,
+                    ChunkOut& out);
+/// Polylines [begin, end) of a wire: the paper's wire polygons (see the top of this file).
+void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint16_t shader,
+                    std::uint32_t tagBase, size_t begin, size_t end, ChunkOut& out);
 
 }  // namespace wf

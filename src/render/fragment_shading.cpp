@@ -1,0 +1,187 @@
+// Shading of one fragment (render/pipeline.h): wires through the pseudo-reflectance map or the
+// exact cylinder integral, plain and depth-cued wires; surfaces by interpolating their triangle
+// (perspective-correct) and shadeSurfaceFragment (surface_shading.cpp).
+#include "render/pipeline.h"
+
+#include "shading/cylinder_shading.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace wf {
+
+glm::dvec3 chromeRadiance(const EnvironmentMap& env, const glm::dvec3& refl, const glm::dvec3& n,
+                          const glm::dvec3& v) {
+  const glm::dvec3 r = 2.0 * glm::dot(n, v) * n - v;
+  return refl * glm::dvec3(env.lookup(r));
+}
+
+const EnvironmentMap& defaultEnvironment() {
+  static const EnvironmentMap env = EnvironmentMap::mountainScene(512);
+  return env;
+}
+
+namespace {
+// Unclamped barycentrics of eye point P on the triangle's plane.
+glm::dvec3 barycentricOf(const TriangleAttributes& ta, const glm::dvec3& P) {
+  const glm::dvec3 v = P - ta.p0;
+  const double d20 = glm::dot(v, ta.e1), d21 = glm::dot(v, ta.e2);
+  const double b1 = (ta.d11 * d20 - ta.d01 * d21) * ta.invDen;
+  const double b2 = (ta.d00 * d21 - ta.d01 * d20) * ta.invDen;
+  return {1.0 - b1 - b2, b1, b2};
+}
+
+// World-space dP/du, dP/dv of a triangle from its positions and (u, v) (zero when the (u, v)
+// are degenerate).
+void triangleUvGradient(const TriangleMesh& mesh, const glm::uvec3& tri, glm::dvec3& du, glm::dvec3& dv) {
+  const glm::dvec3 e1 = mesh.positions[tri.y] - mesh.positions[tri.x];
+  const glm::dvec3 e2 = mesh.positions[tri.z] - mesh.positions[tri.x];
+  const glm::dvec2 t1 = mesh.uvs[tri.y] - mesh.uvs[tri.x], t2 = mesh.uvs[tri.z] - mesh.uvs[tri.x];
+  const double det = t1.x * t2.y - t2.x * t1.y;
+  if (!(std::abs(det) > 0) || !std::isfinite(det)) {
+    du = dv = glm::dvec3(0.0);
+    return;
+  }
+  du = (e1 * t2.y - e2 * t1.y) / det;
+  dv = (e2 * t1.x - e1 * t2.x) / det;
+  if (!std::isfinite(glm::dot(du, du)) || !std::isfinite(glm::dot(dv, dv))) du = dv = glm::dvec3(0.0);
+}
+
+glm::dvec3 finiteOrZero(const glm::dvec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) ? v : glm::dvec3(0.0);
+}
+
+template <class V>
+bool finiteVec(const V& v) {
+  for (int k = 0; k < V::length(); ++k)
+    if (!std::isfinite(double(v[k]))) return false;
+  return true;
+}
+
+// b0 a + b1 b + b2 c over the vertices whose value is finite, weights renormalised (a vertex
+// with a NaN attribute must not spoil the whole triangle: 0 x NaN is NaN); the plain mean of the
+// finite ones where their weights vanish; false when no vertex is finite.
+template <class V>
+bool mixFinite(const V& a, const V& b, const V& c, double b0, double b1, double b2, V& out) {
+  // The per-fragment path: one check of the mix (a NaN or Inf vertex makes it non-finite even
+  // at weight 0, since 0 x NaN and 0 x Inf are NaN); the vertices are examined only then.
+  out = b0 * a + b1 * b + b2 * c;
+  if (finiteVec(out)) return true;
+  const bool fa = finiteVec(a), fb = finiteVec(b), fc = finiteVec(c);
+  if (!fa && !fb && !fc) return false;
+  double w0 = fa ? b0 : 0.0, w1 = fb ? b1 : 0.0, w2 = fc ? b2 : 0.0;
+  double ws = w0 + w1 + w2;
+  if (!(ws > 0)) w0 = fa, w1 = fb, w2 = fc, ws = w0 + w1 + w2;
+  out = (w0 / ws) * (fa ? a : V(0.0)) + (w1 / ws) * (fb ? b : V(0.0)) + (w2 / ws) * (fc ? c : V(0.0));
+  return finiteVec(out);
+}
+}  // namespace
+
+glm::dvec2 uvOnPlane(const PreparedScene& ps, const TriangleAttributes& ta, const glm::dvec3& P) {
+  const TriangleMesh& mesh = ps.scene->surfaces[ta.surface].mesh;
+  if (mesh.uvs.size() != mesh.positions.size()) return glm::dvec2(0.0);
+  const glm::uvec3 tri = mesh.triangles[ta.triangle];
+  const glm::dvec3 b = barycentricOf(ta, P);
+  const glm::dvec2 uv = b.x * mesh.uvs[tri.x] + b.y * mesh.uvs[tri.y] + b.z * mesh.uvs[tri.z];
+  // Not finite (a NaN uv, or beyond double range): an unbounded footprint, which the textures
+  // read as their mean.
+  return std::isfinite(uv.x) && std::isfinite(uv.y) ? uv : glm::dvec2(INFINITY);
+}
+
+SurfaceSample interpolateTriangle(const PreparedScene& ps, const TriangleAttributes& ta, const glm::dvec3& P,
+                                  const glm::dvec3& V, bool tangentAndUv, bool derivatives) {
+  // Barycentrics of the eye-space point P (on the triangle's plane under the fragment), clamped
+  // into the triangle: perspective-correct by construction.
+  const glm::dvec3 bu = barycentricOf(ta, P);
+  double b0 = std::max(bu.x, 0.0), b1 = std::max(bu.y, 0.0), b2 = std::max(bu.z, 0.0);
+  const double bs = b0 + b1 + b2;
+  if (bs > 0 && std::isfinite(bs)) b0 /= bs, b1 /= bs, b2 /= bs;
+  else b0 = 1, b1 = b2 = 0;
+  const TriangleMesh& mesh = ps.scene->surfaces[ta.surface].mesh;
+  const glm::uvec3 tri = mesh.triangles[ta.triangle];
+  const size_t nv = mesh.positions.size();
+  SurfaceSample out;
+  out.barycentric = glm::dvec3(b0, b1, b2);
+  auto mix3 = [&](const auto& a, const auto& b, const auto& c) { return b0 * a + b1 * b + b2 * c; };
+  glm::dvec3 N = glm::cross(ta.e1, ta.e2);  // the face normal, unless the mesh has usable vertex normals
+  if (glm::dvec3 n; mesh.normals.size() == nv &&
+                    mixFinite(mesh.normals[tri.x], mesh.normals[tri.y], mesh.normals[tri.z], b0, b1, b2, n) &&
+                    glm::dot(n, n) > 0)
+    N = ps.view.eyeFromWorld * n;
+  const double nl = glm::length(N);
+  N = (nl > 0 && std::isfinite(nl)) ? N / nl : V;
+  if (glm::dot(N, V) < 0) N = -N, out.flipped = true;  // two-sided: the side facing the viewer
+  out.normal = N;
+  if (tangentAndUv && mesh.tangents.size() == nv) {
+    glm::dvec3 T(0.0);
+    if (mixFinite(mesh.tangents[tri.x], mesh.tangents[tri.y], mesh.tangents[tri.z], b0, b1, b2, T)) T = ps.view.eyeFromWorld * T;
+    const double tl = glm::length(T);
+    out.tangent = (tl > 0 && std::isfinite(tl)) ? T / tl : glm::dvec3(0.0);
+  }
+  if (tangentAndUv && mesh.uvs.size() == nv && !mixFinite(mesh.uvs[tri.x], mesh.uvs[tri.y], mesh.uvs[tri.z], b0, b1, b2, out.uv))
+    out.uv = glm::dvec2(0.0);
+  if (derivatives) {
+    // The mesh's own derivatives when all three vertices have finite ones; else the triangle's
+    // (u, v) gradient; else its tangents for dS/du.
+    glm::dvec3 du(0.0), dv(0.0);
+    auto allFinite = [&](const std::vector<glm::dvec3>& a) {
+      return a.size() == nv && finiteVec(a[tri.x]) && finiteVec(a[tri.y]) && finiteVec(a[tri.z]);
+    };
+    if (allFinite(mesh.derivU) && allFinite(mesh.derivV)) {
+      du = mix3(mesh.derivU[tri.x], mesh.derivU[tri.y], mesh.derivU[tri.z]);
+      dv = mix3(mesh.derivV[tri.x], mesh.derivV[tri.y], mesh.derivV[tri.z]);
+    } else if (mesh.uvs.size() == nv) {
+      triangleUvGradient(mesh, tri, du, dv);
+    }
+    if (glm::dot(du, du) == 0 && glm::dot(dv, dv) == 0 && mesh.tangents.size() == nv)
+      mixFinite(mesh.tangents[tri.x], mesh.tangents[tri.y], mesh.tangents[tri.z], b0, b1, b2, du);
+    out.derivU = finiteOrZero(ps.view.eyeFromWorld * du);
+    out.derivV = finiteOrZero(ps.view.eyeFromWorld * dv);
+  }
+  if (mesh.colours.size() == nv)
+    out.colour = safeColour(mesh.colours[tri.x] * float(b0) + mesh.colours[tri.y] * float(b1) + mesh.colours[tri.z] * float(b2));
+  return out;
+}
+
+SurfaceSample interpolateSurface(const PreparedScene& ps, const Primitive& prim, double x, double y) {
+  if (prim.isSegment) return {};
+  const double depth = ps.view.depthFromKey(prim.depthKeyAt(x, y));
+  const glm::dvec3 P = ps.view.eyePoint(x, y, depth);
+  return interpolateTriangle(ps, ps.triangles[prim.attribute], P, ps.view.viewVector(P), true);
+}
+
+glm::vec3 shadeFragment(const PreparedScene& ps, const Primitive& prim, double x, double y,
+                        double depth) {
+  if (prim.constantColour) return prim.colour;
+  const ViewTransform& view = ps.view;
+  const glm::dvec3 P = view.eyePoint(x, y, depth);
+  const glm::dvec3 V = view.viewVector(P);
+  if (prim.isSegment) {
+    const SegmentAttributes& sa = ps.segments[prim.attribute];
+    const ShaderSlot& slot = ps.shaders[sa.shader];
+    const glm::dvec3 d = sa.p1 - sa.p0;
+    const double dd = glm::dot(d, d);
+    const double s = dd > 0 ? std::clamp(glm::dot(P - sa.p0, d) / dd, 0.0, 1.0) : 0.0;
+    const glm::vec3 c = glm::mix(sa.c0, sa.c1, float(s));
+    switch (slot.kind) {
+      case ShaderSlot::Kind::WirePlain:
+        return slot.colour * c;
+      case ShaderSlot::Kind::WireDepthCued: {
+        // The paper's baseline (§3): lines dimmer as they recede, full at the nearest wire
+        // depth, 10% at the farthest.
+        const double range = ps.cueFar - ps.cueNear;
+        const double t = range > 0 ? std::clamp((depth - ps.cueNear) / range, 0.0, 1.0) : 0.0;
+        return slot.colour * c * float(1.0 - 0.9 * t);
+      }
+      default: {
+        glm::dvec3 T = glm::mix(sa.t0, sa.t1, s);
+        if (ps.path == ShadingPath::Maps && slot.wireTables) return slot.wireTables->lookup(T, x, y) * c;
+        return glm::vec3(cylinderRadianceExact(T, V, slot.phong, ps.eyeLights, 1e-8)) * c;
+      }
+    }
+  }
+  return shadeSurfaceFragment(ps, prim, x, y, P, V);
+}
+
+
+}  // namespace wf
