@@ -186,6 +186,7 @@ void readGrowth(const Reader& r, const json& obj, const std::string& ptr, const 
     w.style = wf::WireStyle::Shaded;
     w.material = material;
     w.opacity = opacity;
+    w.restsOnSurface = false;  // a hair's polyline is its axis: it grows out of the skin
     if (j.contains("ends")) w.roundEnds = r.choice(j["ends"], Reader::at(fp, "ends"), {"square", "round"}) == "round";
     scene.wires.push_back(std::move(w));
   }

@@ -11,16 +11,6 @@ namespace {
 // arrive one after another (consecutive segments, neighbouring triangles), so a short look-back
 // finds them without making insertion O(list length).
 constexpr int kMergeLookBack = 8;
-// The eight bits of a byte as eight 0/1 floats (the resolve's mask expansion).
-struct ByteLanes {
-  float v[256][8];
-  constexpr ByteLanes() : v{} {
-    for (int b = 0; b < 256; ++b)
-      for (int i = 0; i < 8; ++i) v[b][i] = float((b >> i) & 1);
-  }
-};
-constexpr ByteLanes kByteLaneTable{};
-const auto& kByteLanes = kByteLaneTable.v;
 // Solid means the whole pixel: the exact area may fall short of 1 by rounding only.
 constexpr float kSolidArea = 1.0f - 1e-5f;
 
@@ -59,13 +49,70 @@ void ABufferCounters::add(const ABufferCounters& o) {
   peakFragmentsHeld = std::max(peakFragmentsHeld, o.peakFragmentsHeld);
 }
 
+namespace {
+// The depth of a SurfaceDepth at samples, one loop per case (no branch inside, so that it
+// vectorises: the subpixel depths are the resolve's inner loop on dense hair).
+template <bool Perspective>
+inline float depthOfKey(float key) {
+  if constexpr (Perspective) {
+    const float d = 1.0f / key;
+    return key > 0.0f ? d : INFINITY;
+  } else {
+    return key;
+  }
+}
+template <bool Perspective>
+void planeDepths(const SurfaceDepth& m, const float* sx, const float* sy, int n, float* out) {
+  const float lo = std::max(m.nearPlane, m.lo), hi = m.hi, k0 = m.k0, kx = m.kx, ky = m.ky;
+  for (int k = 0; k < n; ++k) out[k] = std::min(hi, std::max(lo, depthOfKey<Perspective>(k0 + kx * sx[k] + ky * sy[k])));
+}
+template <bool Perspective, bool Round>
+void wireDepths(const SurfaceDepth& m, const float* sx, const float* sy, int n, float* out) {
+  const float lo = std::max(m.nearPlane, m.lo), hi = m.hi;
+  const float t0 = m.t0, tx = m.tx, ty = m.ty, l0 = m.l0, lx = m.lx, ly = m.ly, len = m.length;
+  const float w0 = m.w0, dw = m.dw, r0 = m.r0, dr = m.dr, k0 = m.k0, kx = m.kx;
+  for (int k = 0; k < n; ++k) {
+    const float t = t0 + tx * sx[k] + ty * sy[k];
+    const float tc = std::min(1.0f, std::max(0.0f, t));
+    float d = depthOfKey<Perspective>(k0 + kx * tc);
+    if constexpr (Round) {
+      const float lat = l0 + lx * sx[k] + ly * sy[k], along = (t - tc) * len, w = w0 + dw * tc;
+      const float q2 = std::min(1.0f, (lat * lat + along * along) / (w * w));
+      d -= (r0 + dr * tc) * std::sqrt(1.0f - q2);
+    }
+    out[k] = std::min(hi, std::max(lo, d));
+  }
+}
+}  // namespace
+
+void SurfaceDepth::atSamples(const float* sx, const float* sy, int n, float* out) const {
+  if (kind == Kind::Plane) {
+    if (perspective) planeDepths<true>(*this, sx, sy, n, out);
+    else planeDepths<false>(*this, sx, sy, n, out);
+  } else if (round) {
+    if (perspective) wireDepths<true, true>(*this, sx, sy, n, out);
+    else wireDepths<false, true>(*this, sx, sy, n, out);
+  } else {
+    if (perspective) wireDepths<true, false>(*this, sx, sy, n, out);
+    else wireDepths<false, false>(*this, sx, sy, n, out);
+  }
+}
+
 TileABuffer::TileABuffer(const MaskLayout& layout, int budget, float occlusionEpsilon)
     : layout_(layout), budget_(std::clamp(budget, 1, 65535)),
-      epsilon_(std::isfinite(occlusionEpsilon) ? std::clamp(occlusionEpsilon, 0.0f, 0.5f) : 0.0f) {}
+      epsilon_(std::isfinite(occlusionEpsilon) ? std::clamp(occlusionEpsilon, 0.0f, 0.5f) : 0.0f) {
+  for (int k = 0; k < layout_.samples(); ++k) {
+    sampleX_[k] = float(layout_.sampleX(k % layout_.w));
+    sampleY_[k] = float(layout_.sampleY(k / layout_.w));
+  }
+}
 
-void TileABuffer::reset(int w, int h) {
+void TileABuffer::reset(int w, int h, int x0, int y0, const FragmentSource* source) {
   w_ = w;
   h_ = h;
+  x0_ = x0;
+  y0_ = y0;
+  source_ = source;
   pixels_.assign(size_t(w) * size_t(h), Pixel{});
   nodes_.clear();
   freeNodes_.clear();
@@ -98,6 +145,29 @@ bool TileABuffer::isSolid(const Fragment& f) const {
   return f.opacity >= 1.0f && f.area >= kSolidArea && f.mask == layout_.full() && f.standInBits == 0;
 }
 
+void TileABuffer::shadeNow(Fragment& f, std::size_t pixelIndex) const {
+  if (f.shaded) return;
+  if (source_)
+    f.colour = source_->shade(f, x0_ + int(pixelIndex % size_t(w_)), y0_ + int(pixelIndex / size_t(w_)));
+  f.shaded = true;
+}
+
+bool TileABuffer::maskHidden(int x, int y, MaskBits mask, int standInSubpixel, float z) const {
+  const size_t pixelIndex = size_t(y) * size_t(w_) + size_t(x);
+  const Pixel& p = pixels_[pixelIndex];
+  if (p.hasSolid() && z >= solids_[size_t(p.solid)].zmax) return true;
+  if (p.depths < 0 || p.noOcclusion) return false;
+  if (mask == 0) mask = MaskBits(1) << std::clamp(standInSubpixel, 0, layout_.samples() - 1);
+  const int n = layout_.samples();
+  const float* D = &subpixelDepth_[size_t(p.depths) * size_t(2 * n)];
+  const float* T = D + n;
+  for (MaskBits m = mask; m; m &= m - 1) {
+    const int s = std::countr_zero(m);
+    if (!(T[s] <= epsilon_ && D[s] <= z)) return false;
+  }
+  return true;
+}
+
 std::int32_t TileABuffer::allocNode() {
   if (!freeNodes_.empty()) {
     const std::int32_t i = freeNodes_.back();
@@ -108,7 +178,9 @@ std::int32_t TileABuffer::allocNode() {
   return std::int32_t(nodes_.size() - 1);
 }
 
-void TileABuffer::toTail(Pixel& p, const Fragment& f) {
+void TileABuffer::toTail(Pixel& p, const Fragment& in) {
+  Fragment f = in;
+  shadeNow(f, size_t(&p - pixels_.data()));
   if (p.tail < 0) {
     p.tail = std::int32_t(tails_.size());
     tails_.push_back(Tail{});
@@ -282,6 +354,8 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
     // layers of one object (a silhouette fold) do, and stay apart.
     if (n.f.tag == f.tag && ((n.f.mask & ~n.f.standInBits) & (f.mask & ~f.standInBits)) == 0 &&
         depthRangesTouch(n.f, f)) {
+      shadeNow(n.f, pixelIndex);
+      shadeNow(f, pixelIndex);
       mergeInto(n.f, f);
       ++local_.merged;
       if (isSolid(n.f)) {
@@ -306,9 +380,14 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
 }
 
 glm::vec4 TileABuffer::resolve(int x, int y) const {
-  const Pixel& p = pixels_[size_t(y) * size_t(w_) + size_t(x)];
+  const size_t pixelIndex = size_t(y) * size_t(w_) + size_t(x);
+  const Pixel& p = pixels_[pixelIndex];
+  const int px = x0_ + x, py = y0_ + y;
+  auto colourOf = [&](const Fragment& f) {
+    return f.shaded || !source_ ? f.colour : source_->shade(f, px, py);
+  };
   if (p.length == 0 && !p.hasTail()) {
-    if (p.hasSolid()) return glm::vec4(solids_[size_t(p.solid)].colour, 1.0f);
+    if (p.hasSolid()) return glm::vec4(colourOf(solids_[size_t(p.solid)]), 1.0f);
     return glm::vec4(0.0f);
   }
   // Gather, sort front to back (depth, then arrival: deterministic).
@@ -333,33 +412,120 @@ glm::vec4 TileABuffer::resolve(int x, int y) const {
     tailNode = Node{f, 0xFFFFFFFEu, -1};
     order.push_back(&tailNode);
   }
-  std::sort(order.begin(), order.end(), [](const Node* a, const Node* b) {
-    return a->f.zkey < b->f.zkey || (a->f.zkey == b->f.zkey && a->seq < b->seq);
-  });
+  // Front to back by zkey, ties by arrival (lists are short: insertion sort).
+  for (size_t i = 1; i < order.size(); ++i) {
+    const Node* v = order[i];
+    size_t j = i;
+    for (; j > 0 && (v->f.zkey < order[j - 1]->f.zkey || (v->f.zkey == order[j - 1]->f.zkey && v->seq < order[j - 1]->seq)); --j)
+      order[j] = order[j - 1];
+    order[j] = v;
+  }
   const int N = layout_.samples();
-  // Per-subpixel transmittance. Masks with few bits walk their bits; fuller ones update all N
-  // lanes branch-free (vectorised), the mask expanded to 0/1 lanes a byte at a time.
+  const int n = int(order.size());
+  // Per fragment: its mask, how many subpixels, how much it hides each (1: wholly), and, for
+  // those that hide wholly, the subpixels it owns (where it is the nearest of them).
+  thread_local std::vector<MaskBits> owned, visible;
+  thread_local std::vector<float> hides, depths;
+  thread_local std::vector<std::int8_t> depthState;  // 0: not evaluated, 1: per subpixel, 2: flat (zkey)
+  owned.assign(size_t(n), 0);
+  visible.assign(size_t(n), 0);
+  hides.resize(size_t(n));
+  depthState.assign(size_t(n), 0);
+  depths.resize(size_t(n) * size_t(N));
+  bool anyPartial = false;
+  for (int i = 0; i < n; ++i) {
+    const Fragment& f = order[size_t(i)]->f;
+    const int k = maskCount(f.mask);
+    hides[size_t(i)] = k ? f.opacity * std::min(1.0f, f.area * float(N) / float(k)) : 0.0f;
+    if (hides[size_t(i)] >= 1.0f) owned[size_t(i)] = f.mask;
+    else if (k) anyPartial = true;
+  }
+  // The depth of fragment i's surface at its subpixels, evaluated once, when two surfaces whose
+  // depth ranges overlap share a subpixel (they interpenetrate in this pixel).
+  auto depthsOf = [&](int i) -> const float* {
+    float* d = &depths[size_t(i) * size_t(N)];
+    if (depthState[size_t(i)] == 0) {
+      const Fragment& f = order[size_t(i)]->f;
+      SurfaceDepth model;
+      if (source_ && f.prim != Fragment::kNoPrimitive && source_->surfaceDepth(f, px, py, model)) {
+        model.atSamples(sampleX_, sampleY_, N, d);
+        depthState[size_t(i)] = 1;
+      } else {
+        std::fill(d, d + N, f.zkey);
+        depthState[size_t(i)] = 2;
+      }
+    }
+    return d;
+  };
+  // The subpixels of `common` where fragment i lies in front of fragment j (i earlier in the
+  // order, which decides ties).
+  auto frontOf = [&](int i, int j, MaskBits common) -> MaskBits {
+    const Fragment &a = order[size_t(i)]->f, &b = order[size_t(j)]->f;
+    if (a.zmax <= b.zmin) return common;  // apart (touching: the order decides)
+    if (a.zmin >= b.zmax) return 0;
+    const float *da = depthsOf(i), *db = depthsOf(j);
+    MaskBits front = 0;
+    for (MaskBits m = common; m; m &= m - 1) {
+      const int s = std::countr_zero(m);
+      if (da[s] <= db[s]) front |= MaskBits(1) << s;  // ties: the earlier
+    }
+    return front;
+  };
+  // Ownership among the fragments that hide wholly: each pair sharing subpixels splits them.
+  for (int i = 0; i < n; ++i) {
+    if (hides[size_t(i)] < 1.0f) continue;
+    for (int j = i + 1; j < n; ++j) {
+      if (hides[size_t(j)] < 1.0f) continue;
+      const MaskBits common = owned[size_t(i)] & owned[size_t(j)];
+      if (!common) continue;
+      const MaskBits front = frontOf(i, j, common);
+      owned[size_t(j)] &= ~front;
+      owned[size_t(i)] &= ~(common & ~front);
+    }
+  }
   alignas(32) float T[64];
   std::fill(T, T + N, 1.0f);
   glm::vec3 rgb(0.0f);
   float alpha = 0.0f;
-  for (const Node* n : order) {
-    const Fragment& f = n->f;
-    const int k = maskCount(f.mask);
-    if (k == 0) continue;
-    const float hide = f.opacity * std::min(1.0f, f.area * float(N) / float(k));
-    float sumT = 0;
-    if (k <= 8) {
-      for (MaskBits m = f.mask; m; m &= m - 1) sumT += T[std::countr_zero(m)];
-      for (MaskBits m = f.mask; m; m &= m - 1) T[std::countr_zero(m)] *= 1.0f - hide;
-    } else {
-      alignas(32) float in[64];
-      for (int b = 0; b < N; b += 8) std::memcpy(in + b, kByteLanes[(f.mask >> b) & 0xFF], sizeof(float) * 8);
-      for (int s = 0; s < N; ++s) sumT += T[s] * in[s];
-      for (int s = 0; s < N; ++s) T[s] *= 1.0f - hide * in[s];
+  // What only dims its subpixels, front to back, where it lies in front of their owner.
+  if (anyPartial)
+    for (int i = 0; i < n; ++i) {
+      const Fragment& f = order[size_t(i)]->f;
+      const float hide = hides[size_t(i)];
+      if (hide >= 1.0f || f.mask == 0) continue;
+      MaskBits seen = f.mask;
+      for (int j = 0; j < n && seen; ++j) {
+        const MaskBits common = seen & owned[size_t(j)];
+        if (!common) continue;
+        const MaskBits front = j > i ? frontOf(i, j, common) : common & ~frontOf(j, i, common);
+        seen &= ~(common & ~front);
+      }
+      float sumT = 0;
+      for (MaskBits m = seen; m; m &= m - 1) {
+        const int s = std::countr_zero(m);
+        sumT += T[s];
+        T[s] *= 1.0f - hide;
+      }
+      if (!(sumT > 0.0f)) continue;
+      const float w = f.opacity * f.area * (sumT / float(maskCount(f.mask)));
+      rgb += colourOf(f) * w;
+      alpha += w;
     }
-    const float w = f.opacity * f.area * (sumT / float(k));
-    rgb += f.colour * w;
+  // The owners, through what lies in front of them.
+  for (int i = 0; i < n; ++i) {
+    const MaskBits mine = owned[size_t(i)];
+    if (!mine) continue;
+    const Fragment& f = order[size_t(i)]->f;
+    float sumT;
+    if (anyPartial) {
+      sumT = 0;
+      for (MaskBits m = mine; m; m &= m - 1) sumT += T[std::countr_zero(m)];
+    } else {
+      sumT = float(maskCount(mine));
+    }
+    if (!(sumT > 0.0f)) continue;
+    const float w = f.opacity * f.area * (sumT / float(maskCount(f.mask)));
+    rgb += colourOf(f) * w;
     alpha += w;
   }
   // Quantised masks can let true areas overlap where masks do not: never more than full cover.

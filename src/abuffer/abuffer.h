@@ -13,6 +13,15 @@
 // 1 - alpha * min(1, A * N / k) (N samples per pixel): opaque polygons hide their subpixels as
 // in Carpenter's A-buffer, sub-subpixel lines only dim them by the share they cover.
 //
+// Surfaces that interpenetrate inside a pixel (crossing hairs, a hair entering the skin) are
+// ordered subpixel by subpixel, not by one depth per fragment: a fragment that hides its
+// subpixels wholly owns each subpixel where its surface is the nearest of those (depths at the
+// subpixel samples from the FragmentSource, asked only where two depth ranges overlap), and
+// everything else at that subpixel counts only in front of the owner's surface there.
+//
+// Shading is deferred: a fragment may arrive unshaded (`shaded` false, with its primitive and
+// shading point) and is shaded only if it survives to the resolve (or merges, or joins a tail).
+//
 // Leaving out what a pixel does not need: an opaque fragment that covers the whole pixel becomes
 // the pixel's `solid` fragment, not a list entry; fragments wholly behind it are dropped at once
 // and a pixel that has only a solid fragment keeps no list at all.
@@ -54,6 +63,57 @@ struct Fragment {
   /// more bits than area, hiding only part of what is behind it).
   MaskBits standInBits = 0;
   bool mayMerge = true;      ///< false for an object of one piece (a one-segment hair): skips the merge search
+  bool shaded = true;        ///< `colour` holds its radiance; false: the FragmentSource shades it when needed
+  std::uint32_t prim = kNoPrimitive;  ///< the primitive it comes from (the FragmentSource's numbering)
+  float cx = 0.5f, cy = 0.5f;         ///< shading point inside the pixel (0 ... 1 from its top left corner)
+  static constexpr std::uint32_t kNoPrimitive = 0xFFFFFFFFu;
+};
+
+/// The view depth of a fragment's surface across its pixel, as a function of the offset (sx, sy)
+/// in [0, 1]^2 from the pixel's top left corner: a plane of the depth key (triangles; 1/d under
+/// perspective, d when orthographic), or a round wire (render/pipeline.h, segmentDepthAt): its
+/// axis key along t, its surface sqrt(1 - q^2) radii before the axis, q the distance from the
+/// axis in half widths. In float: plain data the resolve evaluates at the subpixels it needs.
+struct SurfaceDepth {
+  enum class Kind : std::uint8_t { Plane, Wire } kind = Kind::Plane;
+  bool perspective = true;
+  bool round = true;                 ///< wire: the round surface (false: the axis key alone)
+  float nearPlane = 0, lo = 0, hi = INFINITY;  ///< the result is clamped to [max(near, lo), hi]
+  float k0 = 0, kx = 0, ky = 0;      ///< plane: key = k0 + kx sx + ky sy; wire: key = k0 + kx tc
+  float t0 = 0, tx = 0, ty = 0;      ///< wire: t along the axis (0 ... 1 between its ends)
+  float l0 = 0, lx = 0, ly = 0;      ///< wire: lateral distance from the axis line (pixels)
+  float length = 0;                  ///< wire: axis length (pixels), for the distance beyond its ends
+  float w0 = 1, dw = 0, r0 = 0, dr = 0;  ///< wire: half width (pixels) and radius (world) at t, linear
+  /// The depth at n samples (sx[k], sy[k]) into out[k] (a loop the compiler vectorises).
+  void atSamples(const float* sx, const float* sy, int n, float* out) const;
+  float at(float sx, float sy) const {
+    float key, cut = 0.0f;
+    if (kind == Kind::Plane) {
+      key = k0 + kx * sx + ky * sy;
+    } else {
+      const float t = t0 + tx * sx + ty * sy;
+      const float tc = std::min(1.0f, std::max(0.0f, t));
+      key = k0 + kx * tc;
+      if (round) {
+        const float lat = l0 + lx * sx + ly * sy, along = (t - tc) * length, w = w0 + dw * tc;
+        const float q2 = std::min(1.0f, (lat * lat + along * along) / (w * w));
+        cut = (r0 + dr * tc) * std::sqrt(1.0f - q2);
+      }
+    }
+    const float d = perspective ? (key > 0.0f ? 1.0f / key : INFINITY) : key;
+    return std::min(hi, std::max(std::max(nearPlane, lo), d - cut));
+  }
+};
+
+/// What the A-buffer asks of the renderer about a fragment's primitive.
+class FragmentSource {
+ public:
+  virtual ~FragmentSource() = default;
+  /// The radiance of an unshaded fragment of pixel (x, y) (image coordinates).
+  virtual glm::vec3 shade(const Fragment& f, int x, int y) const = 0;
+  /// The depth of the fragment's surface across pixel (x, y); false when it has none but zkey
+  /// (a flat fragment).
+  virtual bool surfaceDepth(const Fragment& f, int x, int y, SurfaceDepth& depth) const = 0;
 };
 
 struct ABufferCounters {
@@ -80,8 +140,10 @@ class TileABuffer {
   /// `occlusionEpsilon`: a subpixel counts as hidden once the fragments in front leave at most
   /// this transmittance (0: only wholly hiding fragments count, and culling is exact).
   TileABuffer(const MaskLayout& layout, int budget, float occlusionEpsilon = 0.0f);
-  /// Empties the buffer for a tile of w x h pixels (keeps its memory).
-  void reset(int w, int h);
+  /// Empties the buffer for a tile of w x h pixels whose top left pixel is (x0, y0) of the image
+  /// (keeps its memory). `source` shades deferred fragments and gives subpixel depths (null:
+  /// every fragment arrives shaded and flat).
+  void reset(int w, int h, int x0 = 0, int y0 = 0, const FragmentSource* source = nullptr);
   /// Adds a fragment to pixel (x, y) of the tile. `centroidSubpixel` is the sample index used as
   /// a stand-in when `f.mask` is empty.
   void insert(int x, int y, Fragment f, int centroidSubpixel);
@@ -106,6 +168,11 @@ class TileABuffer {
       for (int bx = x0 >> 2; bx <= (x1 >> 2); ++bx) m = std::max(m, blockOcclusion_[size_t(by) * size_t(bw_) + size_t(bx)]);
     return m;
   }
+  /// Whether the subpixels of `mask` (or the stand-in subpixel when the mask is empty) of pixel
+  /// (x, y) are settled in front of depth z: a fragment there with nothing nearer than z would
+  /// change the pixel by at most the occlusion epsilon. The caller then skips it (and counts it,
+  /// countCulled).
+  bool maskHidden(int x, int y, MaskBits mask, int standInSubpixel, float z) const;
   /// Counts a fragment skipped by the caller because of occlusionDepth().
   void countCulled(int x, int y) {
     ++offered_[size_t(y) * size_t(w_) + size_t(x)];
@@ -166,9 +233,13 @@ class TileABuffer {
   std::int32_t allocNode();
 
   MaskLayout layout_;
+  float sampleX_[64], sampleY_[64];  ///< subpixel sample positions in the pixel, by sample index
   int budget_;
   float epsilon_ = 0.0f;
   int w_ = 0, h_ = 0;
+  int x0_ = 0, y0_ = 0;
+  const FragmentSource* source_ = nullptr;
+  void shadeNow(Fragment& f, std::size_t pixelIndex) const;
   std::vector<Pixel> pixels_;
   std::vector<Node> nodes_;
   std::vector<std::int32_t> freeNodes_;

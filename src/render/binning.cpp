@@ -1,55 +1,203 @@
-// Stage "bins" (render/pipeline.h): each primitive into the screen tiles its bounding box meets,
-// with what a tile needs to order and cull it without touching the primitive.
+// Stage "bins" (render/pipeline.h): each primitive into the screen tiles it may cover, with what
+// a tile needs to order and cull it without touching the primitive: its pixel rectangle inside
+// the tile and its nearest depth inside the tile. A long hair crossing several tiles is near in
+// one and far in another; ordering and culling it by its depth in each tile, not by its nearest
+// point anywhere, lets each tile take it where it belongs in front-to-back order.
+//
+// In parallel and deterministic: chunks of primitives count their items per tile, the counts
+// give every (chunk, tile) its place, and the chunks fill them, so each tile's items are in
+// primitive order whatever the thread count.
 #include "render/pipeline.h"
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <stdexcept>
 
 namespace wf {
 
+namespace {
+
+// The screen rectangle a primitive may cover, clamped to the image, as floats rounded outwards.
+struct Footprint {
+  double x0, y0, x1, y1;
+  bool empty() const { return !(x1 > x0) || !(y1 > y0); }
+};
+
+// How far a segment's polygon reaches from its axis: mitres up to kMitreLimit half widths,
+// half discs up to pi / 2 half widths (their inner vertices sit outside the circle), end-on
+// discs a little over one.
+double segmentReach(const SegmentPrim& s) {
+  return std::max({double(std::hypot(s.o0.x, s.o0.y)), double(std::hypot(s.o1.x, s.o1.y)),
+                   1.5708 * double(std::max(s.w0, s.w1))});
+}
+
+// The part [ta, tb] of the axis p0 + t (p1 - p0), t in [0, 1], inside the rectangle (Liang and
+// Barsky); false when none.
+bool clipAxis(const SegmentPrim& s, double rx0, double ry0, double rx1, double ry1, double& ta, double& tb) {
+  ta = 0.0;
+  tb = 1.0;
+  const double dx = s.p1.x - s.p0.x, dy = s.p1.y - s.p0.y;
+  const double p[4] = {-dx, dx, -dy, dy};
+  const double q[4] = {s.p0.x - rx0, rx1 - s.p0.x, s.p0.y - ry0, ry1 - s.p0.y};
+  for (int k = 0; k < 4; ++k) {
+    if (p[k] == 0.0) {
+      if (q[k] < 0.0) return false;
+      continue;
+    }
+    const double r = q[k] / p[k];
+    if (p[k] < 0.0) ta = std::max(ta, r);
+    else tb = std::min(tb, r);
+  }
+  return ta <= tb;
+}
+
+class Binner {
+ public:
+  Binner(const PreparedScene& ps, int tileSize) : ps_(ps), view_(ps.view), tile_(tileSize) {
+    tilesX_ = (view_.width + tileSize - 1) / tileSize;
+    tilesY_ = (view_.height + tileSize - 1) / tileSize;
+  }
+  int tilesX() const { return tilesX_; }
+  int tilesY() const { return tilesY_; }
+
+  // Calls f(tile, item) for every tile primitive i may cover.
+  template <class F>
+  void forEachItem(std::uint32_t i, F&& f) const {
+    if (ps_.isSegment(i)) segmentItems(i, ps_.segmentOf(i), f);
+    else triangleItems(i, ps_.triangles[i], f);
+  }
+
+ private:
+  template <class F>
+  void triangleItems(std::uint32_t i, const TrianglePrim& p, F& f) const {
+    int tx0, ty0, tx1, ty1;
+    tileRange(p.bbox[0], p.bbox[1], p.bbox[2], p.bbox[3], tx0, ty0, tx1, ty1);
+    for (int ty = ty0; ty <= ty1; ++ty)
+      for (int tx = tx0; tx <= tx1; ++tx) {
+        TileBins::Item item = rectItem(i, tx, ty, p.bbox[0], p.bbox[1], p.bbox[2], p.bbox[3]);
+        // Nearest depth of the plane over the item's rectangle: at the corner where the key is
+        // largest (perspective, 1/d) or smallest (orthographic, d).
+        const double xa = tx * tile_ + item.x0, xb = tx * tile_ + item.x1 + 1.0;
+        const double ya = ty * tile_ + item.y0, yb = ty * tile_ + item.y1 + 1.0;
+        const bool far = !view_.perspective;
+        const double kx = (p.qa > 0) != far ? xb : xa, ky = (p.qb > 0) != far ? yb : ya;
+        item.zlo = float(std::clamp(view_.depthFromKey(p.depthKeyAt(kx, ky)), double(p.zlo), double(p.zhi)));
+        if (!(item.zlo >= p.zlo)) item.zlo = p.zlo;  // NaN
+        f(ty * tilesX_ + tx, item);
+      }
+  }
+
+  template <class F>
+  void segmentItems(std::uint32_t i, const SegmentPrim& s, F& f) const {
+    const double reach = segmentReach(s);
+    const double bx0 = std::min(s.p0.x, s.p1.x) - reach, bx1 = std::max(s.p0.x, s.p1.x) + reach;
+    const double by0 = std::min(s.p0.y, s.p1.y) - reach, by1 = std::max(s.p0.y, s.p1.y) + reach;
+    int tx0, ty0, tx1, ty1;
+    if (!tileRange(bx0, by0, bx1, by1, tx0, ty0, tx1, ty1)) return;
+    const float zlo = segmentZlo(view_, s);
+    for (int ty = ty0; ty <= ty1; ++ty)
+      for (int tx = tx0; tx <= tx1; ++tx) {
+        // The axis inside the tile grown by the reach: only that part can cover the tile.
+        const double rx0 = tx * tile_ - reach, rx1 = (tx + 1) * tile_ + reach;
+        const double ry0 = ty * tile_ - reach, ry1 = (ty + 1) * tile_ + reach;
+        double ta, tb;
+        if (!clipAxis(s, rx0, ry0, rx1, ry1, ta, tb)) continue;
+        const double ax = s.p0.x + ta * (s.p1.x - s.p0.x), bx = s.p0.x + tb * (s.p1.x - s.p0.x);
+        const double ay = s.p0.y + ta * (s.p1.y - s.p0.y), by = s.p0.y + tb * (s.p1.y - s.p0.y);
+        TileBins::Item item = rectItem(i, tx, ty, std::min(ax, bx) - reach, std::min(ay, by) - reach,
+                                       std::max(ax, bx) + reach, std::max(ay, by) + reach);
+        // The front depth is monotonic along the axis: its nearest is at one end of [ta, tb].
+        const double k = view_.perspective ? std::max(segmentFrontKey(view_, s, ta), segmentFrontKey(view_, s, tb))
+                                           : std::min(segmentFrontKey(view_, s, ta), segmentFrontKey(view_, s, tb));
+        const double z = view_.depthFromKey(k);
+        item.zlo = z >= zlo ? float(z) : zlo;  // never nearer than the whole segment (nor NaN)
+        f(ty * tilesX_ + tx, item);
+      }
+  }
+
+  // Tiles overlapping the rectangle (clamped to the image); false when it misses the image.
+  bool tileRange(double x0, double y0, double x1, double y1, int& tx0, int& ty0, int& tx1, int& ty1) const {
+    x0 = std::max(x0, 0.0), y0 = std::max(y0, 0.0);
+    x1 = std::min(x1, double(view_.width)), y1 = std::min(y1, double(view_.height));
+    if (!(x1 > x0) || !(y1 > y0)) return false;
+    tx0 = std::clamp(int(std::floor(x0)) / tile_, 0, tilesX_ - 1);
+    ty0 = std::clamp(int(std::floor(y0)) / tile_, 0, tilesY_ - 1);
+    tx1 = std::clamp((int(std::ceil(x1)) - 1) / tile_, 0, tilesX_ - 1);
+    ty1 = std::clamp((int(std::ceil(y1)) - 1) / tile_, 0, tilesY_ - 1);
+    return true;
+  }
+
+  // The item of primitive i in tile (tx, ty) with the pixel rectangle of [x0, x1] x [y0, y1]
+  // inside the tile.
+  TileBins::Item rectItem(std::uint32_t i, int tx, int ty, double x0, double y0, double x1, double y1) const {
+    const int ox = tx * tile_, oy = ty * tile_;
+    const int w = std::min(tile_, view_.width - ox), h = std::min(tile_, view_.height - oy);
+    auto cell = [](double v, int o, int n) {
+      return std::int16_t(std::clamp<double>(std::floor(std::clamp(v, -1e9, 1e9)) - o, 0.0, double(n - 1)));
+    };
+    TileBins::Item item;
+    item.index = i;
+    item.x0 = cell(x0, ox, w);
+    item.y0 = cell(y0, oy, h);
+    // The last pixel a coverage up to x1 (exclusive) reaches.
+    item.x1 = std::int16_t(std::clamp<double>(std::ceil(std::clamp(x1, -1e9, 1e9)) - 1 - ox, double(item.x0), double(w - 1)));
+    item.y1 = std::int16_t(std::clamp<double>(std::ceil(std::clamp(y1, -1e9, 1e9)) - 1 - oy, double(item.y0), double(h - 1)));
+    item.zlo = 0.0f;
+    return item;
+  }
+
+  const PreparedScene& ps_;
+  const ViewTransform& view_;
+  int tile_;
+  int tilesX_ = 1, tilesY_ = 1;
+};
+
+}  // namespace
 
 TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& st) {
   const auto t0 = std::chrono::steady_clock::now();
+  const Binner binner(ps, tileSize);
   TileBins bins;
-  bins.tilesX = (ps.view.width + tileSize - 1) / tileSize;
-  bins.tilesY = (ps.view.height + tileSize - 1) / tileSize;
+  bins.tilesX = binner.tilesX();
+  bins.tilesY = binner.tilesY();
   const size_t tiles = size_t(bins.tilesX) * size_t(bins.tilesY);
+  const std::uint32_t n = ps.primitiveCount();
+  // Chunks of primitives: enough to share out, few enough that their per-tile counts stay small.
+  const size_t threads = size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
+  const size_t chunks = std::clamp<size_t>((n + 65535) / 65536, 1, 4 * threads);
+  const size_t per = (n + chunks - 1) / chunks;
+  std::vector<std::uint32_t> counts(chunks * tiles, 0);  // chunk-major
+  tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+    std::uint32_t* cnt = &counts[c * tiles];
+    const std::uint32_t end = std::uint32_t(std::min<size_t>(n, (c + 1) * per));
+    for (std::uint32_t i = std::uint32_t(c * per); i < end; ++i)
+      binner.forEachItem(i, [&](int tile, const TileBins::Item&) { ++cnt[tile]; });
+  });
+  // Offsets: tile-major, chunks in order within a tile.
   bins.offsets.assign(tiles + 1, 0);
-  auto range = [&](const Primitive& p, int& tx0, int& ty0, int& tx1, int& ty1) {
-    tx0 = std::clamp(int(std::floor(p.bbox[0])) / tileSize, 0, bins.tilesX - 1);
-    ty0 = std::clamp(int(std::floor(p.bbox[1])) / tileSize, 0, bins.tilesY - 1);
-    tx1 = std::clamp((int(std::ceil(p.bbox[2])) - 1) / tileSize, 0, bins.tilesX - 1);
-    ty1 = std::clamp((int(std::ceil(p.bbox[3])) - 1) / tileSize, 0, bins.tilesY - 1);
-  };
-  for (const Primitive& p : ps.primitives) {
-    int a, b, c, d;
-    range(p, a, b, c, d);
-    for (int ty = b; ty <= d; ++ty)
-      for (int tx = a; tx <= c; ++tx) ++bins.offsets[size_t(ty) * bins.tilesX + tx + 1];
+  std::vector<std::uint32_t> start(chunks * tiles);
+  std::uint64_t total = 0;
+  for (size_t t = 0; t < tiles; ++t) {
+    bins.offsets[t] = std::uint32_t(total);
+    for (size_t c = 0; c < chunks; ++c) {
+      start[c * tiles + t] = std::uint32_t(total);
+      total += counts[c * tiles + t];
+    }
   }
-  for (size_t t = 0; t < tiles; ++t) bins.offsets[t + 1] += bins.offsets[t];
-  bins.items.resize(bins.offsets[tiles]);
-  std::vector<std::uint32_t> fill(bins.offsets.begin(), bins.offsets.end() - 1);
-  for (size_t i = 0; i < ps.primitives.size(); ++i) {
-    const Primitive& p = ps.primitives[i];
-    int a, b, c, d;
-    range(p, a, b, c, d);
-    for (int ty = b; ty <= d; ++ty)
-      for (int tx = a; tx <= c; ++tx) {
-        const int ox = tx * tileSize, oy = ty * tileSize;
-        const int w = std::min(tileSize, ps.view.width - ox), h = std::min(tileSize, ps.view.height - oy);
-        TileBins::Item item;
-        item.zlo = p.zlo;
-        item.index = std::uint32_t(i);
-        item.firstVertex = p.firstVertex;
-        item.x0 = std::int16_t(std::clamp(int(p.bbox[0]) - ox, 0, w - 1));
-        item.y0 = std::int16_t(std::clamp(int(p.bbox[1]) - oy, 0, h - 1));
-        item.x1 = std::int16_t(std::clamp(int(p.bbox[2]) - ox, 0, w - 1));
-        item.y1 = std::int16_t(std::clamp(int(p.bbox[3]) - oy, 0, h - 1));
-        bins.items[fill[size_t(ty) * bins.tilesX + tx]++] = item;
-      }
-  }
+  if (total > std::numeric_limits<std::uint32_t>::max()) throw std::length_error("more than 4 billion tile items");
+  bins.offsets[tiles] = std::uint32_t(total);
+  bins.items.resize(total);
+  tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+    std::uint32_t* fill = &start[c * tiles];
+    const std::uint32_t end = std::uint32_t(std::min<size_t>(n, (c + 1) * per));
+    for (std::uint32_t i = std::uint32_t(c * per); i < end; ++i)
+      binner.forEachItem(i, [&](int tile, const TileBins::Item& item) { bins.items[fill[tile]++] = item; });
+  });
   st.tiles = tiles;
   st.tilesEmpty = 0;
   for (size_t t = 0; t < tiles; ++t) st.tilesEmpty += bins.offsets[t] == bins.offsets[t + 1];

@@ -143,45 +143,50 @@ SurfaceSample interpolateTriangle(const PreparedScene& ps, const TriangleAttribu
   return out;
 }
 
-SurfaceSample interpolateSurface(const PreparedScene& ps, const Primitive& prim, double x, double y) {
-  if (prim.isSegment) return {};
-  const double depth = ps.view.depthFromKey(prim.depthKeyAt(x, y));
+SurfaceSample interpolateSurface(const PreparedScene& ps, std::uint32_t i, double x, double y) {
+  if (ps.isSegment(i)) return {};
+  const TrianglePrim& t = ps.triangles[i];
+  const double depth = ps.view.depthFromKey(t.depthKeyAt(x, y));
   const glm::dvec3 P = ps.view.eyePoint(x, y, depth);
-  return interpolateTriangle(ps, ps.triangles[prim.attribute], P, ps.view.viewVector(P), true);
+  return interpolateTriangle(ps, ps.triangleAttributes[i], P, ps.view.viewVector(P), true);
 }
 
-glm::vec3 shadeFragment(const PreparedScene& ps, const Primitive& prim, double x, double y,
-                        double depth) {
-  if (prim.constantColour) return prim.colour;
-  const ViewTransform& view = ps.view;
-  const glm::dvec3 P = view.eyePoint(x, y, depth);
-  const glm::dvec3 V = view.viewVector(P);
-  if (prim.isSegment) {
-    const SegmentAttributes& sa = ps.segments[prim.attribute];
-    const ShaderSlot& slot = ps.shaders[sa.shader];
-    const glm::dvec3 d = sa.p1 - sa.p0;
-    const double dd = glm::dot(d, d);
-    const double s = dd > 0 ? std::clamp(glm::dot(P - sa.p0, d) / dd, 0.0, 1.0) : 0.0;
-    const glm::vec3 c = glm::mix(sa.c0, sa.c1, float(s));
-    switch (slot.kind) {
-      case ShaderSlot::Kind::WirePlain:
-        return slot.colour * c;
-      case ShaderSlot::Kind::WireDepthCued: {
-        // The paper's baseline (§3): lines dimmer as they recede, full at the nearest wire
-        // depth, 10% at the farthest.
-        const double range = ps.cueFar - ps.cueNear;
-        const double t = range > 0 ? std::clamp((depth - ps.cueNear) / range, 0.0, 1.0) : 0.0;
-        return slot.colour * c * float(1.0 - 0.9 * t);
-      }
-      default: {
-        glm::dvec3 T = glm::mix(sa.t0, sa.t1, s);
-        if (ps.path == ShadingPath::Maps && slot.wireTables) return slot.wireTables->lookup(T, x, y) * c;
-        return glm::vec3(cylinderRadianceExact(T, V, slot.phong, ps.eyeLights, 1e-8)) * c;
-      }
+glm::vec3 shadeFragment(const PreparedScene& ps, std::uint32_t i, double x, double y, double depth) {
+  if (!ps.isSegment(i)) {
+    const ViewTransform& view = ps.view;
+    const glm::dvec3 P = view.eyePoint(x, y, depth);
+    return shadeSurfaceFragment(ps, i, x, y, P, view.viewVector(P));
+  }
+  const SegmentPrim& sp = ps.segmentOf(i);
+  const SegmentShading& sh = ps.segmentShading[i - ps.triangles.size()];
+  // Where along the wire: the screen parameter of the point's projection onto the axis, made
+  // perspective-correct (1/d is linear on screen), clamped to the segment.
+  const SegmentFrame frame(sp);
+  double s = std::clamp(frame.t(x, y), 0.0, 1.0);
+  if (ps.view.perspective && sp.d0 != sp.d1) {
+    const double a = (1.0 - s) / double(sp.d0), b = s / double(sp.d1);
+    s = a + b > 0 ? b / (a + b) : s;
+  }
+  const glm::vec3 c = glm::mix(sh.c0, sh.c1, float(s));
+  if (sp.flags & kSegmentPreshaded) return c;
+  const ShaderSlot& slot = ps.shaders[sp.shader];
+  switch (slot.kind) {
+    case ShaderSlot::Kind::WirePlain:
+      return slot.colour * c;
+    case ShaderSlot::Kind::WireDepthCued: {
+      // The paper's baseline (§3): lines dimmer as they recede, full at the nearest wire depth,
+      // 10% at the farthest.
+      const double range = ps.cueFar - ps.cueNear;
+      const double t = range > 0 ? std::clamp((depth - ps.cueNear) / range, 0.0, 1.0) : 0.0;
+      return slot.colour * c * float(1.0 - 0.9 * t);
+    }
+    default: {
+      const glm::dvec3 T = glm::mix(glm::dvec3(sh.t0), glm::dvec3(sh.t1), s);
+      if (ps.path == ShadingPath::Maps && slot.wireTables) return slot.wireTables->lookup(T, x, y) * c;
+      const glm::dvec3 P = ps.view.eyePoint(x, y, depth);
+      return glm::vec3(cylinderRadianceExact(T, ps.view.viewVector(P), slot.phong, ps.eyeLights, 1e-8)) * c;
     }
   }
-  return shadeSurfaceFragment(ps, prim, x, y, P, V);
 }
-
 
 }  // namespace wf

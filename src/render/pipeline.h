@@ -35,6 +35,8 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <type_traits>
+#include <utility>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -45,19 +47,43 @@ namespace wf {
 
 inline constexpr double kMitreLimit = 4.0;
 
-struct Primitive {
-  std::uint32_t firstVertex = 0;
-  std::uint16_t vertexCount = 0;
-  bool isSegment = false;
-  bool constantColour = false;  ///< `colour` holds the shading of every fragment
-  bool mayMerge = true;         ///< false when the primitive is its object's only piece
-  std::uint32_t tag = 0;
-  std::uint32_t attribute = 0;  ///< index into triangles or segments of PreparedScene
-  float opacity = 1.0f;
-  float bbox[4] = {0, 0, 0, 0};  ///< x0, y0, x1, y1 in pixels, clamped to the image
-  double qa = 0, qb = 0, qc = 0;  ///< depth key = qa x + qb y + qc (1/d or d)
-  float zlo = 0, zhi = 0;         ///< depth range of the polygon
-  glm::vec3 colour{0.0f};
+/// A vector whose resize() leaves trivially constructible elements uninitialised: the set-up
+/// stage writes every element it keeps, and zeroing hundreds of megabytes first would cost as
+/// much as the set-up itself (every first touch of a page is a fault).
+template <class T>
+struct DefaultInitAllocator : std::allocator<T> {
+  using value_type = T;
+  template <class U>
+  struct rebind {
+    using other = DefaultInitAllocator<U>;
+  };
+  DefaultInitAllocator() = default;
+  template <class U>
+  DefaultInitAllocator(const DefaultInitAllocator<U>&) noexcept {}
+  template <class U>
+  void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+template <class T>
+using PodVector = std::vector<T, DefaultInitAllocator<T>>;
+
+/// A triangle on screen: clipped to the near and far planes, a convex polygon of 3 to 5
+/// vertices (PreparedScene::vertices) with a depth key plane. Its eye-space data for shading is
+/// PreparedScene::triangleAttributes at the same index. Plain data (PodVector): no initialisers.
+struct TrianglePrim {
+  double qa, qb, qc;           ///< depth key = qa x + qb y + qc (1/d or d)
+  float bbox[4];               ///< x0, y0, x1, y1 in pixels, clamped to the image
+  float zlo, zhi;              ///< depth range of the polygon
+  std::uint32_t firstVertex;   ///< into PreparedScene::vertices
+  std::uint32_t tag;           ///< object id: pieces of one surface merge in the A-buffer
+  std::uint16_t shader;        ///< into PreparedScene::shaders
+  std::uint8_t vertexCount;
+  bool mayMerge;               ///< false when the triangle is its surface's only piece
   double depthKeyAt(double x, double y) const { return qa * x + qb * y + qc; }
 };
 
@@ -67,17 +93,36 @@ struct TriangleAttributes {
   glm::dvec3 p0, e1, e2;
   double d00, d01, d11, invDen;
   std::uint32_t surface, triangle;
-  std::uint16_t shader;
 };
 
-struct SegmentAttributes {
-  glm::dvec3 p0, p1;  ///< eye space (after near / far clipping)
-  glm::dvec3 t0, t1;  ///< eye-space unit tangents at the two ends (averaged at joints)
-  glm::vec3 c0, c1;   ///< per-point colours
-  /// Eye-space radius of the wire at the two ends (a pixel thickness turned into world units at
-  /// each end's depth): the cylinder the polygon stands for, for ray-casting peers.
-  float r0 = 0, r1 = 0;
-  std::uint16_t shader;
+/// A wire segment on screen, what the rasteriser reads (80 bytes; its polygon is made on demand,
+/// segmentPolygon). The polygon (paper §3): corners p0 + o0, p1 + o1, p1 - o1, p0 - o0, where o
+/// is the half width across the segment at a free end and the mitre at a joint (consecutive
+/// segments store the same joint point and offset, so their polygons share the joint edge bit
+/// for bit); half discs at round free ends; the hull of the two end discs when seen end-on.
+/// Depth: the wire is the cylinder of radius r about the axis at view depths d0, d1 (after
+/// near / far clipping). Plain data (PodVector): no initialisers.
+struct SegmentPrim {
+  glm::dvec2 p0, p1;           ///< screen end points of the axis
+  glm::vec2 o0, o1;            ///< corner offsets at the two ends
+  float w0, w1;                ///< half widths in pixels at the two ends
+  float d0, d1;                ///< view depths of the axis at the two ends
+  float r0, r1;                ///< radii in world units at the two ends
+  std::uint32_t tag;           ///< object id (the polyline): its pieces merge in the A-buffer
+  std::uint16_t shader;        ///< into PreparedScene::shaders
+  std::uint8_t flags;          ///< kSegment* bits
+  std::uint8_t pad;
+};
+inline constexpr std::uint8_t kSegmentCap0 = 1;         ///< half disc at p0 (a round free end)
+inline constexpr std::uint8_t kSegmentCap1 = 2;         ///< half disc at p1
+inline constexpr std::uint8_t kSegmentEndOn = 4;        ///< shorter than wide: the hull of its end discs
+inline constexpr std::uint8_t kSegmentMayMerge = 8;     ///< its polyline has other pieces
+inline constexpr std::uint8_t kSegmentPreshaded = 16;   ///< c0, c1 hold the radiance at the ends
+
+/// What shading a wire fragment needs, read only for fragments that survive to the resolve.
+struct SegmentShading {
+  glm::vec3 t0, t1;  ///< eye-space unit tangents at the two ends (averaged at joints)
+  glm::vec3 c0, c1;  ///< per-point colours; or, when kSegmentPreshaded, the radiance at the ends
 };
 
 /// One way of shading: a surface material or a wire style, with the tables it reads.
@@ -87,6 +132,7 @@ struct ShaderSlot {
   PhongMaterial phong;
   glm::dvec3 chromeReflectance{0.9};
   glm::vec3 colour{1.0f};
+  float opacity = 1.0f;          ///< the material's (surfaces) or the wire's opacity
   /// Shaded wire and burnished surfaces, map path (burnished: of the diffuse part when `split`).
   std::shared_ptr<WireTables> wireTables;
   /// Phong and chrome surfaces, map path (Phong: of the diffuse part when `split`).
@@ -106,31 +152,104 @@ struct ShaderSlot {
   glm::dvec3 axisPoint{0.0}, axisDirection{0.0, 0.0, 1.0};  ///< radial / circular grain, eye space
 };
 
+/// Everything the stages after set-up read. Primitives are numbered triangles first, then
+/// segments: index i < triangles.size() is triangle i, otherwise segment i - triangles.size().
 struct PreparedScene {
   const Scene* scene = nullptr;
   ViewTransform view;
   LightRig eyeLights;  ///< canonical, eye space
   ShadingPath path = ShadingPath::Maps;
+  WireDepth wireDepth = WireDepth::Round;
   std::unique_ptr<ViewGrid> grid;  ///< view directions of the tables (held by pointer: tables refer to it)
   std::vector<ShaderSlot> shaders;
-  std::vector<Primitive> primitives;
-  std::vector<glm::dvec2> vertices;
-  std::vector<TriangleAttributes> triangles;
-  std::vector<SegmentAttributes> segments;
+  PodVector<TrianglePrim> triangles;
+  PodVector<TriangleAttributes> triangleAttributes;
+  PodVector<glm::dvec2> vertices;  ///< the triangles' screen polygons
+  PodVector<SegmentPrim> segments;
+  PodVector<SegmentShading> segmentShading;
   double cueNear = 0, cueFar = 1;  ///< depth range of the wires (depth cueing)
   /// Textures and grooves box-filtered over the pixel's footprint (the A-buffer), or point
   /// sampled (the reference renderer, which averages its sub-samples instead).
   bool filterTextures = true;
+  std::uint32_t primitiveCount() const { return std::uint32_t(triangles.size() + segments.size()); }
+  bool isSegment(std::uint32_t i) const { return i >= triangles.size(); }
+  const SegmentPrim& segmentOf(std::uint32_t i) const { return segments[i - triangles.size()]; }
+  const ShaderSlot& shaderOf(std::uint32_t i) const {
+    return shaders[isSegment(i) ? segmentOf(i).shader : triangles[i].shader];
+  }
+  float opacityOf(std::uint32_t i) const { return shaderOf(i).opacity; }
   size_t bytes() const;
 };
 
+// ---- a segment's geometry on screen ---------------------------------------------------------
+
+/// The polygon of a segment (see SegmentPrim), in the order the rasteriser and the reference
+/// share.
+void segmentPolygon(const SegmentPrim& s, ScreenPolygon& poly);
+
+/// Where screen point (x, y) lies relative to a segment's axis: t along it (0 at p0, 1 at p1,
+/// outside [0, 1] beyond the ends) and q, the distance from the nearest axis point in half
+/// widths (1 at the outline).
+struct SegmentFrame {
+  double ax, ay;    ///< p0
+  double ux, uy;    ///< (p1 - p0) / |p1 - p0|^2: t = (P - p0) . u
+  double nx, ny;    ///< unit normal of the axis
+  double length;    ///< |p1 - p0| in pixels
+  explicit SegmentFrame(const SegmentPrim& s) {
+    ax = s.p0.x, ay = s.p0.y;
+    const double dx = s.p1.x - s.p0.x, dy = s.p1.y - s.p0.y;
+    const double l2 = dx * dx + dy * dy;
+    length = std::sqrt(l2);
+    ux = l2 > 0 ? dx / l2 : 0.0, uy = l2 > 0 ? dy / l2 : 0.0;
+    nx = length > 0 ? -dy / length : 0.0, ny = length > 0 ? dx / length : 1.0;
+  }
+  double t(double x, double y) const { return (x - ax) * ux + (y - ay) * uy; }
+};
+
+/// The depth key (1/d, or d when orthographic) of a segment's front (the axis one radius
+/// nearer) and of its axis at axis parameter t in [0, 1]: both screen-linear in t.
+inline double segmentFrontKey(const ViewTransform& v, const SegmentPrim& s, double t) {
+  const double f0 = std::max(v.nearPlane, double(s.d0) - double(s.r0));
+  const double f1 = std::max(v.nearPlane, double(s.d1) - double(s.r1));
+  return v.depthKey(f0) + (v.depthKey(f1) - v.depthKey(f0)) * t;
+}
+inline double segmentAxisKey(const ViewTransform& v, const SegmentPrim& s, double t) {
+  return v.depthKey(s.d0) + (v.depthKey(s.d1) - v.depthKey(s.d0)) * t;
+}
+/// The nearest and farthest depth of a segment's visible surface (its front and its axis).
+inline float segmentZlo(const ViewTransform& v, const SegmentPrim& s) {
+  return float(std::max(v.nearPlane, std::min(double(s.d0) - s.r0, double(s.d1) - s.r1)));
+}
+inline float segmentZhi(const SegmentPrim& s) { return std::max(s.d0, s.d1); }
+
+/// View depth of a segment's surface at screen point (x, y): the round cylinder (its depth
+/// across the wire, sqrt(1 - q^2), and a sphere at the ends), or the flat front of the paper's
+/// polygon (WireDepth::Flat). Never nearer than the near plane.
+inline double segmentDepthAt(const ViewTransform& v, const SegmentPrim& s, const SegmentFrame& fr, double x,
+                             double y, WireDepth model) {
+  const double t = fr.t(x, y), tc = std::clamp(t, 0.0, 1.0);
+  if (model == WireDepth::Flat) return std::max(v.nearPlane, v.depthFromKey(segmentFrontKey(v, s, tc)));
+  const double lateral = (x - fr.ax) * fr.nx + (y - fr.ay) * fr.ny;
+  const double along = (t - tc) * fr.length;
+  const double w = double(s.w0) + (double(s.w1) - double(s.w0)) * tc;
+  const double q2 = w > 0 ? std::min(1.0, (lateral * lateral + along * along) / (w * w)) : 1.0;
+  const double r = double(s.r0) + (double(s.r1) - double(s.r0)) * tc;
+  return std::max(v.nearPlane, v.depthFromKey(segmentAxisKey(v, s, tc)) - r * std::sqrt(1.0 - q2));
+}
+
+/// View depth of primitive i's surface at screen point (x, y) (the triangle's plane, clamped to
+/// its depth range; a segment's surface, segmentDepthAt).
+double primitiveDepthAt(const PreparedScene& ps, std::uint32_t i, double x, double y);
+
+/// One pixel a primitive covers, as the fragment stage hands it to the A-buffer.
 struct PixelCoverage {
-  int x = 0, y = 0;
-  double area = 0;         ///< exact covered fraction
-  MaskBits mask = 0;
-  double cx = 0, cy = 0;   ///< centroid of the covered part (where the fragment is shaded)
-  double keyMin = 0, keyMax = 0;
-  int subpixel = 0;        ///< sample index nearest the centroid
+  int x, y;
+  double area;             ///< exact covered fraction
+  MaskBits mask;
+  double cx, cy;           ///< centroid of the covered part (where the fragment is shaded)
+  int subpixel;            ///< sample index nearest the centroid (a stand-in when mask is 0)
+  float zmin, zmax;        ///< view depth range of the primitive's surface over the pixel
+  float zkey;              ///< its depth at the centroid (the order of the resolve)
 };
 
 struct TileBins {
@@ -139,13 +258,12 @@ struct TileBins {
   /// One primitive in one tile: what the tile needs to order and cull it without touching the
   /// primitive itself (most are culled whole on dense scenes, and primitives are scattered).
   struct Item {
-    float zlo;                     ///< nearest depth: the tile sorts by (zlo, index)
-    std::uint32_t index;           ///< into PreparedScene::primitives
-    std::uint32_t firstVertex;     ///< its vertices (for prefetching)
+    float zlo;                     ///< nearest depth of the primitive inside the tile: the tile sorts by (zlo, index)
+    std::uint32_t index;           ///< the primitive (PreparedScene's numbering)
     std::int16_t x0, y0, x1, y1;   ///< pixel rectangle within the tile, inclusive
     bool operator<(const Item& o) const { return zlo < o.zlo || (zlo == o.zlo && index < o.index); }
   };
-  std::vector<Item> items;         ///< per tile, in primitive order
+  PodVector<Item> items;           ///< per tile, in primitive order
   size_t bytes() const { return offsets.capacity() * sizeof(std::uint32_t) + items.capacity() * sizeof(Item); }
 };
 
@@ -177,8 +295,8 @@ void inArena(int threads, F&& f) {
   }
 }
 
-/// The primitive's screen polygon.
-ScreenPolygon screenPolygonOf(const PreparedScene& ps, const Primitive& prim);
+/// Primitive i's screen polygon.
+void screenPolygonOf(const PreparedScene& ps, std::uint32_t i, ScreenPolygon& poly);
 TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& stats);
 /// What a surface fragment interpolates (perspective-correct): eye-space unit normal (turned to
 /// the viewer), eye-space unit tangent (zero when the mesh has none), (u, v), colour.
@@ -205,10 +323,11 @@ glm::dvec3 chromeRadiance(const EnvironmentMap& env, const glm::dvec3& reflectan
 /// The procedural mountain scene chrome reflects when the scene names no environment.
 const EnvironmentMap& defaultEnvironment();
 /// Radiance of a surface fragment (Phong, chrome, burnished; textures, bumps, grooves).
-glm::vec3 shadeSurfaceFragment(const PreparedScene& ps, const Primitive& prim, double x, double y,
+glm::vec3 shadeSurfaceFragment(const PreparedScene& ps, std::uint32_t triangle, double x, double y,
                                const glm::dvec3& P, const glm::dvec3& V);
-/// The same at screen point (x, y) of a triangle primitive (on its plane); default for segments.
-SurfaceSample interpolateSurface(const PreparedScene& ps, const Primitive& prim, double x, double y);
+/// The same at screen point (x, y) of primitive i when a triangle (on its plane); default for
+/// segments.
+SurfaceSample interpolateSurface(const PreparedScene& ps, std::uint32_t i, double x, double y);
 /// The scene's background as the renderers composite over it: a non-finite colour component
 /// is 0 (as colours are, safeColour), alpha NaN is 0 and alpha is clamped to [0, 1].
 inline glm::vec4 sanitizedBackground(const glm::vec4& bg) {
@@ -217,9 +336,13 @@ inline glm::vec4 sanitizedBackground(const glm::vec4& bg) {
   b.w = std::isnan(bg.w) ? 0.0f : std::clamp(bg.w, 0.0f, 1.0f);
   return b;
 }
-/// Radiance of a primitive's fragment at screen point (x, y), view depth `depth`.
-glm::vec3 shadeFragment(const PreparedScene& ps, const Primitive& prim, double x, double y,
-                        double depth);
+/// Radiance of primitive i's fragment at screen point (x, y), view depth `depth`.
+glm::vec3 shadeFragment(const PreparedScene& ps, std::uint32_t i, double x, double y, double depth);
+/// Whether primitive i's shading varies inside a pixel (textures, bumps, grooves): the reference
+/// renderer and the ray-cast peer shade such primitives at every sample.
+inline bool shadingVariesInPixel(const PreparedScene& ps, std::uint32_t i) {
+  return !ps.isSegment(i) && ps.shaderOf(i).variesInPixel;
+}
 
 
 // ---- helpers the stages share ------------------------------------------------------------
@@ -245,24 +368,31 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
                     std::vector<int>& surfaceShader, std::vector<int>& wireShader, RenderStats& stats);
 
 
-/// What one work item of the primitives stage produces (a chunk of triangles or polylines);
-/// prepareScene joins the chunks in a fixed order.
-struct ChunkOut {
-  std::vector<Primitive> prims;
-  std::vector<glm::dvec2> verts;
-  std::vector<TriangleAttributes> tris;
-  std::vector<SegmentAttributes> segs;
+/// Counts of one set-up work item, added into RenderStats.
+struct SetupCounts {
   size_t triangles = 0, segments = 0, rejected = 0, zeroLength = 0, clipped = 0, endOn = 0;
 };
-/// Appends the screen polygon `poly` of `prim` to `out` with its bounding box; false (nothing
-/// appended) when it covers no area inside the image.
-bool finishPolygon(const ScreenPolygon& poly, const ViewTransform& view, Primitive& prim, ChunkOut& out);
+/// Where one work item of the primitives stage writes its triangles: from the start of these
+/// arrays (room for every input triangle, up to 5 vertices each); firstVertex counts from
+/// `vertices`, and prepareScene adds the item's final vertex offset when it joins the items.
+struct TriangleSink {
+  TrianglePrim* prims;
+  TriangleAttributes* attributes;
+  glm::dvec2* vertices;
+  size_t count = 0, vertexCount = 0;
+};
+/// Where one work item writes its segments (room for every input segment).
+struct SegmentSink {
+  SegmentPrim* prims;
+  SegmentShading* shading;
+  size_t count = 0;
+};
 /// Triangles [begin, end) of a surface: clipped to near / far, projected, depth plane, attributes.
 void setupTriangles(const PreparedScene& ps, const SceneSurface& surf, std::uint32_t surfaceIndex,
-                    std::uint16_t shader, std::uint32_t tag, float opacity, size_t begin, size_t end,
-                    ChunkOut& out);
-/// Polylines [begin, end) of a wire: the paper's wire polygons (see the top of this file).
+                    std::uint16_t shader, std::uint32_t tag, size_t begin, size_t end, TriangleSink& out,
+                    SetupCounts& counts);
+/// Polylines [begin, end) of a wire: the paper's wire polygons (see SegmentPrim).
 void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint16_t shader,
-                    std::uint32_t tagBase, size_t begin, size_t end, ChunkOut& out);
+                    std::uint32_t tagBase, size_t begin, size_t end, SegmentSink& out, SetupCounts& counts);
 
 }  // namespace wf

@@ -8,25 +8,40 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
+#include <limits>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace wf {
 
-ScreenPolygon screenPolygonOf(const PreparedScene& ps, const Primitive& prim) {
-  ScreenPolygon poly;
-  poly.count = prim.vertexCount;
-  for (int i = 0; i < prim.vertexCount; ++i) {
-    poly.x[i] = ps.vertices[prim.firstVertex + i].x;
-    poly.y[i] = ps.vertices[prim.firstVertex + i].y;
+void screenPolygonOf(const PreparedScene& ps, std::uint32_t i, ScreenPolygon& poly) {
+  if (ps.isSegment(i)) {
+    segmentPolygon(ps.segmentOf(i), poly);
+    return;
   }
-  return poly;
+  const TrianglePrim& t = ps.triangles[i];
+  poly.count = t.vertexCount;
+  for (int k = 0; k < t.vertexCount; ++k) {
+    poly.x[k] = ps.vertices[t.firstVertex + k].x;
+    poly.y[k] = ps.vertices[t.firstVertex + k].y;
+  }
+}
+
+double primitiveDepthAt(const PreparedScene& ps, std::uint32_t i, double x, double y) {
+  if (ps.isSegment(i)) {
+    const SegmentPrim& s = ps.segmentOf(i);
+    return segmentDepthAt(ps.view, s, SegmentFrame(s), x, y, ps.wireDepth);
+  }
+  const TrianglePrim& t = ps.triangles[i];
+  return std::clamp(ps.view.depthFromKey(t.depthKeyAt(x, y)), double(t.zlo), double(t.zhi));
 }
 
 size_t PreparedScene::bytes() const {
-  size_t b = primitives.capacity() * sizeof(Primitive) + vertices.capacity() * sizeof(glm::dvec2) +
-             triangles.capacity() * sizeof(TriangleAttributes) +
-             segments.capacity() * sizeof(SegmentAttributes);
+  size_t b = triangles.capacity() * sizeof(TrianglePrim) + vertices.capacity() * sizeof(glm::dvec2) +
+             triangleAttributes.capacity() * sizeof(TriangleAttributes) +
+             segments.capacity() * sizeof(SegmentPrim) + segmentShading.capacity() * sizeof(SegmentShading);
   for (const ShaderSlot& s : shaders) {
     if (s.wireTables) b += s.wireTables->bytes();
     if (s.surfaceTables) b += s.surfaceTables->bytes();
@@ -34,12 +49,12 @@ size_t PreparedScene::bytes() const {
   return b;
 }
 
-
 PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderStats& st) {
   const auto t0 = std::chrono::steady_clock::now();
   PreparedScene ps;
   ps.scene = &scene;
   ps.path = o.shading;
+  ps.wireDepth = o.wireDepth;
   ps.filterTextures = o.filterTextures;
   const Camera camera = chooseCamera(scene, o, st);
   ps.view = ViewTransform::make(camera, o.width, o.height);
@@ -62,67 +77,110 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
   ps.cueNear = std::max(cn, ps.view.nearPlane);
   ps.cueFar = std::min(cf, ps.view.farPlane);
 
-  // Work items in a fixed order: chunks of triangles, then chunks of polylines.
+  // Work items in a fixed order: chunks of triangles, then chunks of polylines. Each writes
+  // straight into the final arrays at the offset of its input (room for every input primitive;
+  // a triangle clips to at most 5 vertices); the items are then joined by moving each one's
+  // output down to where the previous one ended: no copies of chunks, no regrowth.
   struct Job {
     bool wire;
     std::uint32_t object;
     size_t begin, end;
+    size_t offset, vertexOffset;  // where its output starts in the (unjoined) arrays
+    SetupCounts counts;
+    size_t count = 0, vertexCount = 0;
   };
   std::vector<Job> jobs;
   constexpr size_t kTriChunk = 4096, kLineChunk = 2048;
+  size_t triangleRoom = 0, segmentRoom = 0;
   for (size_t s = 0; s < scene.surfaces.size(); ++s)
-    for (size_t b = 0; b < scene.surfaces[s].mesh.triangles.size(); b += kTriChunk)
-      jobs.push_back({false, std::uint32_t(s), b, std::min(b + kTriChunk, scene.surfaces[s].mesh.triangles.size())});
+    for (size_t b = 0; b < scene.surfaces[s].mesh.triangles.size(); b += kTriChunk) {
+      const size_t e = std::min(b + kTriChunk, scene.surfaces[s].mesh.triangles.size());
+      jobs.push_back({false, std::uint32_t(s), b, e, triangleRoom, 5 * triangleRoom, {}});
+      triangleRoom += e - b;
+    }
   std::vector<std::uint32_t> tagBase(scene.wires.size());
   std::uint32_t nextTag = std::uint32_t(scene.surfaces.size()) + 1;
   for (size_t w = 0; w < scene.wires.size(); ++w) {
     tagBase[w] = nextTag;
-    const size_t n = scene.wires[w].lines.polylineCount();
+    const PolylineSet& lines = scene.wires[w].lines;
+    const size_t n = lines.polylineCount();
     nextTag += std::uint32_t(n);
-    for (size_t b = 0; b < n; b += kLineChunk) jobs.push_back({true, std::uint32_t(w), b, std::min(b + kLineChunk, n)});
+    for (size_t b = 0; b < n; b += kLineChunk) {
+      const size_t e = std::min(b + kLineChunk, n);
+      const size_t points = std::min<size_t>(lines.starts[e], lines.points.size()) -
+                            std::min<size_t>(lines.starts[b], lines.points.size());
+      jobs.push_back({true, std::uint32_t(w), b, e, segmentRoom, 0, {}});
+      segmentRoom += points > e - b ? points - (e - b) : 0;  // segments of polylines b ... e-1, at most
+    }
   }
-  std::vector<ChunkOut> chunks(jobs.size());
+  if (triangleRoom + segmentRoom > std::numeric_limits<std::uint32_t>::max() / 8)
+    throw std::length_error("more than 500 million primitives in one render");
+  ps.triangles.resize(triangleRoom);
+  ps.triangleAttributes.resize(triangleRoom);
+  ps.vertices.resize(5 * triangleRoom);
+  ps.segments.resize(segmentRoom);
+  ps.segmentShading.resize(segmentRoom);
   tbb::parallel_for(size_t(0), jobs.size(), [&](size_t i) {
-    const Job& j = jobs[i];
+    Job& j = jobs[i];
     if (j.wire) {
-      setupPolylines(ps, scene.wires[j.object], std::uint16_t(wireShader[j.object]), tagBase[j.object],
-                     j.begin, j.end, chunks[i]);
+      SegmentSink sink{ps.segments.data() + j.offset, ps.segmentShading.data() + j.offset};
+      setupPolylines(ps, scene.wires[j.object], std::uint16_t(wireShader[j.object]), tagBase[j.object], j.begin,
+                     j.end, sink, j.counts);
+      j.count = sink.count;
     } else {
       const SceneSurface& s = scene.surfaces[j.object];
-      const Material& m = scene.materials[size_t(std::clamp(s.material, 0, int(scene.materials.size()) - 1))];
-      setupTriangles(ps, s, j.object, std::uint16_t(surfaceShader[j.object]), j.object + 1,
-                     safeOpacity(m.opacity), j.begin, j.end, chunks[i]);
+      TriangleSink sink{ps.triangles.data() + j.offset, ps.triangleAttributes.data() + j.offset,
+                        ps.vertices.data() + j.vertexOffset};
+      setupTriangles(ps, s, j.object, std::uint16_t(surfaceShader[j.object]), j.object + 1, j.begin, j.end, sink,
+                     j.counts);
+      j.count = sink.count;
+      j.vertexCount = sink.vertexCount;
     }
   });
-  // Concatenate in job order (deterministic whatever the thread count).
+  // Join in job order (deterministic whatever the thread count). An item's output only ever
+  // moves down, so moving them in order never overwrites one not yet moved.
   std::vector<size_t> rejectedPerObject(scene.surfaces.size() + scene.wires.size(), 0);
-  size_t np = 0, nv = 0, nt = 0, ns = 0;
-  for (const ChunkOut& c : chunks) np += c.prims.size(), nv += c.verts.size(), nt += c.tris.size(), ns += c.segs.size();
-  ps.primitives.reserve(np);
-  ps.vertices.reserve(nv);
-  ps.triangles.reserve(nt);
-  ps.segments.reserve(ns);
-  for (size_t i = 0; i < chunks.size(); ++i) {
-    ChunkOut& c = chunks[i];
-    const std::uint32_t v0 = std::uint32_t(ps.vertices.size());
-    const std::uint32_t a0 = std::uint32_t(jobs[i].wire ? ps.segments.size() : ps.triangles.size());
-    for (Primitive p : c.prims) {
-      p.firstVertex += v0;
-      p.attribute += a0;
-      ps.primitives.push_back(p);
+  size_t nt = 0, nv = 0, ns = 0;
+  for (const Job& j : jobs) {
+    if (j.wire) {
+      if (ns != j.offset) {
+        std::memmove(static_cast<void*>(ps.segments.data() + ns), ps.segments.data() + j.offset, j.count * sizeof(SegmentPrim));
+        std::memmove(static_cast<void*>(ps.segmentShading.data() + ns), ps.segmentShading.data() + j.offset,
+                     j.count * sizeof(SegmentShading));
+      }
+      ns += j.count;
+    } else {
+      if (nt != j.offset) {
+        std::memmove(static_cast<void*>(ps.triangles.data() + nt), ps.triangles.data() + j.offset, j.count * sizeof(TrianglePrim));
+        std::memmove(static_cast<void*>(ps.triangleAttributes.data() + nt), ps.triangleAttributes.data() + j.offset,
+                     j.count * sizeof(TriangleAttributes));
+      }
+      if (nv != j.vertexOffset)
+        std::memmove(static_cast<void*>(ps.vertices.data() + nv), ps.vertices.data() + j.vertexOffset, j.vertexCount * sizeof(glm::dvec2));
+      for (size_t k = nt; k < nt + j.count; ++k) ps.triangles[k].firstVertex += std::uint32_t(nv);
+      nt += j.count;
+      nv += j.vertexCount;
     }
-    ps.vertices.insert(ps.vertices.end(), c.verts.begin(), c.verts.end());
-    ps.triangles.insert(ps.triangles.end(), c.tris.begin(), c.tris.end());
-    ps.segments.insert(ps.segments.end(), c.segs.begin(), c.segs.end());
+    const SetupCounts& c = j.counts;
     st.triangles += c.triangles;
     st.segments += c.segments;
     st.rejectedNonFinite += c.rejected;
     st.droppedZeroLength += c.zeroLength;
     st.clippedAway += c.clipped;
     st.endOnDiscs += c.endOn;
-    rejectedPerObject[jobs[i].wire ? scene.surfaces.size() + jobs[i].object : jobs[i].object] += c.rejected;
-    c = ChunkOut{};
+    rejectedPerObject[j.wire ? scene.surfaces.size() + j.object : j.object] += c.rejected;
   }
+  // Shrink to what was kept (memory no page of which was touched costs nothing; the rest is
+  // given back only when much is unused, since shrinking copies).
+  auto fit = [](auto& v, size_t n) {
+    v.resize(n);
+    if (v.capacity() > 2 * n + 4096) v.shrink_to_fit();
+  };
+  fit(ps.triangles, nt);
+  fit(ps.triangleAttributes, nt);
+  fit(ps.vertices, nv);
+  fit(ps.segments, ns);
+  fit(ps.segmentShading, ns);
   for (size_t i = 0; i < rejectedPerObject.size(); ++i) {
     if (!rejectedPerObject[i]) continue;
     const bool wire = i >= scene.surfaces.size();
@@ -132,7 +190,7 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
                           (wire ? " segments" : " triangles") +
                           " with non-finite (NaN/Inf) or missing vertices skipped");
   }
-  st.primitives = ps.primitives.size();
+  st.primitives = ps.primitiveCount();
   st.setup = secondsSince(t0) - mapSeconds;
   return ps;
 }

@@ -1,5 +1,16 @@
-// Stage "fragments" (render/pipeline.h): one convex screen polygon into the pixels of one tile,
-// with each pixel's exact covered area, coverage mask and depth range.
+// Stage "fragments" (render/pipeline.h): one primitive's convex screen polygon into the pixels of
+// one tile, with each pixel's exact covered area, coverage mask and depth range, in the order
+// that lets hidden work stop early: a row is tested against what already hides it before its
+// pixels are visited, a pixel before its area is computed, and its coverage mask before its
+// depths and shading.
+//
+// Area without clipping: for a closed contour, the integral of min(x, X) dy is the area of the
+// polygon left of the line x = X (for a convex polygon each horizontal line meets the contour
+// twice, and min() traces the clipped contour). Restricted to the row's band of y, each edge
+// contributes a closed form, and a pixel's area is the difference of that integral at its two
+// sides: the areas of the pixels of a row telescope to the band's area exactly, so adjacent
+// pixels neither lose nor double any of it. Pixels wholly inside the polygon (between the
+// innermost points of its left and right sides in the band) are 1 without any of that.
 #pragma once
 
 #include "abuffer/coverage_mask.h"
@@ -10,34 +21,190 @@
 #include <climits>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 namespace wf {
 
-// Rasterises one convex screen polygon into the pixels of one tile: for every pixel it touches,
-// the exact covered area, the coverage mask from its edges and the depth range over the pixel.
-//
-// Area without clipping: for a closed contour, the integral of min(x, X) dy is the area of the
-// polygon left of the line x = X (for a convex polygon each horizontal line meets the contour
-// twice, and min() traces the clipped contour). Restricted to the row's band of y, each edge
-// contributes a closed form, and a pixel's area is the difference of that integral at its two
-// sides: the areas of the pixels of a row telescope to the band's area exactly, so adjacent
-// pixels neither lose nor double any of it.
-template <class OccludedRow, class Occluded, class Emit>
-void rasterizePolygon(const PreparedScene& ps, const Primitive& prim, int tx0, int ty0, int tx1,
-                      int ty1, const MaskLayout& layout, OccludedRow&& occludedRow, Occluded&& occluded,
-                      Emit&& emit) {
-  const ScreenPolygon poly = screenPolygonOf(ps, prim);
-  EdgeFunction edges[ScreenPolygon::kMaxVertices];
-  const int edgeCount = polygonEdges(poly, edges);
-  if (edgeCount < 3) return;
-  const double orient = poly.signedArea() > 0 ? 1.0 : -1.0;
-  double slopes[ScreenPolygon::kMaxVertices];
-  for (int i = 0; i < poly.count; ++i) {
-    const int j = i + 1 == poly.count ? 0 : i + 1;
-    slopes[i] = poly.y[j] != poly.y[i] ? (poly.x[j] - poly.x[i]) / (poly.y[j] - poly.y[i]) : 0.0;
+/// Depth of a triangle over screen rectangles: its screen-linear key plane, clamped to the
+/// triangle's depth range.
+struct TriangleDepth {
+  const ViewTransform* view;
+  double qa, qb, qc;
+  double zlo, zhi;
+  TriangleDepth(const ViewTransform& v, const TrianglePrim& t) : view(&v), qa(t.qa), qb(t.qb), qc(t.qc), zlo(t.zlo), zhi(t.zhi) {}
+  double depthAt(double x, double y) const { return std::clamp(view->depthFromKey(qa * x + qb * y + qc), zlo, zhi); }
+  /// The nearest depth over [x0, x1] x [y0, y1]: at the corner of the largest key (1/d) under
+  /// perspective, of the smallest (d) when orthographic.
+  double nearest(double x0, double y0, double x1, double y1) const {
+    const bool big = view->perspective;
+    return depthAt((qa > 0) == big ? x1 : x0, (qb > 0) == big ? y1 : y0);
   }
-  const int row0 = std::max(ty0, int(std::floor(prim.bbox[1])));
-  const int row1 = std::min(ty1 - 1, int(std::ceil(prim.bbox[3])) - 1);
+  double farthest(double x0, double y0, double x1, double y1) const {
+    const bool big = view->perspective;
+    return depthAt((qa > 0) == big ? x0 : x1, (qb > 0) == big ? y0 : y1);
+  }
+  void range(int col, int row, double cx, double cy, float& zmin, float& zmax, float& zkey) const {
+    const double a = nearest(col, row, col + 1.0, row + 1.0), b = farthest(col, row, col + 1.0, row + 1.0);
+    zmin = float(a);
+    zmax = float(b);
+    zkey = float(std::clamp(depthAt(cx, cy), a, b));
+  }
+};
+
+/// Depth of a wire segment over screen rectangles: its front (the plane a radius before the
+/// axis) bounds it from the near side, its axis from the far side; in between lies the round
+/// surface (segmentDepthAt), whose depth at the fragment's centroid orders it.
+struct SegmentDepth {
+  const ViewTransform* view;
+  const SegmentPrim* seg;
+  SegmentFrame frame;
+  WireDepth model;
+  double fa, fb, fc, flo, fhi;  // front key plane, its depth range
+  double aa, ab, ac, alo, ahi;  // axis key plane, its depth range
+  SegmentDepth(const ViewTransform& v, const SegmentPrim& s, WireDepth m) : view(&v), seg(&s), frame(s), model(m) {
+    const double kf0 = segmentFrontKey(v, s, 0.0), kf1 = segmentFrontKey(v, s, 1.0);
+    const double ka0 = segmentAxisKey(v, s, 0.0), ka1 = segmentAxisKey(v, s, 1.0);
+    fa = (kf1 - kf0) * frame.ux, fb = (kf1 - kf0) * frame.uy, fc = kf0 - fa * frame.ax - fb * frame.ay;
+    aa = (ka1 - ka0) * frame.ux, ab = (ka1 - ka0) * frame.uy, ac = ka0 - aa * frame.ax - ab * frame.ay;
+    const double f0 = v.depthFromKey(kf0), f1 = v.depthFromKey(kf1);
+    flo = std::min(f0, f1), fhi = std::max(f0, f1);
+    alo = std::min(double(s.d0), double(s.d1)), ahi = std::max(double(s.d0), double(s.d1));
+  }
+  double nearest(double x0, double y0, double x1, double y1) const {
+    const bool big = view->perspective;
+    const double k = fa * ((fa > 0) == big ? x1 : x0) + fb * ((fb > 0) == big ? y1 : y0) + fc;
+    return std::clamp(view->depthFromKey(k), flo, fhi);
+  }
+  double farthest(double x0, double y0, double x1, double y1) const {
+    const bool big = view->perspective;
+    const double k = aa * ((aa > 0) == big ? x0 : x1) + ab * ((ab > 0) == big ? y0 : y1) + ac;
+    return std::clamp(view->depthFromKey(k), alo, ahi);
+  }
+  void range(int col, int row, double cx, double cy, float& zmin, float& zmax, float& zkey) const {
+    double a = nearest(col, row, col + 1.0, row + 1.0);
+    double b = std::max(a, farthest(col, row, col + 1.0, row + 1.0));
+    if (model == WireDepth::Round) {
+      // The round surface over the pixel: between the axis a radius times sqrt(1 - q^2) nearer,
+      // q the distance from the axis in half widths, smallest and largest over the pixel's
+      // corners (q is linear in the lateral distance; zero where the axis crosses the pixel).
+      // Much tighter than [front, axis] inside the wire, where most of its pixels are, so that
+      // what it hides is culled against its true depth there.
+      double tlo = 1e300, thi = -1e300, llo = 1e300, lhi = -1e300;
+      for (int k = 0; k < 4; ++k) {
+        const double x = col + (k & 1), y = row + (k >> 1);
+        const double t = frame.t(x, y), l = (x - frame.ax) * frame.nx + (y - frame.ay) * frame.ny;
+        tlo = std::min(tlo, t), thi = std::max(thi, t), llo = std::min(llo, l), lhi = std::max(lhi, l);
+      }
+      if (tlo >= 0.0 && thi <= 1.0) {  // the caps (beyond the ends) keep [front, axis]
+        const double wlo = std::min(double(seg->w0) + (double(seg->w1) - double(seg->w0)) * tlo,
+                                    double(seg->w0) + (double(seg->w1) - double(seg->w0)) * thi);
+        const double whi = std::max(double(seg->w0) + (double(seg->w1) - double(seg->w0)) * tlo,
+                                    double(seg->w0) + (double(seg->w1) - double(seg->w0)) * thi);
+        const double rlo = std::min(seg->r0, seg->r1), rhi = std::max(seg->r0, seg->r1);
+        const double lmin = (llo <= 0.0 && lhi >= 0.0) ? 0.0 : std::min(std::abs(llo), std::abs(lhi));
+        const double lmax = std::max(std::abs(llo), std::abs(lhi));
+        const double qmin = std::min(1.0, lmin / whi), qmax = std::min(1.0, lmax / wlo);
+        const double axisNear = std::clamp(view->depthFromKey(nearAxisKey(col, row)), alo, ahi);
+        a = std::max(a, std::max(view->nearPlane, axisNear - rhi * std::sqrt(1.0 - qmin * qmin)));
+        b = std::max(a, std::min(b, b - rlo * std::sqrt(1.0 - qmax * qmax)));
+      }
+    }
+    zmin = float(a);
+    zmax = float(b);
+    zkey = float(std::clamp(segmentDepthAt(*view, *seg, frame, cx, cy, model), a, b));
+  }
+  // The axis key over the pixel where it is nearest.
+  double nearAxisKey(int col, int row) const {
+    const bool big = view->perspective;
+    return aa * ((aa > 0) == big ? col + 1.0 : double(col)) + ab * ((ab > 0) == big ? row + 1.0 : double(row)) + ac;
+  }
+};
+
+/// The centroid (sx, sy) in the pixel of the samples a non-empty mask covers, a mask row at a
+/// time (one byte of 8 columns, or a nibble of 4, through a table of counts and column sums).
+inline void maskCentroid(MaskBits mask, const MaskLayout& layout, double& sx, double& sy) {
+  struct RowTable {
+    std::uint8_t count[256];
+    std::uint8_t columnSum[256];  // sum of the set bits' column indices
+    constexpr RowTable() : count{}, columnSum{} {
+      for (int b = 0; b < 256; ++b)
+        for (int i = 0; i < 8; ++i)
+          if ((b >> i) & 1) ++count[b], columnSum[b] = std::uint8_t(columnSum[b] + i);
+    }
+  };
+  static constexpr RowTable kRows{};
+  int n = 0, cols = 0, rows = 0;
+  for (int j = 0; j < layout.h; ++j) {
+    const unsigned bits = unsigned((mask >> (j * layout.w)) & layout.rowFull());
+    n += kRows.count[bits];
+    cols += kRows.columnSum[bits];
+    rows += kRows.count[bits] * j;
+  }
+  sx = n ? (cols + 0.5 * n) / (double(n) * layout.w) : 0.5;
+  sy = n ? (rows + 0.5 * n) / (double(n) * layout.h) : 0.5;
+}
+
+/// Rasterises the convex polygon `poly` (depth `depth`) over pixel columns [rx0, rx1] and rows
+/// [ry0, ry1] (inclusive). Callbacks, in the order a pixel meets them:
+///   cullRow(row, c0, c1, z)   true: every pixel c0 ... c1 of the row hides what lies behind z
+///   cullPixel(col, row, z)    true: the pixel hides what lies behind z (z: the polygon's nearest)
+///   hidden(col, row, mask, subpixel, z)  true: the subpixels of the mask (or the stand-in) do
+///   emit(coverage)
+template <class Depth, class CullRow, class CullPixel, class Hidden, class Emit>
+void rasterizePolygon(const ScreenPolygon& poly, const Depth& depth, int rx0, int ry0, int rx1, int ry1,
+                      const MaskLayout& layout, CullRow&& cullRow, CullPixel&& cullPixel, Hidden&& hidden,
+                      Emit&& emit) {
+  // The edges as inside->=0 functions with their y extents (the coverage masks: along a sample
+  // row only the edges whose closed y extent holds the row can bound the convex polygon there).
+  const int n = poly.count;
+  const double signedArea = poly.signedArea();
+  if (!(std::abs(signedArea) > 0.0)) return;
+  const double orient = signedArea > 0 ? 1.0 : -1.0;
+  EdgeFunction edges[ScreenPolygon::kMaxVertices];
+  double edgeLo[ScreenPolygon::kMaxVertices], edgeHi[ScreenPolygon::kMaxVertices];
+  int edgeCount = 0;
+  for (int i = 0; i < n; ++i) {
+    const int j = i + 1 == n ? 0 : i + 1;
+    const EdgeFunction e = EdgeFunction::through(poly.x[i], poly.y[i], poly.x[j], poly.y[j]);
+    if (e.a == 0.0 && e.b == 0.0) continue;
+    edges[edgeCount] = signedArea > 0 ? e : e.negated();
+    edgeLo[edgeCount] = std::min(poly.y[i], poly.y[j]);
+    edgeHi[edgeCount] = std::max(poly.y[i], poly.y[j]);
+    ++edgeCount;
+  }
+  if (edgeCount < 3) return;
+  // The polygon's run of sample columns [lo, hi) along the sample row at height y (coverage_mask.h).
+  auto rowSpan = [&](double y, std::int64_t& lo, std::int64_t& hi) {
+    lo = std::numeric_limits<std::int64_t>::min() / 2;
+    hi = std::numeric_limits<std::int64_t>::max() / 2;
+    bool any = false;
+    for (int k = 0; k < edgeCount; ++k) {
+      if (y < edgeLo[k] || y > edgeHi[k]) continue;
+      any = true;
+      const EdgeFunction& e = edges[k];
+      if (e.a == 0.0) {
+        const double v = e.b * y + e.c;
+        if (!(v > 0.0 || (v == 0.0 && e.b > 0.0))) hi = lo;  // horizontal edge: row outside
+        continue;
+      }
+      const std::int64_t f = edgeFirstColumn(e, layout, y);
+      if (e.a > 0.0) lo = std::max(lo, f);
+      else hi = std::min(hi, f);
+    }
+    if (!any) hi = lo;
+  };
+  double slopes[ScreenPolygon::kMaxVertices], elo[ScreenPolygon::kMaxVertices], ehi[ScreenPolygon::kMaxVertices];
+  double ymin = 1e300, ymax = -1e300;
+  for (int i = 0; i < n; ++i) {
+    const int j = i + 1 == n ? 0 : i + 1;
+    slopes[i] = poly.y[j] != poly.y[i] ? (poly.x[j] - poly.x[i]) / (poly.y[j] - poly.y[i]) : 0.0;
+    elo[i] = std::min(poly.y[i], poly.y[j]);
+    ehi[i] = std::max(poly.y[i], poly.y[j]);
+    ymin = std::min(ymin, poly.y[i]);
+    ymax = std::max(ymax, poly.y[i]);
+  }
+  const int row0 = int(std::max<std::int64_t>(ry0, floorToInt(std::max(ymin, -1e15))));
+  const int row1 = int(std::min<std::int64_t>(ry1, ceilToInt(std::min(ymax, 1e15)) - 1));
   struct SubEdge {
     double xa, ya, xb, yb;  // the edge's part inside the band, in contour order
     double invDx;           // 1 / (xb - xa), or 0 for a vertical edge
@@ -53,99 +220,140 @@ void rasterizePolygon(const PreparedScene& ps, const Primitive& prim, int tx0, i
     const double mean = e.xa < e.xb ? s * 0.5 * (e.xa + X) + (1.0 - s) * X : s * X + (1.0 - s) * 0.5 * (X + e.xb);
     return mean * dy;
   };
+  const int N = layout.samples();
+  const MaskBits full = layout.full();
   for (int row = row0; row <= row1; ++row) {
     const double y0 = row, y1 = row + 1.0;
     int ns = 0;
     double xmin = 1e300, xmax = -1e300;
-    for (int i = 0; i < poly.count; ++i) {
-      const int j = i + 1 == poly.count ? 0 : i + 1;
-      double xa = poly.x[i], ya = poly.y[i], xb = poly.x[j], yb = poly.y[j];
-      const double lo = std::min(ya, yb), hi = std::max(ya, yb);
-      if (hi <= y0 || lo >= y1 || ya == yb) continue;
+    double innerLo = -1e300, innerHi = 1e300;  // the band is wholly inside between these
+    for (int i = 0; i < n; ++i) {
+      if (ehi[i] <= y0 || elo[i] >= y1 || elo[i] == ehi[i]) continue;
+      const int j = i + 1 == n ? 0 : i + 1;
+      const double xa = poly.x[i], ya = poly.y[i], xb = poly.x[j], yb = poly.y[j];
       // Clip the edge to the band (its x at the band's lines, from the same formula both ways).
-      const double slope = slopes[i];  // dx / dy of the edge, once per primitive
-      auto xAt = [&](double y) { return xa + (y - ya) * slope; };
+      auto xAt = [&](double y) { return xa + (y - ya) * slopes[i]; };
       const double ca = std::clamp(ya, y0, y1), cb = std::clamp(yb, y0, y1);
       const double xca = ca == ya ? xa : xAt(ca), xcb = cb == yb ? xb : xAt(cb);
       sub[ns++] = {xca, ca, xcb, cb, xcb != xca ? 1.0 / (xcb - xca) : 0.0};
-      xmin = std::min({xmin, xca, xcb});
-      xmax = std::max({xmax, xca, xcb});
+      const double lo = std::min(xca, xcb), hi = std::max(xca, xcb);
+      xmin = std::min(xmin, lo);
+      xmax = std::max(xmax, hi);
+      // Oriented downwards the contour runs along the polygon's right side, upwards its left.
+      if (orient * (cb - ca) > 0) innerHi = std::min(innerHi, lo);
+      else innerLo = std::max(innerLo, hi);
     }
     if (ns < 2) continue;
     int c0, c1;
-    pixelColumns(xmin, xmax, tx0, tx1, c0, c1);
-    if (c0 > c1 || occludedRow(row, c0, c1, prim.zlo)) continue;
+    pixelColumns(xmin, xmax, rx0, rx1 + 1, c0, c1);
+    if (c0 > c1 || cullRow(row, c0, c1, depth.nearest(c0, y0, c1 + 1.0, y1))) continue;
+    // Whole pixels: the band is covered from its top to its bottom between innerLo and innerHi.
+    int in0 = INT_MAX, in1 = INT_MIN;
+    if (ymin <= y0 && ymax >= y1 && innerLo < innerHi) {
+      in0 = int(std::clamp<std::int64_t>(ceilToInt(std::max(innerLo, -1e15)), INT_MIN / 2, INT_MAX / 2));
+      in1 = int(std::clamp<std::int64_t>(floorToInt(std::min(innerHi, 1e15)) - 1, INT_MIN / 2, INT_MAX / 2));
+    }
     std::int64_t spanLo[8], spanHi[8];  // the polygon's sample runs on this row's sample rows
-    bool spansDone = false;              // computed at the row's first pixel that survives culling
-    double left = 0;      // area of the band left of x = leftAt
+    bool spansDone = false;              // computed at the row's first partial pixel that survives culling
+    double left = 0;                     // area of the band left of x = leftAt
     int leftAt = INT_MIN;
     for (int col = c0; col <= c1; ++col) {
-      if (occluded(col, row, prim.zlo)) continue;  // before any arithmetic: most are hidden
-      if (leftAt != col) {
-        left = 0;
-        for (int k = 0; k < ns; ++k) left += leftOf(sub[k], col);
-        left *= orient;
-      }
-      double right = 0;
-      for (int k = 0; k < ns; ++k) right += leftOf(sub[k], col + 1.0);
-      right *= orient;
-      const double area = std::clamp(right - left, 0.0, 1.0);
-      left = right;
-      leftAt = col + 1;
-      if (!(area > 1e-12)) continue;
+      const double zNear = depth.nearest(col, y0, col + 1.0, y1);
+      if (cullPixel(col, row, zNear)) continue;  // before any arithmetic: most are hidden
       PixelCoverage pc;
       pc.x = col;
       pc.y = row;
-      // Depth over the pixel square (the plane at its corners), clamped to the primitive's.
-      const double k00 = prim.depthKeyAt(col, row), k11 = prim.depthKeyAt(col + 1, row + 1);
-      const double k10 = prim.depthKeyAt(col + 1, row), k01 = prim.depthKeyAt(col, row + 1);
-      pc.keyMin = std::min({k00, k10, k01, k11});
-      pc.keyMax = std::max({k00, k10, k01, k11});
-      if (prim.zlo < prim.zhi) {
-        const double near = ps.view.perspective ? pc.keyMax : pc.keyMin;
-        if (occluded(col, row, std::clamp(ps.view.depthFromKey(near), double(prim.zlo), double(prim.zhi)))) continue;
-      }
-      pc.area = area;
-      if (!spansDone) {
+      pc.subpixel = N / 2;
+      if (col >= in0 && col <= in1) {
+        pc.area = 1.0;
+        pc.mask = full;
+        pc.cx = col + 0.5;
+        pc.cy = row + 0.5;
+      } else {
+        if (leftAt != col) {
+          left = 0;
+          for (int k = 0; k < ns; ++k) left += leftOf(sub[k], col);
+          left *= orient;
+        }
+        double right = 0;
+        for (int k = 0; k < ns; ++k) right += leftOf(sub[k], col + 1.0);
+        right *= orient;
+        const double area = std::clamp(right - left, 0.0, 1.0);
+        left = right;
+        leftAt = col + 1;
+        if (!(area > 1e-12)) continue;
+        pc.area = area;
+        if (!spansDone) {
+          for (int j = 0; j < layout.h; ++j) rowSpan(row + layout.sampleY(j), spanLo[j], spanHi[j]);
+          spansDone = true;
+        }
+        pc.mask = 0;
         for (int j = 0; j < layout.h; ++j)
-          sampleRowSpan(edges, edgeCount, layout, row + layout.sampleY(j), spanLo[j], spanHi[j]);
-        spansDone = true;
+          pc.mask |= spanRowBits(spanLo[j], spanHi[j], std::int64_t(col) * layout.w, layout) << (j * layout.w);
+        if (pc.mask != 0) {
+          // Shaded and ordered at the centroid of the samples it covers.
+          double sx, sy;
+          maskCentroid(pc.mask, layout, sx, sy);
+          pc.cx = col + sx;
+          pc.cy = row + sy;
+        } else {
+          // Thinner than the sample spacing here: the stand-in subpixel and the shading point
+          // are the centroid of the covered part (the rare slow path: clip to the pixel).
+          pc.cx = col + 0.5;
+          pc.cy = row + 0.5;
+          ScreenPolygon cell;
+          clipRect(poly, cell, col, row, col + 1.0, row + 1.0);
+          if (cell.count >= 3) cell.centroid(pc.cx, pc.cy);
+          const int si = std::clamp(int((pc.cx - col) * layout.w), 0, layout.w - 1);
+          const int sj = std::clamp(int((pc.cy - row) * layout.h), 0, layout.h - 1);
+          pc.subpixel = sj * layout.w + si;
+        }
       }
-      pc.mask = 0;
-      for (int j = 0; j < layout.h; ++j)
-        pc.mask |= spanRowBits(spanLo[j], spanHi[j], std::int64_t(col) * layout.w, layout) << (j * layout.w);
-      pc.cx = col + 0.5;
-      pc.cy = row + 0.5;
-      pc.subpixel = layout.samples() / 2;
-      if (pc.mask == 0) {
-        // Thinner than the sample spacing here: the stand-in subpixel and the shading point are
-        // the centroid of the covered part (the rare slow path: clip to the pixel).
-        ScreenPolygon cell;
-        clipRect(poly, cell, col, row, col + 1.0, row + 1.0);
-        if (cell.count >= 3) cell.centroid(pc.cx, pc.cy);
-        const int si = std::clamp(int((pc.cx - col) * layout.w), 0, layout.w - 1);
-        const int sj = std::clamp(int((pc.cy - row) * layout.h), 0, layout.h - 1);
-        pc.subpixel = sj * layout.w + si;
-      }
+      if (hidden(col, row, pc.mask, pc.subpixel, zNear)) continue;
+      depth.range(col, row, pc.cx, pc.cy, pc.zmin, pc.zmax, pc.zkey);
       emit(pc);
     }
   }
 }
 
-inline void depthRange(const PreparedScene& ps, const Primitive& prim, const PixelCoverage& pc,
-                float& zmin, float& zmax, float& zkey) {
-  // Depths from the screen-linear key, extrapolated over the pixel square (the near end is the
-  // larger key under perspective, 1/d, and the smaller one under orthographic, d).
-  const ViewTransform& v = ps.view;
-  double a = v.depthFromKey(v.perspective ? pc.keyMax : pc.keyMin);
-  double b = v.depthFromKey(v.perspective ? pc.keyMin : pc.keyMax);
-  a = std::clamp(a, double(prim.zlo), double(prim.zhi));
-  b = std::clamp(b, double(prim.zlo), double(prim.zhi));
-  if (a > b) std::swap(a, b);
-  const double c = std::clamp(v.depthFromKey(prim.depthKeyAt(pc.cx, pc.cy)), a, b);
-  zmin = float(a);
-  zmax = float(b);
-  zkey = float(c);
-}
+/// The A-buffer's questions about a fragment's primitive (abuffer.h), answered from the prepared
+/// scene: shading at the fragment's shading point and depth, depths at the subpixel samples.
+class PreparedFragmentSource final : public FragmentSource {
+ public:
+  explicit PreparedFragmentSource(const PreparedScene& ps) : ps_(ps) {}
+  glm::vec3 shade(const Fragment& f, int x, int y) const override {
+    if (f.prim == Fragment::kNoPrimitive) return f.colour;
+    return shadeFragment(ps_, f.prim, x + double(f.cx), y + double(f.cy), f.zkey);
+  }
+  bool surfaceDepth(const Fragment& f, int x, int y, SurfaceDepth& d) const override {
+    if (f.prim == Fragment::kNoPrimitive) return false;
+    const ViewTransform& v = ps_.view;
+    d.perspective = v.perspective;
+    d.nearPlane = float(v.nearPlane);
+    if (ps_.isSegment(f.prim)) {
+      const SegmentPrim& s = ps_.segmentOf(f.prim);
+      const SegmentFrame fr(s);
+      d.kind = SurfaceDepth::Kind::Wire;
+      d.round = ps_.wireDepth == WireDepth::Round;
+      const double k0 = d.round ? segmentAxisKey(v, s, 0.0) : segmentFrontKey(v, s, 0.0);
+      const double k1 = d.round ? segmentAxisKey(v, s, 1.0) : segmentFrontKey(v, s, 1.0);
+      d.k0 = float(k0), d.kx = float(k1 - k0);
+      d.t0 = float(fr.t(x, y)), d.tx = float(fr.ux), d.ty = float(fr.uy);
+      d.l0 = float((x - fr.ax) * fr.nx + (y - fr.ay) * fr.ny), d.lx = float(fr.nx), d.ly = float(fr.ny);
+      d.length = float(fr.length);
+      d.w0 = s.w0, d.dw = s.w1 - s.w0, d.r0 = s.r0, d.dr = s.r1 - s.r0;
+      d.lo = 0.0f, d.hi = INFINITY;
+      return true;
+    }
+    const TrianglePrim& t = ps_.triangles[f.prim];
+    d.kind = SurfaceDepth::Kind::Plane;
+    d.k0 = float(t.depthKeyAt(x, y)), d.kx = float(t.qa), d.ky = float(t.qb);
+    d.lo = t.zlo, d.hi = t.zhi;
+    return true;
+  }
+
+ private:
+  const PreparedScene& ps_;
+};
 
 }  // namespace wf

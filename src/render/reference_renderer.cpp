@@ -59,10 +59,7 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
     // Textures, bumps and grooves are point-sampled at every sub-sample and averaged, instead of
     // the A-buffer's box filter over one pixel's footprint.
     ps.filterTextures = false;
-    auto variesInPixel = [&](std::uint32_t p) {
-      const Primitive& prim = ps.primitives[p];
-      return !prim.isSegment && !prim.constantColour && ps.shaders[ps.triangles[prim.attribute].shader].variesInPixel;
-    };
+    auto variesInPixel = [&](std::uint32_t p) { return shadingVariesInPixel(ps, p); };
     const TileBins bins = binPrimitives(ps, options.tileSize, st);
     const auto tr = std::chrono::steady_clock::now();
     tbb::enumerable_thread_specific<TileSamples> store;
@@ -84,13 +81,13 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
       const std::uint32_t b0 = bins.offsets[size_t(tile)], b1 = bins.offsets[size_t(tile) + 1];
       for (std::uint32_t b = b0; b < b1; ++b) {
         const std::uint32_t pi = bins.items[b].index;
-        const Primitive& prim = ps.primitives[pi];
-        const ScreenPolygon poly = screenPolygonOf(ps, prim);
+        const float opacity = ps.opacityOf(pi);
+        ScreenPolygon poly;
+        screenPolygonOf(ps, pi, poly);
         EdgeFunction edges[ScreenPolygon::kMaxVertices];
         const int ne = polygonEdges(poly, edges);
         if (ne < 3) continue;
-        const int r0 = std::max(ty0, int(std::floor(prim.bbox[1])));
-        const int r1 = std::min(ty1 - 1, int(std::ceil(prim.bbox[3])) - 1);
+        const int r0 = ty0 + bins.items[b].y0, r1 = ty0 + bins.items[b].y1;
         ScreenPolygon half, band;
         for (int row = r0; row <= r1; ++row) {
           clipAxis(poly, half, false, row, true);
@@ -108,14 +105,13 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
               bool in = true;
               for (int e = 0; e < ne && in; ++e) in = edges[e](x, y) >= 0.0;
               if (!in) continue;
-              const double d = std::clamp(ps.view.depthFromKey(prim.depthKeyAt(x, y)), double(prim.zlo),
-                                          double(prim.zhi));
-              if (prim.opacity >= 1.0f) {
+              const double d = primitiveDepthAt(ps, pi, x, y);
+              if (opacity >= 1.0f) {
                 if (float(d) < buf.depth[base + s]) {
                   buf.depth[base + s] = float(d);
                   buf.prim[base + s] = std::int32_t(pi);
                 }
-              } else if (prim.opacity > 0.0f) {
+              } else if (opacity > 0.0f) {
                 buf.translucent.push_back({std::uint32_t(base + s), float(d), order++, pi});
               }
             }
@@ -158,7 +154,7 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
           // Primitives whose shading varies inside the pixel are shaded at every sample in pass 2
           // (with that sample's own transmittance); the others once, at their mean position.
           for (Visible& v : vis)
-            if (!v.perSample) v.colour = shadeFragment(ps, ps.primitives[v.prim], v.sx / v.n, v.sy / v.n, v.sd / v.n);
+            if (!v.perSample) v.colour = shadeFragment(ps, v.prim, v.sx / v.n, v.sy / v.n, v.sd / v.n);
           // Pass 2: composite every sample front to back.
           glm::vec3 rgb(0.0f);
           float alpha = 0;
@@ -171,11 +167,11 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
             samplePos(px, py, s, x, y);
             auto colourAt = [&](std::uint32_t p, float depth) {
               const Visible& v = find(p);
-              return v.perSample ? shadeFragment(ps, ps.primitives[p], x, y, depth) : v.colour;
+              return v.perSample ? shadeFragment(ps, p, x, y, depth) : v.colour;
             };
             for (; tp < tcur && buf.translucent[tp].sample == base + s; ++tp) {
               if (!(buf.translucent[tp].depth < zo)) continue;
-              const float a = ps.primitives[buf.translucent[tp].prim].opacity;
+              const float a = ps.opacityOf(buf.translucent[tp].prim);
               c += T * a * colourAt(buf.translucent[tp].prim, buf.translucent[tp].depth);
               T *= 1.0f - a;
             }

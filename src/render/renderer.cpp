@@ -54,16 +54,19 @@ size_t estimateRenderBytes(const Scene& scene, const RenderOptions& o, bool refe
                 : double(TileABuffer::bytesFor(tw, th, o.mask, std::clamp(o.budget, 1, 4)));
   const double tiles = std::ceil(w / tile) * std::ceil(h / tile);
   bytes += std::min<double>(threads, std::max(tiles, 1.0)) * tileBytes;
-  // Primitives: a triangle clips to at most 5 screen vertices, a segment is a quad (end-on: a
-  // 32-gon, rare); each lands in at least one tile's bin; twice for the chunks set-up joins.
+  // Primitives: room for every input triangle with 5 screen vertices (the most near / far
+  // clipping leaves) and every input segment, the bins at least one item each, and the per-chunk
+  // tile counts of the binning.
   double triangles = 0, segments = 0;
   for (const SceneSurface& s : scene.surfaces) triangles += double(s.mesh.triangles.size());
   for (const SceneWire& wr : scene.wires)
     segments += std::max(0.0, double(wr.lines.points.size()) - double(wr.lines.polylineCount()));
-  const double perTriangle = sizeof(Primitive) + 5 * sizeof(glm::dvec2) + sizeof(TriangleAttributes);
-  const double perSegment = sizeof(Primitive) + 4 * sizeof(glm::dvec2) + sizeof(SegmentAttributes);
-  bytes += 2 * (triangles * perTriangle + segments * perSegment) +
-           (triangles + segments) * sizeof(TileBins::Item) + (tiles + 1) * sizeof(std::uint32_t);
+  const double perTriangle = sizeof(TrianglePrim) + 5 * sizeof(glm::dvec2) + sizeof(TriangleAttributes);
+  const double perSegment = sizeof(SegmentPrim) + sizeof(SegmentShading);
+  // The binning's per-chunk tile counts (binning.cpp: up to 4 chunks a thread, 65,536 primitives each).
+  const double chunks = std::clamp(std::ceil((triangles + segments) / 65536.0), 1.0, 4.0 * threads);
+  bytes += triangles * perTriangle + segments * perSegment + (triangles + segments) * sizeof(TileBins::Item) +
+           (tiles + 1) * sizeof(std::uint32_t) * (1 + 2 * chunks);
   // Shading tables (maps path): a pair of pseudo-reflectance maps per wire material, a
   // reflectance sphere per surface material, for every node of the view grid.
   if (o.shading == ShadingPath::Maps) {
@@ -138,6 +141,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
     PreparedScene ps = prepareScene(scene, options, st);
     if (options.shadingCache) options.shadingCache->endFrame();  // tables in use are held by ps too
     const TileBins bins = binPrimitives(ps, options.tileSize, st);
+    const PreparedFragmentSource source(ps);
     const auto tr = std::chrono::steady_clock::now();
     const int tilesX = bins.tilesX;
     tbb::enumerable_thread_specific<TileABuffer> buffers(
@@ -155,7 +159,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
         return;
       }
       TileABuffer& buf = buffers.local();
-      buf.reset(tx1 - tx0, ty1 - ty0);
+      buf.reset(tx1 - tx0, ty1 - ty0, tx0, ty0, &source);
       // The external opaque depth (RenderOptions::opaqueDepth): its farthest value over the
       // tile rejects whole primitives behind it, its per-pixel value single fragments.
       const float* opaque = options.opaqueDepth ? options.opaqueDepth->data() : nullptr;
@@ -172,49 +176,80 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
         const float d = opaque[size_t(y) * size_t(options.width) + size_t(x)];
         return std::isnan(d) ? INFINITY : d;
       };
-      // Front to back by nearest depth (ties by primitive order: a strict order, so the same
-      // whatever the thread count), so that the exact occlusion test discards most of what lies
-      // behind before it is rasterised.
+      // Front to back by each primitive's nearest depth in this tile (ties by primitive order: a
+      // strict order, so the same whatever the thread count), so that the occlusion tests
+      // discard most of what lies behind before it is rasterised.
       thread_local std::vector<TileBins::Item> order;
       order.assign(bins.items.begin() + b0, bins.items.begin() + b1);
       std::sort(order.begin(), order.end());
-      const uint32_t n = uint32_t(order.size());
-      for (uint32_t oi = 0; oi < n; ++oi) {
+      const std::uint32_t n = std::uint32_t(order.size());
+      const std::uint32_t triangleCount = std::uint32_t(ps.triangles.size());
+      auto cullRow = [&](int y, int x0, int x1, double z) {
+        if (!(z >= buf.rowOcclusionDepth(y - ty0, x0 - tx0, x1 - tx0))) return false;
+        buf.countCulledRow(y - ty0, x0 - tx0, x1 - tx0);
+        return true;
+      };
+      auto cullPixel = [&](int x, int y, double z) {
+        if (!(z >= buf.occlusionDepth(x - tx0, y - ty0)) && !(opaque && z >= opaqueAt(x, y))) return false;
+        buf.countCulled(x - tx0, y - ty0);
+        return true;
+      };
+      auto hidden = [&](int x, int y, MaskBits mask, int subpixel, double z) {
+        if (!buf.maskHidden(x - tx0, y - ty0, mask, subpixel, float(z))) return false;
+        buf.countCulled(x - tx0, y - ty0);
+        return true;
+      };
+      ScreenPolygon poly;
+      for (std::uint32_t oi = 0; oi < n; ++oi) {
         const TileBins::Item& item = order[oi];
         // Hierarchical occlusion first, from the bin item alone: is the primitive behind
-        // everything over its bounding box?
+        // everything over its rectangle in this tile?
         if (item.zlo >= buf.regionOcclusionDepth(item.x0, item.y0, item.x1, item.y1) || item.zlo >= opaqueTileMax) {
           ++occludedPrims.local();
           continue;
         }
-        // Survivors are scattered through memory: fetch the next one's data ahead.
-        for (uint32_t ahead = oi + 1; ahead < std::min(n, oi + 4); ++ahead) {
-          __builtin_prefetch(&ps.primitives[order[ahead].index]);
-          __builtin_prefetch(&ps.vertices[order[ahead].firstVertex]);
+        // Survivors are scattered through memory: fetch the next ones' data ahead.
+        for (std::uint32_t ahead = oi + 1; ahead < std::min(n, oi + 4); ++ahead) {
+          const std::uint32_t k = order[ahead].index;
+          if (k >= triangleCount) __builtin_prefetch(&ps.segments[k - triangleCount]);
+          else __builtin_prefetch(&ps.triangles[k]);
         }
-        const Primitive& prim = ps.primitives[item.index];
-        auto occluded = [&](int x, int y, double zmin) {
-          if (!(zmin >= buf.occlusionDepth(x - tx0, y - ty0)) && !(opaque && zmin >= opaqueAt(x, y))) return false;
-          buf.countCulled(x - tx0, y - ty0);
-          return true;
-        };
-        auto occludedRow = [&](int y, int x0, int x1, double zmin) {
-          if (!(zmin >= buf.rowOcclusionDepth(y - ty0, x0 - tx0, x1 - tx0))) return false;
-          buf.countCulledRow(y - ty0, x0 - tx0, x1 - tx0);
-          return true;
-        };
-        rasterizePolygon(ps, prim, tx0, ty0, tx1, ty1, options.mask, occludedRow, occluded, [&](const PixelCoverage& pc) {
+        const std::uint32_t index = item.index;
+        const float opacity = ps.opacityOf(index);
+        std::uint32_t tag;
+        bool mayMerge;
+        auto emit = [&](const PixelCoverage& pc) {
+          if (opaque && !(pc.zkey < opaqueAt(pc.x, pc.y))) return;  // behind the external surface
           Fragment f;
-          depthRange(ps, prim, pc, f.zmin, f.zmax, f.zkey);
-          if (opaque && !(f.zkey < opaqueAt(pc.x, pc.y))) return;  // behind the external surface
+          f.zmin = pc.zmin;
+          f.zmax = pc.zmax;
+          f.zkey = pc.zkey;
           f.area = float(pc.area);
           f.mask = pc.mask;
-          f.opacity = prim.opacity;
-          f.tag = prim.tag;
-          f.mayMerge = prim.mayMerge;
-          f.colour = shadeFragment(ps, prim, pc.cx, pc.cy, f.zkey);
+          f.opacity = opacity;
+          f.tag = tag;
+          f.mayMerge = mayMerge;
+          f.prim = index;
+          f.cx = float(pc.cx - pc.x);
+          f.cy = float(pc.cy - pc.y);
+          f.shaded = false;  // shaded only if it survives (PreparedFragmentSource)
           buf.insert(pc.x - tx0, pc.y - ty0, f, pc.subpixel);
-        });
+        };
+        const int rx0 = tx0 + item.x0, ry0 = ty0 + item.y0, rx1 = tx0 + item.x1, ry1 = ty0 + item.y1;
+        screenPolygonOf(ps, index, poly);
+        if (index >= triangleCount) {
+          const SegmentPrim& s = ps.segments[index - triangleCount];
+          tag = s.tag;
+          mayMerge = s.flags & kSegmentMayMerge;
+          rasterizePolygon(poly, SegmentDepth(ps.view, s, ps.wireDepth), rx0, ry0, rx1, ry1, options.mask, cullRow,
+                           cullPixel, hidden, emit);
+        } else {
+          const TrianglePrim& t = ps.triangles[index];
+          tag = t.tag;
+          mayMerge = t.mayMerge;
+          rasterizePolygon(poly, TriangleDepth(ps.view, t), rx0, ry0, rx1, ry1, options.mask, cullRow, cullPixel,
+                           hidden, emit);
+        }
       }
       for (int y = ty0; y < ty1; ++y)
         for (int x = tx0; x < tx1; ++x)

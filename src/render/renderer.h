@@ -25,6 +25,13 @@ enum class ShadingPath {
   Exact,  ///< cylinder integral and Phong at the true view vector of every fragment
 };
 
+/// The depth of a wire across its width (what decides, subpixel by subpixel, which of two
+/// crossing hairs, or of a hair and the skin it grows from, is in front).
+enum class WireDepth {
+  Round,  ///< the cylinder's own surface: sqrt(1 - q^2) across the wire, spheres at the ends
+  Flat,   ///< the paper's polygon: one plane at the wire's front, a radius before its axis
+};
+
 class ShadingCache;
 
 /// The default RenderOptions::memoryBudget: half of the machine's physical memory (8 GiB where
@@ -43,6 +50,7 @@ struct RenderOptions {
   int tileSize = 32;
   int threads = 0;          ///< 0: all cores
   ShadingPath shading = ShadingPath::Maps;
+  WireDepth wireDepth = WireDepth::Round;
   PseudoReflectanceMapOptions map{};
   /// Tables for a viewGrid x viewGrid grid of view directions over the image, blended by screen
   /// position (1: the paper's single orthographic table; see render/view_tables.h). Default 1:

@@ -708,8 +708,9 @@ TEST(Render, TriangleAttributesArePerspectiveCorrect) {
   const glm::dmat3 worldFromEye = glm::transpose(ps.view.eyeFromWorld);
   int checked = 0;
   double worst = 0;
-  for (const Primitive& prim : ps.primitives)
+  for (std::uint32_t i = 0; i < ps.triangles.size(); ++i)
     for (int k = 0; k < 200; ++k) {
+      const TrianglePrim& prim = ps.triangles[i];
       const double x = prim.bbox[0] + (prim.bbox[2] - prim.bbox[0]) * ((k * 37) % 100) / 100.0;
       const double y = prim.bbox[1] + (prim.bbox[3] - prim.bbox[1]) * ((k * 61) % 100) / 100.0;
       // The ray through (x, y) meets z = 0 at world point Q; (u, v) there is (Q.x, Q.y).
@@ -717,7 +718,7 @@ TEST(Render, TriangleAttributesArePerspectiveCorrect) {
       const glm::dvec3 dir = worldFromEye * dirEye;
       const double t = -cam.eye.z / dir.z;
       const glm::dvec3 Q = cam.eye + t * dir;
-      const SurfaceSample s = interpolateSurface(ps, prim, x, y);
+      const SurfaceSample s = interpolateSurface(ps, i, x, y);
       const glm::dvec3 b = s.barycentric;
       if (std::min({b.x, b.y, b.z}) <= 1e-9) continue;  // outside this triangle: clamped
       worst = std::max({worst, std::abs(s.uv.x - Q.x), std::abs(s.uv.y - Q.y)});

@@ -107,6 +107,12 @@ struct SceneWire {
   /// cylinder with spherical caps, as ray casters draw round curves (Embree's round linear
   /// curves). False: the paper's square-ended polygon.
   bool roundEnds = false;
+  /// Where the wire's cylinder lies relative to its polyline. True (edges, the default): the
+  /// polyline is where the wire rests on what it is drawn over, and the cylinder lies one radius
+  /// nearer the viewer, so a wire lying on a surface (a CAD edge on its face, a mesh's own edge)
+  /// shows whole in front of it. False (hairs): the polyline is the cylinder's axis, as a ray
+  /// caster draws a round curve, and a hair enters the skin it grows from.
+  bool restsOnSurface = true;
 };
 
 struct Scene {

@@ -1,5 +1,7 @@
 // Stage "primitives" (render/pipeline.h), wire segments: the paper's wire polygons (§3) with
-// mitred joints, end-on discs and optional round ends (see the top of render/pipeline.h).
+// mitred joints, end-on discs and optional round ends, stored as SegmentPrim (80 bytes) and
+// SegmentShading (48 bytes); the polygon itself is made on demand (segmentPolygon), so that a
+// million hairs do not hold twenty vertices each.
 #include "render/pipeline.h"
 
 #include <algorithm>
@@ -16,89 +18,135 @@ namespace {
 struct SegScreen {
   bool valid = false, endOn = false;
   bool clipped0 = false, clipped1 = false;
-  glm::dvec3 e0, e1;      // eye space, after clipping
   glm::dvec2 p0, p1;      // screen
   double d0 = 0, d1 = 0;  // depths
   double w0 = 0, w1 = 0;  // half widths, pixels
-  glm::dvec2 dir{0}, nrm{0};
-  double length = 0;
+  glm::dvec2 nrm{0};
   glm::dvec3 tangent{0};  // eye-space unit direction (unclipped)
 };
 
-void addStadium(const SegScreen& s, ScreenPolygon& poly) {
-  // Hull of two 16-gon discs with the discs' exact areas (circumradius scaled up).
+// Half discs of n = 2 ... kMaxCapSides edges: fan about the centre, 2 triangles with one vertex
+// at r and one at s r, n - 2 with both at s r, each of angle pi / n: (n - 2) s^2 sin(pi / n) +
+// 2 s sin(pi / n) = pi / 2 gives s, so that the half polygon has the half disc's exact area; the
+// two end vertices stay on the wire's sides, so the cap meets the body without a step.
+constexpr int kMaxCapSides = 8;
+struct CapTable {
+  double scale[kMaxCapSides + 1];
+  double cosA[kMaxCapSides + 1][kMaxCapSides + 1], sinA[kMaxCapSides + 1][kMaxCapSides + 1];
+  double sagittaFactor[kMaxCapSides + 1];  // 1 - cos(pi / (2 n))
+};
+const CapTable& capTable() {
+  static const CapTable t = [] {
+    CapTable c{};
+    for (int n = 2; n <= kMaxCapSides; ++n) {
+      const double sn = std::sin(std::numbers::pi / n), a = (n - 2) * sn, b = 2 * sn;
+      c.scale[n] = a > 0 ? (-b + std::sqrt(b * b + 4 * a * std::numbers::pi)) / (2 * a) : std::numbers::pi / b;
+      for (int i = 0; i <= n; ++i) {
+        c.cosA[n][i] = std::cos(std::numbers::pi * i / n);
+        c.sinA[n][i] = std::sin(std::numbers::pi * i / n);
+      }
+      c.sagittaFactor[n] = 1 - std::cos(std::numbers::pi / (2 * n));
+    }
+    return c;
+  }();
+  return t;
+}
+
+// A half disc of radius r about c, bulging along `out`, from c + o to c - o (o = r side, the
+// corner offset the square end would have: both ends are the body's corners bit for bit),
+// appended to `poly`: as few edges as keep every chord within 0.05 pixel of the circle (2 ... 8).
+void addHalfDisc(const glm::dvec2& c, const glm::dvec2& out, const glm::dvec2& side, const glm::dvec2& o, double r,
+                 ScreenPolygon& poly) {
+  const CapTable& t = capTable();
+  int n = 2;
+  while (n < kMaxCapSides && r * t.sagittaFactor[n] > 0.05) ++n;
+  const double inner = r * t.scale[n];
+  poly.add(c.x + o.x, c.y + o.y);
+  for (int i = 1; i < n; ++i)
+    poly.add(c.x + inner * (t.cosA[n][i] * side.x + t.sinA[n][i] * out.x),
+             c.y + inner * (t.cosA[n][i] * side.y + t.sinA[n][i] * out.y));
+  poly.add(c.x - o.x, c.y - o.y);
+}
+
+// Hull of the two end discs (16-gons of the discs' exact areas), for a segment seen end-on.
+void addStadium(const SegmentPrim& s, ScreenPolygon& poly) {
   constexpr int kSides = 16;
-  const double scale = std::sqrt(std::numbers::pi / (0.5 * kSides * std::sin(2 * std::numbers::pi / kSides)));
-  std::vector<glm::dvec2> pts;
+  static const double scale = std::sqrt(std::numbers::pi / (0.5 * kSides * std::sin(2 * std::numbers::pi / kSides)));
+  glm::dvec2 pts[2 * kSides];
   for (int end = 0; end < 2; ++end) {
     const glm::dvec2 c = end ? s.p1 : s.p0;
-    const double r = (end ? s.w1 : s.w0) * scale;
+    const double r = double(end ? s.w1 : s.w0) * scale;
     for (int i = 0; i < kSides; ++i) {
       const double a = 2 * std::numbers::pi * i / kSides;
-      pts.emplace_back(c.x + r * std::cos(a), c.y + r * std::sin(a));
+      pts[end * kSides + i] = {c.x + r * std::cos(a), c.y + r * std::sin(a)};
     }
   }
-  std::sort(pts.begin(), pts.end(), [](const glm::dvec2& a, const glm::dvec2& b) {
-    return a.x < b.x || (a.x == b.x && a.y < b.y);
-  });
-  std::vector<glm::dvec2> hull(2 * pts.size());
-  size_t k = 0;
+  std::sort(pts, pts + 2 * kSides, [](const glm::dvec2& a, const glm::dvec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
+  glm::dvec2 hull[4 * kSides];
+  int k = 0;
   auto cross = [](const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
     return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
   };
-  for (size_t i = 0; i < pts.size(); ++i) {
+  for (int i = 0; i < 2 * kSides; ++i) {
     while (k >= 2 && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
     hull[k++] = pts[i];
   }
-  for (size_t i = pts.size() - 1, t = k + 1; i > 0; --i) {
+  for (int i = 2 * kSides - 1, t = k + 1; i > 0; --i) {
     while (k >= t && cross(hull[k - 2], hull[k - 1], pts[i - 1]) <= 0) --k;
     hull[k++] = pts[i - 1];
   }
   poly.count = 0;
-  for (size_t i = 0; i + 1 < k; ++i) poly.add(hull[i].x, hull[i].y);
-}
-
-// A half disc of radius r about c, bulging along `out`, from c + r side to c - r side (both
-// included), appended to `poly`. As few edges as keep every chord within 0.05 pixel of the
-// circle (2 ... 8), the inner vertices a little outside the circle so that the half polygon has
-// the half disc's exact area, pi r^2 / 2; the two end vertices stay on the wire's sides, so the
-// cap meets the body without a step.
-void addHalfDisc(const glm::dvec2& c, const glm::dvec2& out, const glm::dvec2& side, double r, ScreenPolygon& poly) {
-  constexpr int kMaxSides = 8;
-  // Fan about c: 2 triangles with one vertex at r and one at s r, n - 2 with both at s r, each
-  // of angle t = pi / n: (n - 2) s^2 sin t + 2 s sin t = pi / 2 ... solved for s, per n.
-  static const std::array<double, kMaxSides + 1> kScale = [] {
-    std::array<double, kMaxSides + 1> k{};
-    for (int n = 2; n <= kMaxSides; ++n) {
-      const double sn = std::sin(std::numbers::pi / n), a = (n - 2) * sn, b = 2 * sn;
-      k[size_t(n)] = a > 0 ? (-b + std::sqrt(b * b + 4 * a * std::numbers::pi)) / (2 * a) : std::numbers::pi / b;
-    }
-    return k;
-  }();
-  // Sagitta of a chord of angle t: r (1 - cos(t / 2)) <= 0.05 px.
-  int n = 2;
-  while (n < kMaxSides && r * (1 - std::cos(std::numbers::pi / (2 * n))) > 0.05) ++n;
-  const double inner = r * kScale[size_t(n)];
-  for (int i = 0; i <= n; ++i) {
-    const double ang = std::numbers::pi * i / n;
-    const double k = (i == 0 || i == n) ? r : inner;
-    const glm::dvec2 p = c + k * (std::cos(ang) * side + std::sin(ang) * out);
-    poly.add(p.x, p.y);
-  }
+  for (int i = 0; i + 1 < k; ++i) poly.add(hull[i].x, hull[i].y);
 }
 
 }  // namespace
 
+void segmentPolygon(const SegmentPrim& s, ScreenPolygon& poly) {
+  poly.count = 0;
+  if (s.flags & kSegmentEndOn) {
+    addStadium(s, poly);
+  } else {
+    const glm::dvec2 o0(s.o0), o1(s.o1);
+    const bool cap0 = s.flags & kSegmentCap0, cap1 = s.flags & kSegmentCap1;
+    glm::dvec2 dir(0.0), nrm(0.0);
+    if (cap0 || cap1) {
+      const glm::dvec2 d = s.p1 - s.p0;
+      const double l = glm::length(d);
+      dir = d / l;
+      nrm = {-dir.y, dir.x};
+    }
+    // A free end is never mitred, so there o0 = nrm w0 and o1 = nrm w1: the caps run between
+    // the corners the square ends would have.
+    if (cap0) addHalfDisc(s.p0, -dir, -nrm, -o0, s.w0, poly);  // from p0 - o0 round to p0 + o0
+    else poly.add(s.p0.x + o0.x, s.p0.y + o0.y);
+    if (cap1) {
+      addHalfDisc(s.p1, dir, nrm, o1, s.w1, poly);  // from p1 + o1 round to p1 - o1
+    } else {
+      poly.add(s.p1.x + o1.x, s.p1.y + o1.y);
+      poly.add(s.p1.x - o1.x, s.p1.y - o1.y);
+    }
+    if (!cap0) poly.add(s.p0.x - o0.x, s.p0.y - o0.y);
+  }
+  poly.removeDuplicates();
+}
+
 void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint16_t shader,
-                    std::uint32_t tagBase, size_t begin, size_t end, ChunkOut& out) {
+                    std::uint32_t tagBase, size_t begin, size_t end, SegmentSink& out, SetupCounts& counts) {
   const ViewTransform& view = ps.view;
   const PolylineSet& L = wire.lines;
   const ShaderSlot& slot = ps.shaders[shader];
   const bool hasColours = L.colours.size() == L.points.size();
-  std::vector<SegScreen> segs;
-  std::vector<size_t> ids;
-  std::vector<glm::dvec2> offsets;
-  std::vector<char> mitred;
+  // A straight wire's shading through one orthographic map depends on its tangent alone: it is
+  // looked up once per segment here and interpolated along it by colour (exactly: the tangent
+  // is the same at both ends).
+  const bool preshadeMaps = ps.path == ShadingPath::Maps && slot.kind == ShaderSlot::Kind::WireShaded &&
+                            slot.wireTables && ps.grid->size() == 1;
+  const double halfT = 0.5 * wire.thickness;
+  const double nearP = view.nearPlane, farP = view.farPlane;
+  thread_local std::vector<SegScreen> segs;
+  thread_local std::vector<size_t> ids;
+  thread_local std::vector<glm::dvec2> offsets;
+  thread_local std::vector<char> mitred;
   for (size_t li = begin; li < end; ++li) {
     const size_t a = L.starts[li], b = std::min<size_t>(L.starts[li + 1], L.points.size());
     // Repeated points make zero-length segments: drop them here, so that the segments on either
@@ -106,7 +154,7 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint16_
     ids.clear();
     for (size_t k = a; k < b; ++k) {
       if (!ids.empty() && L.points[k] == L.points[ids.back()]) {
-        ++out.zeroLength;
+        ++counts.zeroLength;
         continue;
       }
       ids.push_back(k);
@@ -119,20 +167,19 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint16_
       SegScreen& s = segs[j];
       const glm::dvec3 &w0 = L.points[ids[j]], &w1 = L.points[ids[j + 1]];
       if (!finite3(w0) || !finite3(w1)) {
-        ++out.rejected;
+        ++counts.rejected;
         continue;
       }
       glm::dvec3 e0 = view.toEye(w0), e1 = view.toEye(w1);
       if (!finite3(e0) || !finite3(e1) || e0 == e1) {
-        ++out.zeroLength;
+        ++counts.zeroLength;
         continue;
       }
-      ++out.segments;
+      ++counts.segments;
       s.tangent = glm::normalize(e1 - e0);
       double d0 = -e0.z, d1 = -e1.z;
-      const double nearP = view.nearPlane, farP = view.farPlane;
       if ((d0 < nearP && d1 < nearP) || (d0 > farP && d1 > farP)) {
-        ++out.clipped;
+        ++counts.clipped;
         continue;
       }
       // Clip to [near, far] along the segment.
@@ -150,27 +197,22 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint16_
       const glm::dvec3 o0 = e0, o1 = e1;
       clipEnd(e0, d0, o1, d1, s.clipped0);
       clipEnd(e1, d1, o0, -o0.z, s.clipped1);
-      s.e0 = e0;
-      s.e1 = e1;
       s.d0 = d0;
       s.d1 = d1;
       s.p0 = view.project(e0);
       s.p1 = view.project(e1);
-      const double halfT = 0.5 * wire.thickness;
       s.w0 = wire.thicknessInPixels ? halfT : halfT * view.pixelsPerWorld(d0);
       s.w1 = wire.thicknessInPixels ? halfT : halfT * view.pixelsPerWorld(d1);
       const glm::dvec2 dv = s.p1 - s.p0;
-      s.length = glm::length(dv);
-      if (!(std::isfinite(s.length)) || !(s.w0 > 0) || !(s.w1 > 0) || !std::isfinite(s.w0) ||
-          !std::isfinite(s.w1)) {
-        ++out.clipped;
+      const double length = glm::length(dv);
+      // Widths are stored as floats: one that rounds to 0 or overflows draws nothing.
+      if (!std::isfinite(length) || !(float(s.w0) > 0) || !(float(s.w1) > 0) || !std::isfinite(float(s.w0)) ||
+          !std::isfinite(float(s.w1)) || !std::isfinite(float(s.d1)) || !std::isfinite(float(s.d0))) {
+        ++counts.clipped;
         continue;
       }
-      s.endOn = s.length < std::max(s.w0, s.w1);
-      if (!s.endOn) {
-        s.dir = dv / s.length;
-        s.nrm = glm::dvec2(-s.dir.y, s.dir.x);
-      }
+      s.endOn = length < std::max(s.w0, s.w1);
+      if (!s.endOn) s.nrm = glm::dvec2(-dv.y, dv.x) / length;
       s.valid = true;
     }
     // Joint offsets: vertex j joins segment j-1 and j.
@@ -189,64 +231,56 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint16_
       mitred[j] = 1;
     }
     const std::uint32_t tag = tagBase + std::uint32_t(li);
+    size_t pieces = 0;
+    for (const SegScreen& s : segs) pieces += s.valid;
     for (size_t j = 0; j < nseg; ++j) {
       const SegScreen& s = segs[j];
       if (!s.valid) continue;
-      ScreenPolygon poly;
+      SegmentPrim sp;
+      sp.p0 = s.p0;
+      sp.p1 = s.p1;
+      sp.w0 = float(s.w0);
+      sp.w1 = float(s.w1);
+      // The world radius at each end (a pixel thickness turned into world units at its depth),
+      // and the axis: the polyline, or one radius nearer when the wire rests on a surface.
+      const double r0 = s.w0 / view.pixelsPerWorld(s.d0), r1 = s.w1 / view.pixelsPerWorld(s.d1);
+      sp.r0 = float(r0);
+      sp.r1 = float(r1);
+      sp.d0 = float(wire.restsOnSurface ? std::max(nearP, s.d0 - r0) : s.d0);
+      sp.d1 = float(wire.restsOnSurface ? std::max(nearP, s.d1 - r1) : s.d1);
+      sp.tag = tag;
+      sp.shader = shader;
+      sp.pad = 0;
+      sp.flags = pieces > 1 ? kSegmentMayMerge : 0;  // one piece has nothing to merge with
       if (s.endOn) {
-        addStadium(s, poly);
-        ++out.endOn;
+        sp.flags |= kSegmentEndOn;
+        sp.o0 = sp.o1 = glm::vec2(0.0f);
+        ++counts.endOn;
       } else {
-        glm::dvec2 o0 = mitred[j] ? offsets[j] : s.nrm * s.w0;
-        glm::dvec2 o1 = mitred[j + 1] ? offsets[j + 1] : s.nrm * s.w1;
         // Round ends: a half disc at a free end of the polyline (not at a joint, not where the
         // near or far plane cut the segment).
-        const bool cap0 = wire.roundEnds && j == 0 && !s.clipped0 && !closed;
-        const bool cap1 = wire.roundEnds && j + 1 == nseg && !s.clipped1 && !closed;
-        auto quad = [&](const glm::dvec2& u0, const glm::dvec2& u1) {
-          // A free end is never mitred, so there u0 = nrm w0 and u1 = nrm w1: the caps run
-          // between the same corners the square ends would have.
-          poly.count = 0;
-          if (cap0) addHalfDisc(s.p0, -s.dir, -s.nrm, s.w0, poly);  // from p0 - u0 round to p0 + u0
-          else poly.add(s.p0.x + u0.x, s.p0.y + u0.y);
-          if (cap1) {
-            addHalfDisc(s.p1, s.dir, s.nrm, s.w1, poly);  // from p1 + u1 round to p1 - u1
-          } else {
-            poly.add(s.p1.x + u1.x, s.p1.y + u1.y);
-            poly.add(s.p1.x - u1.x, s.p1.y - u1.y);
+        if (wire.roundEnds && j == 0 && !s.clipped0 && !closed) sp.flags |= kSegmentCap0;
+        if (wire.roundEnds && j + 1 == nseg && !s.clipped1 && !closed) sp.flags |= kSegmentCap1;
+        sp.o0 = glm::vec2(mitred[j] ? offsets[j] : s.nrm * s.w0);
+        sp.o1 = glm::vec2(mitred[j + 1] ? offsets[j + 1] : s.nrm * s.w1);
+        if (mitred[j] || mitred[j + 1]) {
+          // A mitre that folds the polygon falls back to square ends.
+          ScreenPolygon poly;
+          segmentPolygon(sp, poly);
+          if (!isConvex(poly)) {
+            sp.o0 = glm::vec2(s.nrm * s.w0);
+            sp.o1 = glm::vec2(s.nrm * s.w1);
           }
-          if (!cap0) poly.add(s.p0.x - u0.x, s.p0.y - u0.y);
-        };
-        quad(o0, o1);
-        if (!isConvex(poly)) quad(s.nrm * s.w0, s.nrm * s.w1);  // a folding mitre: square ends
+        }
       }
-      poly.removeDuplicates();
-      Primitive prim;
-      // The wire is drawn at its visible front, the cylinder's surface nearest the eye, one
-      // radius in front of its axis: a wire lying on a surface (a CAD edge, a mesh's own edge)
-      // then shows whole in front of it instead of tying with it pixel by pixel.
-      const double f0 = std::max(view.nearPlane, s.d0 - s.w0 / view.pixelsPerWorld(s.d0));
-      const double f1 = std::max(view.nearPlane, s.d1 - s.w1 / view.pixelsPerWorld(s.d1));
-      const double k0 = view.depthKey(f0), k1 = view.depthKey(f1);
-      if (s.length > 1e-12) {
-        const glm::dvec2 u = (s.p1 - s.p0) / (s.length * s.length);
-        prim.qa = (k1 - k0) * u.x;
-        prim.qb = (k1 - k0) * u.y;
-        prim.qc = k0 - prim.qa * s.p0.x - prim.qb * s.p0.y;
-      } else {
-        prim.qa = prim.qb = 0;
-        prim.qc = view.perspective ? std::max(k0, k1) : std::min(k0, k1);
+      // Nothing of it inside the image: dropped (its reach: mitres up to kMitreLimit half
+      // widths, caps up to pi / 2).
+      const double reach = std::max({double(glm::length(sp.o0)), double(glm::length(sp.o1)), 1.5708 * std::max(s.w0, s.w1)});
+      if (std::max(s.p0.x, s.p1.x) + reach <= 0 || std::min(s.p0.x, s.p1.x) - reach >= view.width ||
+          std::max(s.p0.y, s.p1.y) + reach <= 0 || std::min(s.p0.y, s.p1.y) - reach >= view.height) {
+        ++counts.clipped;
+        continue;
       }
-      prim.zlo = float(std::min(f0, f1));
-      prim.zhi = float(std::max(f0, f1));
-      prim.tag = tag;
-      prim.mayMerge = nseg > 1;  // a one-segment polyline (a straight hair) has nothing to merge with
-      prim.opacity = safeOpacity(wire.opacity);
-      prim.isSegment = true;
-      prim.attribute = std::uint32_t(out.segs.size());
-      SegmentAttributes sa;
-      sa.p0 = s.e0;
-      sa.p1 = s.e1;
       // Tangents at the ends: averaged with the neighbour at a joint, so a smooth curve of
       // straight segments shades smoothly, like one bent wire.
       auto jointTangent = [&](size_t jv, const glm::dvec3& own) {
@@ -258,28 +292,25 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint16_
         const double l = glm::length(sum);
         return l > 1e-6 ? sum / l : own;
       };
-      sa.t0 = jointTangent(j, s.tangent);
-      sa.t1 = jointTangent(j + 1, s.tangent);
-      sa.c0 = hasColours ? safeColour(L.colours[ids[j]]) : glm::vec3(1.0f);
-      sa.c1 = hasColours ? safeColour(L.colours[ids[j + 1]]) : glm::vec3(1.0f);
-      sa.r0 = float(s.w0 / view.pixelsPerWorld(s.d0));
-      sa.r1 = float(s.w1 / view.pixelsPerWorld(s.d1));
-      sa.shader = shader;
-      if (sa.c0 == sa.c1) {
-        if (slot.kind == ShaderSlot::Kind::WirePlain) {
-          prim.constantColour = true;
-          prim.colour = slot.colour * sa.c0;
-        } else if (slot.kind == ShaderSlot::Kind::WireShaded && slot.wireTables && sa.t0 == sa.t1 &&
-                   ps.grid->size() == 1) {
-          prim.constantColour = true;  // one orthographic map: the tangent alone decides
-          prim.colour = slot.wireTables->lookup(sa.t0, ps.view.cx, ps.view.cy) * sa.c0;
-        }
+      SegmentShading sh;
+      const glm::dvec3 t0 = jointTangent(j, s.tangent), t1 = jointTangent(j + 1, s.tangent);
+      sh.t0 = glm::vec3(t0);
+      sh.t1 = glm::vec3(t1);
+      sh.c0 = hasColours ? safeColour(L.colours[ids[j]]) : glm::vec3(1.0f);
+      sh.c1 = hasColours ? safeColour(L.colours[ids[j + 1]]) : glm::vec3(1.0f);
+      if (slot.kind == ShaderSlot::Kind::WirePlain) {
+        sh.c0 *= slot.colour;
+        sh.c1 *= slot.colour;
+        sp.flags |= kSegmentPreshaded;
+      } else if (preshadeMaps && t0 == t1) {
+        const glm::vec3 radiance = slot.wireTables->lookup(t0, view.cx, view.cy);
+        sh.c0 *= radiance;
+        sh.c1 *= radiance;
+        sp.flags |= kSegmentPreshaded;
       }
-      if (!finishPolygon(poly, view, prim, out)) {
-        ++out.clipped;
-        continue;
-      }
-      out.segs.push_back(sa);
+      out.prims[out.count] = sp;
+      out.shading[out.count] = sh;
+      ++out.count;
     }
   }
 }

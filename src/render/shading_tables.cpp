@@ -94,6 +94,7 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
                          : burnished ? ShaderSlot::Kind::SurfaceBurnished : ShaderSlot::Kind::SurfacePhong;
       slot.phong = m.phong.sanitized();
       slot.chromeReflectance = m.chromeReflectance;
+      slot.opacity = safeOpacity(m.opacity);
       slot.material = &m;
       const Burnish::Grain grain = burnished ? m.burnish.grain : Burnish::Grain::None;
       const bool grainUV = grain == Burnish::Grain::U || grain == Burnish::Grain::V;
@@ -160,6 +161,7 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
     const int mi = std::clamp(w.material, 0, int(scene.materials.size()) - 1);
     slot.phong = material(mi).phong.sanitized();
     slot.colour = safeColour(w.colour);
+    slot.opacity = safeOpacity(w.opacity);
     slot.kind = w.style == WireStyle::Shaded  ? ShaderSlot::Kind::WireShaded
                 : w.style == WireStyle::Plain ? ShaderSlot::Kind::WirePlain
                                               : ShaderSlot::Kind::WireDepthCued;

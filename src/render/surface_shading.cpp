@@ -76,7 +76,7 @@ struct Footprint {
 
 // The eye points one pixel to the right and one down on the primitive's plane (one to the left
 // or up where that one is beyond the horizon: the box filter only needs the distances).
-Footprint footprintOf(const PreparedScene& ps, const Primitive& prim, double x, double y) {
+Footprint footprintOf(const PreparedScene& ps, const TrianglePrim& prim, double x, double y) {
   Footprint f;
   auto neighbour = [&](double dx, double dy, glm::dvec3& out) {
     for (double sgn : {1.0, -1.0}) {
@@ -132,10 +132,11 @@ glm::dvec3 anisotropicSample(const ColourTexture& tex, const glm::dvec2& uv, con
 
 }  // namespace
 
-glm::vec3 shadeSurfaceFragment(const PreparedScene& ps, const Primitive& prim, double x, double y,
+glm::vec3 shadeSurfaceFragment(const PreparedScene& ps, std::uint32_t triangle, double x, double y,
                                const glm::dvec3& P, const glm::dvec3& V) {
-  const TriangleAttributes& ta = ps.triangles[prim.attribute];
-  const ShaderSlot& slot = ps.shaders[ta.shader];
+  const TrianglePrim& prim = ps.triangles[triangle];
+  const TriangleAttributes& ta = ps.triangleAttributes[triangle];
+  const ShaderSlot& slot = ps.shaders[prim.shader];
   const SurfaceSample sample = interpolateTriangle(ps, ta, P, V, slot.needsUv, slot.needsDerivatives);
   glm::dvec3 N = sample.normal;
   const glm::vec3 c = sample.colour;

@@ -32,8 +32,11 @@ int clipDepth(const glm::dvec3* in, int n, glm::dvec3* out, double plane, bool k
 
 }  // namespace
 
-bool finishPolygon(const ScreenPolygon& poly, const ViewTransform& view, Primitive& prim,
-                   ChunkOut& out) {
+namespace {
+
+// The polygon's bounding box within the image into prim, the polygon into the sink; false when
+// it covers nothing inside the image.
+bool finishPolygon(const ScreenPolygon& poly, const ViewTransform& view, TrianglePrim& prim, TriangleSink& out) {
   double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
   for (int i = 0; i < poly.count; ++i) {
     x0 = std::min(x0, poly.x[i]);
@@ -53,23 +56,24 @@ bool finishPolygon(const ScreenPolygon& poly, const ViewTransform& view, Primiti
   prim.bbox[1] = down(y0);
   prim.bbox[2] = up(x1);
   prim.bbox[3] = up(y1);
-  prim.firstVertex = std::uint32_t(out.verts.size());
-  prim.vertexCount = std::uint16_t(poly.count);
-  for (int i = 0; i < poly.count; ++i) out.verts.emplace_back(poly.x[i], poly.y[i]);
-  out.prims.push_back(prim);
+  prim.firstVertex = std::uint32_t(out.vertexCount);
+  prim.vertexCount = std::uint8_t(poly.count);
+  for (int i = 0; i < poly.count; ++i) out.vertices[out.vertexCount++] = {poly.x[i], poly.y[i]};
   return true;
 }
 
+}  // namespace
+
 void setupTriangles(const PreparedScene& ps, const SceneSurface& surf, std::uint32_t surfaceIndex,
-                    std::uint16_t shader, std::uint32_t tag, float opacity, size_t begin, size_t end,
-                    ChunkOut& out) {
+                    std::uint16_t shader, std::uint32_t tag, size_t begin, size_t end, TriangleSink& out,
+                    SetupCounts& counts) {
   const ViewTransform& view = ps.view;
   const TriangleMesh& mesh = surf.mesh;
   for (size_t t = begin; t < end; ++t) {
     const glm::uvec3 tri = mesh.triangles[t];
     if (tri.x >= mesh.positions.size() || tri.y >= mesh.positions.size() ||
         tri.z >= mesh.positions.size()) {
-      ++out.rejected;
+      ++counts.rejected;
       continue;
     }
     glm::dvec3 e[3];
@@ -80,15 +84,15 @@ void setupTriangles(const PreparedScene& ps, const SceneSurface& surf, std::uint
       e[k] = view.toEye(w);
     }
     if (!ok || !finite3(e[0]) || !finite3(e[1]) || !finite3(e[2])) {
-      ++out.rejected;
+      ++counts.rejected;
       continue;
     }
-    ++out.triangles;
+    ++counts.triangles;
     glm::dvec3 a[8], b[8];
     int n = clipDepth(e, 3, a, view.nearPlane, true);
     n = clipDepth(a, n, b, view.farPlane, false);
     if (n < 3) {
-      ++out.clipped;
+      ++counts.clipped;
       continue;
     }
     ScreenPolygon poly;
@@ -104,13 +108,13 @@ void setupTriangles(const PreparedScene& ps, const SceneSurface& surf, std::uint
     const glm::dvec3 e1 = e[1] - e[0], e2 = e[2] - e[0];
     const glm::dvec3 nrm = glm::cross(e1, e2);
     const double k = glm::dot(nrm, e[0]);
-    Primitive prim;
+    TrianglePrim prim;
     // Seen edge-on (the plane through the eye, or perpendicular to the screen): no area. The
     // test is relative, so that it means the same at any scale (1e-100 ... 1e100).
     const double nrmLength = glm::length(nrm);
     if (view.perspective) {
       if (!(std::abs(k) > 1e-14 * nrmLength * glm::length(e[0]))) {
-        ++out.clipped;
+        ++counts.clipped;
         continue;
       }
       const double f = view.focal;
@@ -119,7 +123,7 @@ void setupTriangles(const PreparedScene& ps, const SceneSurface& surf, std::uint
       prim.qc = (-nrm.x * view.cx / f + nrm.y * view.cy / f - nrm.z) / k;
     } else {
       if (!(std::abs(nrm.z) > 1e-14 * nrmLength)) {
-        ++out.clipped;
+        ++counts.clipped;
         continue;
       }
       const double s = view.orthoScale;
@@ -130,11 +134,10 @@ void setupTriangles(const PreparedScene& ps, const SceneSurface& surf, std::uint
     prim.zlo = zlo;
     prim.zhi = zhi;
     prim.tag = tag;
-    prim.opacity = opacity;
-    prim.isSegment = false;
-    prim.attribute = std::uint32_t(out.tris.size());
+    prim.shader = shader;
+    prim.mayMerge = true;
     if (!finishPolygon(poly, view, prim, out)) {
-      ++out.clipped;
+      ++counts.clipped;
       continue;
     }
     TriangleAttributes ta;
@@ -148,8 +151,9 @@ void setupTriangles(const PreparedScene& ps, const SceneSurface& surf, std::uint
     ta.invDen = den > 0 ? 1.0 / den : 0.0;
     ta.surface = surfaceIndex;
     ta.triangle = std::uint32_t(t);
-    ta.shader = shader;
-    out.tris.push_back(ta);
+    out.prims[out.count] = prim;
+    out.attributes[out.count] = ta;
+    ++out.count;
   }
 }
 

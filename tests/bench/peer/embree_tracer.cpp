@@ -82,20 +82,14 @@ EmbreeResult renderEmbree(const wf::Scene& scene, const wf::RenderOptions& optio
   h.scene = rtcNewScene(h.device);
   rtcSetSceneBuildQuality(h.scene, RTC_BUILD_QUALITY_MEDIUM);
 
-  // Which screen primitive stands for each eye-space triangle and segment (for shading).
-  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-  std::vector<std::uint32_t> triPrim(ps.triangles.size(), kNone), segPrim(ps.segments.size(), kNone);
-  for (std::uint32_t i = 0; i < ps.primitives.size(); ++i) {
-    const wf::Primitive& p = ps.primitives[i];
-    (p.isSegment ? segPrim : triPrim)[p.attribute] = i;
-    if (p.opacity < 1.0f) ++out.translucent;
-  }
-  std::vector<std::uint32_t> triOf, segOf;  // Embree primID -> screen primitive
+  // Embree primID -> the prepared scene's primitive (triangles first, then segments).
+  const std::uint32_t triangleCount = std::uint32_t(ps.triangles.size());
+  std::vector<std::uint32_t> triOf, segOf;
   if (!eo.curvesOnly)
-    for (std::uint32_t i = 0; i < triPrim.size(); ++i)
-      if (triPrim[i] != kNone) triOf.push_back(i);
-  for (std::uint32_t i = 0; i < segPrim.size(); ++i)
-    if (segPrim[i] != kNone) segOf.push_back(i);
+    for (std::uint32_t i = 0; i < triangleCount; ++i) triOf.push_back(i);
+  for (std::uint32_t i = 0; i < ps.segments.size(); ++i) segOf.push_back(triangleCount + i);
+  for (std::uint32_t i = 0; i < ps.primitiveCount(); ++i)
+    if (ps.opacityOf(i) < 1.0f) ++out.translucent;
 
   unsigned triGeom = RTC_INVALID_GEOMETRY_ID, curveGeom = RTC_INVALID_GEOMETRY_ID;
   if (!triOf.empty()) {
@@ -106,7 +100,7 @@ EmbreeResult renderEmbree(const wf::Scene& scene, const wf::RenderOptions& optio
                                                               3 * sizeof(unsigned), triOf.size()));
     check(h.device, "triangle buffers");
     for (size_t k = 0; k < triOf.size(); ++k) {
-      const wf::TriangleAttributes& ta = ps.triangles[triOf[k]];
+      const wf::TriangleAttributes& ta = ps.triangleAttributes[triOf[k]];
       const glm::dvec3 q[3] = {ta.p0, ta.p0 + ta.e1, ta.p0 + ta.e2};
       for (int c = 0; c < 3; ++c)
         for (int a = 0; a < 3; ++a) v[9 * k + 3 * c + a] = float(q[c][a]);
@@ -124,9 +118,10 @@ EmbreeResult renderEmbree(const wf::Scene& scene, const wf::RenderOptions& optio
         rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(unsigned), segOf.size()));
     check(h.device, "curve buffers");
     for (size_t k = 0; k < segOf.size(); ++k) {
-      const wf::SegmentAttributes& sa = ps.segments[segOf[k]];
-      const float r[2] = {sa.r0, sa.r1};
-      const glm::dvec3 q[2] = {sa.p0, sa.p1};
+      // The cylinder the segment's polygon stands for: its axis in eye space, its radius.
+      const wf::SegmentPrim& sp = ps.segmentOf(segOf[k]);
+      const float r[2] = {sp.r0, sp.r1};
+      const glm::dvec3 q[2] = {ps.view.eyePoint(sp.p0.x, sp.p0.y, sp.d0), ps.view.eyePoint(sp.p1.x, sp.p1.y, sp.d1)};
       for (int c = 0; c < 2; ++c) {
         for (int a = 0; a < 3; ++a) v[8 * k + 4 * c + a] = float(q[c][a]);
         v[8 * k + 4 * c + 3] = r[c];
@@ -146,10 +141,7 @@ EmbreeResult renderEmbree(const wf::Scene& scene, const wf::RenderOptions& optio
   const auto t2 = clock::now();
   const wf::ViewTransform& view = ps.view;
   const glm::vec4 bg = scene.background;
-  auto variesInPixel = [&](std::uint32_t p) {
-    const wf::Primitive& prim = ps.primitives[p];
-    return !prim.isSegment && !prim.constantColour && ps.shaders[ps.triangles[prim.attribute].shader].variesInPixel;
-  };
+  auto variesInPixel = [&](std::uint32_t p) { return wf::shadingVariesInPixel(ps, p); };
   auto samplePos = [&](int px, int py, int s, double& x, double& y) {
     const glm::dvec2 q = wf::stratifiedSample(eo.seed, px, py, s, n);  // as the reference renderer
     x = q.x;
@@ -198,8 +190,8 @@ EmbreeResult renderEmbree(const wf::Scene& scene, const wf::RenderOptions& optio
             const RTCRayHit* hits = stream.data() + size_t(px - px0) * n2;
             auto primOf = [&](const RTCRayHit& rh) -> std::int32_t {
               if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return -1;
-              if (rh.hit.geomID == triGeom) return std::int32_t(triPrim[triOf[rh.hit.primID]]);
-              if (rh.hit.geomID == curveGeom) return std::int32_t(segPrim[segOf[rh.hit.primID]]);
+              if (rh.hit.geomID == triGeom) return std::int32_t(triOf[rh.hit.primID]);
+              if (rh.hit.geomID == curveGeom) return std::int32_t(segOf[rh.hit.primID]);
               return -1;
             };
             // Each primitive seen: shaded once at the mean of its hits (or at every hit).
@@ -221,7 +213,7 @@ EmbreeResult renderEmbree(const wf::Scene& scene, const wf::RenderOptions& optio
             if (!eo.coverageOnly)
               for (Seen& v : seen)
                 if (!v.perSample)
-                  v.colour = wf::shadeFragment(ps, ps.primitives[v.prim], v.sx / v.n, v.sy / v.n, v.sd / v.n);
+                  v.colour = wf::shadeFragment(ps, v.prim, v.sx / v.n, v.sy / v.n, v.sd / v.n);
             glm::vec3 rgb(0.0f);
             int covered = 0;
             for (int s = 0; s < n2; ++s) {
@@ -232,7 +224,7 @@ EmbreeResult renderEmbree(const wf::Scene& scene, const wf::RenderOptions& optio
               if (v.perSample) {
                 double x, y;
                 samplePos(px, py, s, x, y);
-                rgb += wf::shadeFragment(ps, ps.primitives[v.prim], x, y, hits[s].ray.tfar);
+                rgb += wf::shadeFragment(ps, v.prim, x, y, hits[s].ray.tfar);
               } else {
                 rgb += v.colour;
               }

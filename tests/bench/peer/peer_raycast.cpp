@@ -401,8 +401,7 @@ int main(int argc, char** argv) {
           for (std::uint32_t k = w.lines.starts[l]; k + 1 < w.lines.starts[l + 1]; ++k)
             segs.push_back({w.lines.points[k], w.lines.points[k + 1]});
       double widthSum = 0;
-      for (const wf::SegmentAttributes& sa : ps.segments)
-        widthSum += (sa.r0 * ps.view.pixelsPerWorld(-sa.p0.z) + sa.r1 * ps.view.pixelsPerWorld(-sa.p1.z));
+      for (const wf::SegmentPrim& sp : ps.segments) widthSum += double(sp.w0) + double(sp.w1);
       const double meanWidth = ps.segments.empty() ? 1.0 : widthSum / double(ps.segments.size());
       wfbench::HairCamera hc;
       hc.eye = scene.camera->eye;

@@ -211,10 +211,10 @@ void renderFigures(const wf::Scene& scene, const wf::RenderOptions& opt, int rep
       if (s.wireTables) tables += s.wireTables->bytes();
       if (s.surfaceTables) tables += s.surfaceTables->bytes();
     }
-    j["primitives_bytes"] = ps.primitives.capacity() * sizeof(wf::Primitive);
+    j["primitives_bytes"] = ps.segments.capacity() * sizeof(wf::SegmentPrim) + ps.triangles.capacity() * sizeof(wf::TrianglePrim);
     j["vertices_bytes"] = ps.vertices.capacity() * sizeof(glm::dvec2);
-    j["attributes_bytes"] = ps.segments.capacity() * sizeof(wf::SegmentAttributes) +
-                            ps.triangles.capacity() * sizeof(wf::TriangleAttributes);
+    j["attributes_bytes"] = ps.segmentShading.capacity() * sizeof(wf::SegmentShading) +
+                            ps.triangleAttributes.capacity() * sizeof(wf::TriangleAttributes);
     j["tables_bytes"] = tables;
     j["prepared_bytes"] = ps.bytes();
     j["bins_bytes"] = bins.bytes();
