@@ -92,7 +92,10 @@ json statsJson(const wf::RenderStats& st, const wf::RenderOptions& o, bool refer
                    {"pixels_solid_without_list", st.abuffer.pixelsSolidOnly},
                    {"fragments_culled", st.abuffer.culled},
                    {"fragments_merged", st.abuffer.merged},
-                   {"primitives_occluded_per_tile", st.primitivesOccluded}};
+                   {"primitives_occluded_per_tile", st.primitivesOccluded},
+                   {"raster_work", {{"items", st.work.items}, {"rows", st.work.rows}, {"rows_culled", st.work.rowsCulled},
+                                    {"pixels", st.work.pixels}, {"pixels_culled", st.work.pixelsCulled},
+                                    {"masks_hidden", st.work.masksHidden}, {"emitted", st.work.emitted}}}};
   j["budget"] = {{"k", o.budget},
                  {"pixels_over_budget", st.abuffer.pixelsOverBudget},
                  {"tail_fragments", st.abuffer.tail},

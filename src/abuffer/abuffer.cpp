@@ -168,17 +168,25 @@ bool TileABuffer::maskHidden(int x, int y, MaskBits mask, int standInSubpixel, f
   return true;
 }
 
-std::int32_t TileABuffer::allocNode() {
+std::int32_t TileABuffer::allocNode(size_t pixelIndex) {
+  std::int32_t i;
   if (!freeNodes_.empty()) {
-    const std::int32_t i = freeNodes_.back();
+    i = freeNodes_.back();
     freeNodes_.pop_back();
-    return i;
+  } else {
+    nodes_.push_back(Node{});  // capacities never shrink: finish() reads the peak
+    i = std::int32_t(nodes_.size() - 1);
   }
-  nodes_.push_back(Node{});  // capacities never shrink: finish() reads the peak
-  return std::int32_t(nodes_.size() - 1);
+  nodes_[size_t(i)].pixel = std::uint16_t(pixelIndex);
+  return i;
 }
 
-void TileABuffer::toTail(Pixel& p, const Fragment& in) {
+void TileABuffer::freeNode(std::int32_t i) {
+  nodes_[size_t(i)].pixel = kFreeNode;
+  freeNodes_.push_back(i);
+}
+
+void TileABuffer::toTail(Pixel& p, const Fragment& in, bool evicted) {
   Fragment f = in;
   shadeNow(f, size_t(&p - pixels_.data()));
   if (p.tail < 0) {
@@ -192,15 +200,45 @@ void TileABuffer::toTail(Pixel& p, const Fragment& in) {
   t.transmittance *= std::max(0.0f, 1.0f - w);
   t.zkeyMin = std::min(t.zkeyMin, f.zkey);
   ++local_.tail;
-  // The tail blends what it holds over the whole pixel, so the per-subpixel occlusion built from
-  // fragments that may now sit in it no longer holds: from here on only the solid fragment (never
+  // The tail blends what it holds over the whole pixel. A fragment that goes there on arrival is
+  // counted for occlusion that way by the caller (occludeUniform); one evicted from the list was
+  // counted by its mask, which no longer holds: from then on only the solid fragment (never
   // evicted) occludes this pixel.
-  if (!p.noOcclusion) {
+  if (evicted && !p.noOcclusion) {
     p.noOcclusion = true;
     const size_t pixelIndex = size_t(&p - pixels_.data());
     occlusion_[pixelIndex] = p.hasSolid() ? solids_[size_t(p.solid)].zmax : INFINITY;
     updateBlock(pixelIndex);
   }
+}
+
+void TileABuffer::occludeUniform(Pixel& p, size_t pixelIndex, const Fragment& f) {
+  // A fragment blended into the tail dims every subpixel alike, by its opacity times its area.
+  const float dim = f.opacity * f.area;
+  const int n = layout_.samples();
+  if (!(dim > 0.0f) || p.noOcclusion) return;
+  if (p.open == 0 && p.depths >= 0) return;  // settled: a uniform layer does not bring it nearer
+  if (p.depths < 0) {
+    p.open = std::uint8_t(n);
+    p.depths = std::int32_t(subpixelDepth_.size() / size_t(2 * n));
+    subpixelDepth_.resize(subpixelDepth_.size() + size_t(n), 0.0f);   // D
+    subpixelDepth_.resize(subpixelDepth_.size() + size_t(n), 1.0f);   // T
+  }
+  float* D = &subpixelDepth_[size_t(p.depths) * size_t(2 * n)];
+  float* T = D + n;
+  bool changed = false;
+  for (int s = 0; s < n; ++s) {
+    if (T[s] <= epsilon_) continue;
+    T[s] *= std::max(0.0f, 1.0f - dim);
+    D[s] = std::max(D[s], f.zmax);
+    if (T[s] <= epsilon_) --p.open, changed = true;
+  }
+  if (!changed || p.open > 0) return;
+  float occ = 0.0f;
+  for (int s = 0; s < n; ++s) occ = std::max(occ, D[s]);
+  if (!(occ < occlusion_[pixelIndex])) return;
+  occlusion_[pixelIndex] = occ;
+  updateBlock(pixelIndex);
 }
 
 void TileABuffer::updateBlock(size_t pixelIndex) {
@@ -265,13 +303,15 @@ void TileABuffer::occlude(Pixel& p, size_t pixelIndex, const Fragment& f) {
 void TileABuffer::pruneHidden(Pixel& p, float depth) {
   // Drops the list entries that lie wholly behind `depth`. Strictly behind: an entry at exactly
   // that depth (a flat fragment, often the occluder itself) arrived earlier and sorts first.
+  if (!(depth < p.prunedAt)) return;
+  p.prunedAt = depth;
   std::int32_t* link = &p.head;
   while (*link >= 0) {
     Node& n = nodes_[size_t(*link)];
     if (n.f.zmin > depth) {
       const std::int32_t dead = *link;
       *link = n.next;
-      freeNodes_.push_back(dead);
+      freeNode(dead);
       --p.length;
       ++local_.culled;
     } else {
@@ -280,7 +320,7 @@ void TileABuffer::pruneHidden(Pixel& p, float depth) {
   }
 }
 
-void TileABuffer::pushList(Pixel& p, const Fragment& f) {
+TileABuffer::Placement TileABuffer::pushList(Pixel& p, const Fragment& f) {
   const float occ = occlusion_[size_t(&p - pixels_.data())];
   if (p.length >= budget_ && occ < INFINITY) pruneHidden(p, occ);
   if (p.length >= budget_) {
@@ -289,19 +329,21 @@ void TileABuffer::pushList(Pixel& p, const Fragment& f) {
     for (std::int32_t i = p.head; i >= 0; i = nodes_[size_t(i)].next)
       if (far < 0 || nodes_[size_t(i)].f.zkey >= nodes_[size_t(far)].f.zkey) far = i;
     if (f.zkey >= nodes_[size_t(far)].f.zkey) {
-      toTail(p, f);
-      return;
+      toTail(p, f, false);
+      return Placement::Tailed;
     }
-    toTail(p, nodes_[size_t(far)].f);
+    toTail(p, nodes_[size_t(far)].f, true);
     nodes_[size_t(far)].f = f;
     nodes_[size_t(far)].seq = p.seq++;
-    return;
+    return Placement::Evicted;
   }
-  const std::int32_t n = allocNode();
-  nodes_[size_t(n)] = Node{f, p.seq++, p.head};
+  const size_t pixelIndex = size_t(&p - pixels_.data());
+  const std::int32_t n = allocNode(pixelIndex);
+  nodes_[size_t(n)] = Node{f, p.seq++, p.head, std::uint16_t(pixelIndex)};
   p.head = n;
   ++p.length;
   local_.maxListLength = std::max<std::uint32_t>(local_.maxListLength, p.length);
+  return Placement::Listed;
 }
 
 void TileABuffer::setSolid(Pixel& p, const Fragment& f) {
@@ -362,7 +404,7 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
         const Fragment whole = n.f;
         const std::int32_t dead = *link;
         *link = n.next;
-        freeNodes_.push_back(dead);
+        freeNode(dead);
         --p.length;
         occlude(p, pixelIndex, whole);
         setSolid(p, whole);
@@ -374,15 +416,46 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
   // Occlusion counts what the resolve will do with this very fragment: a piece that may still
   // merge with another (and change its hiding) counts only once it covers the whole pixel.
   const bool solid = isSolid(f);
-  if (solid || !f.mayMerge) occlude(p, pixelIndex, f);
-  if (solid) setSolid(p, f);
-  else pushList(p, f);
+  if (solid) {
+    occlude(p, pixelIndex, f);
+    setSolid(p, f);
+    return;
+  }
+  const Placement where = pushList(p, f);
+  if (!f.mayMerge) {
+    if (where == Placement::Tailed) occludeUniform(p, pixelIndex, f);
+    else occlude(p, pixelIndex, f);
+  }
 }
 
 glm::vec4 TileABuffer::resolve(int x, int y) const {
   const size_t pixelIndex = size_t(y) * size_t(w_) + size_t(x);
+  std::vector<const Node*>& list = scratch_.gathered;
+  list.clear();
+  for (std::int32_t i = pixels_[pixelIndex].head; i >= 0; i = nodes_[size_t(i)].next) list.push_back(&nodes_[size_t(i)]);
+  return resolveEntries(pixelIndex, list.data(), int(list.size()));
+}
+
+void TileABuffer::gatherLists() const {
+  // One pass over the nodes in memory order, counting sort by pixel: the resolve then reads
+  // each pixel's fragments from independent addresses instead of down a chain of dependent ones.
+  const size_t n = pixels_.size();
+  std::vector<std::uint32_t>& start = scratch_.gatherStart;
+  start.assign(n + 1, 0);
+  for (const Node& node : nodes_)
+    if (node.pixel != kFreeNode) ++start[node.pixel + 1];
+  for (size_t i = 0; i < n; ++i) start[i + 1] += start[i];
+  std::vector<const Node*>& g = scratch_.gathered;
+  g.resize(start[n]);
+  for (const Node& node : nodes_)
+    if (node.pixel != kFreeNode) g[start[node.pixel]++] = &node;
+  for (size_t i = n; i > 0; --i) start[i] = start[i - 1];  // back to the beginnings
+  start[0] = 0;
+}
+
+glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entries, int count) const {
   const Pixel& p = pixels_[pixelIndex];
-  const int px = x0_ + x, py = y0_ + y;
+  const int px = x0_ + int(pixelIndex % size_t(w_)), py = y0_ + int(pixelIndex / size_t(w_));
   auto colourOf = [&](const Fragment& f) {
     return f.shaded || !source_ ? f.colour : source_->shade(f, px, py);
   };
@@ -391,12 +464,12 @@ glm::vec4 TileABuffer::resolve(int x, int y) const {
     return glm::vec4(0.0f);
   }
   // Gather, sort front to back (depth, then arrival: deterministic).
-  thread_local std::vector<const Node*> order;
-  thread_local Node solidNode, tailNode;
-  order.clear();
-  for (std::int32_t i = p.head; i >= 0; i = nodes_[size_t(i)].next) order.push_back(&nodes_[size_t(i)]);
+  std::vector<const Node*>& order = scratch_.order;
+  Node& solidNode = scratch_.solidNode;
+  Node& tailNode = scratch_.tailNode;
+  order.assign(entries, entries + count);
   if (p.hasSolid()) {
-    solidNode = Node{solids_[size_t(p.solid)], p.solidSeq, -1};  // its arrival: ties sort by it
+    solidNode = Node{solids_[size_t(p.solid)], p.solidSeq, -1, 0};  // its arrival: ties sort by it
     order.push_back(&solidNode);
   }
   if (p.hasTail()) {
@@ -409,7 +482,7 @@ glm::vec4 TileABuffer::resolve(int x, int y) const {
     f.opacity = 1.0f - t.transmittance;
     f.colour = t.weight > 0 ? t.premultiplied / t.weight : glm::vec3(0.0f);
     f.mask = layout_.full();
-    tailNode = Node{f, 0xFFFFFFFEu, -1};
+    tailNode = Node{f, 0xFFFFFFFEu, -1, 0};
     order.push_back(&tailNode);
   }
   // Front to back by zkey, ties by arrival (lists are short: insertion sort).
@@ -424,11 +497,11 @@ glm::vec4 TileABuffer::resolve(int x, int y) const {
   const int n = int(order.size());
   // Per fragment: its mask, how many subpixels, how much it hides each (1: wholly), and, for
   // those that hide wholly, the subpixels it owns (where it is the nearest of them).
-  thread_local std::vector<MaskBits> owned, visible;
-  thread_local std::vector<float> hides, depths;
-  thread_local std::vector<std::int8_t> depthState;  // 0: not evaluated, 1: per subpixel, 2: flat (zkey)
+  std::vector<MaskBits>& owned = scratch_.owned;
+  std::vector<float>& hides = scratch_.hides;
+  std::vector<float>& depths = scratch_.depths;
+  std::vector<std::int8_t>& depthState = scratch_.depthState;  // 0: not evaluated, 1: per subpixel, 2: flat (zkey)
   owned.assign(size_t(n), 0);
-  visible.assign(size_t(n), 0);
   hides.resize(size_t(n));
   depthState.assign(size_t(n), 0);
   depths.resize(size_t(n) * size_t(N));

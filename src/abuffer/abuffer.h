@@ -65,8 +65,12 @@ struct Fragment {
   bool mayMerge = true;      ///< false for an object of one piece (a one-segment hair): skips the merge search
   bool shaded = true;        ///< `colour` holds its radiance; false: the FragmentSource shades it when needed
   std::uint32_t prim = kNoPrimitive;  ///< the primitive it comes from (the FragmentSource's numbering)
-  float cx = 0.5f, cy = 0.5f;         ///< shading point inside the pixel (0 ... 1 from its top left corner)
+  /// Shading point inside the pixel, from its top left corner, in 1/65535 of a pixel.
+  std::uint16_t cx = 32768, cy = 32768;
   static constexpr std::uint32_t kNoPrimitive = 0xFFFFFFFFu;
+  static std::uint16_t toPoint(double fraction) { return std::uint16_t(std::clamp(fraction, 0.0, 1.0) * 65535.0 + 0.5); }
+  double pointX() const { return cx / 65535.0; }
+  double pointY() const { return cy / 65535.0; }
 };
 
 /// The view depth of a fragment's surface across its pixel, as a function of the offset (sx, sy)
@@ -188,6 +192,17 @@ class TileABuffer {
   }
   /// Premultiplied linear RGBA of pixel (x, y) (alpha = coverage).
   glm::vec4 resolve(int x, int y) const;
+  /// Every pixel's resolve, out(x, y, rgba) in row order: the same values as resolve(), with the
+  /// lists gathered in one pass over the buffer's memory instead of pixel by pixel.
+  template <class Out>
+  void resolveTile(Out&& out) const {
+    gatherLists();
+    for (int y = 0; y < h_; ++y)
+      for (int x = 0; x < w_; ++x) {
+        const size_t i = size_t(y) * size_t(w_) + size_t(x);
+        out(x, y, resolveEntries(i, &scratch_.gathered[scratch_.gatherStart[i]], pixels_[i].length));
+      }
+  }
   /// Folds the per-pixel counts into counters (call after resolving the tile).
   void finish(ABufferCounters& counters);
 
@@ -200,9 +215,11 @@ class TileABuffer {
  private:
   struct Node {
     Fragment f;
-    std::uint32_t seq;  ///< arrival order within the pixel, for a deterministic sort
+    std::uint32_t seq;    ///< arrival order within the pixel, for a deterministic sort
     std::int32_t next;
+    std::uint16_t pixel;  ///< tile pixel index, kFreeNode once freed
   };
+  static constexpr std::uint16_t kFreeNode = 0xFFFF;
   struct Tail {
     glm::vec3 premultiplied{0.0f};
     float weight = 0;             ///< sum of alpha * area
@@ -221,16 +238,37 @@ class TileABuffer {
     std::uint8_t open = 64;       ///< subpixels not yet settled (see occlude)
     bool noOcclusion = false;     ///< has a tail: only the solid fragment occludes (see toTail)
     std::uint32_t solidSeq = 0;   ///< arrival of the solid fragment, for the resolve's order
+    /// The list holds nothing wholly behind this depth (pruneHidden ran at it; every fragment
+    /// inserted since lies in front of what hid then), so pruning at a depth not nearer is idle.
+    float prunedAt = INFINITY;
   };
+  /// The resolve's scratch space (one buffer per thread: no thread_local lookups per pixel).
+  struct ResolveScratch {
+    std::vector<const Node*> order;
+    Node solidNode, tailNode;
+    std::vector<MaskBits> owned;
+    std::vector<float> hides, depths;
+    std::vector<std::int8_t> depthState;
+    std::vector<const Node*> gathered;      ///< every pixel's list, pixel after pixel (resolveTile)
+    std::vector<std::uint32_t> gatherStart;  ///< pixel i's list begins at gathered[gatherStart[i]]
+  };
+  mutable ResolveScratch scratch_;
+  void gatherLists() const;
+  glm::vec4 resolveEntries(size_t pixelIndex, const Node* const* entries, int count) const;
 
   bool isSolid(const Fragment& f) const;
   void setSolid(Pixel& p, const Fragment& f);
-  void pushList(Pixel& p, const Fragment& f);
-  void toTail(Pixel& p, const Fragment& f);
+  /// Where pushList put a fragment: in the list, straight into the tail (it was the farthest),
+  /// or in the list with the farthest one evicted into the tail.
+  enum class Placement { Listed, Tailed, Evicted };
+  Placement pushList(Pixel& p, const Fragment& f);
+  void toTail(Pixel& p, const Fragment& f, bool evicted);
+  void occludeUniform(Pixel& p, size_t pixelIndex, const Fragment& f);
   void occlude(Pixel& p, size_t pixelIndex, const Fragment& f);
   void pruneHidden(Pixel& p, float depth);
   void updateBlock(size_t pixelIndex);
-  std::int32_t allocNode();
+  std::int32_t allocNode(size_t pixelIndex);
+  void freeNode(std::int32_t i);
 
   MaskLayout layout_;
   float sampleX_[64], sampleY_[64];  ///< subpixel sample positions in the pixel, by sample index

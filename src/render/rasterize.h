@@ -43,6 +43,8 @@ struct TriangleDepth {
     const bool big = view->perspective;
     return depthAt((qa > 0) == big ? x0 : x1, (qb > 0) == big ? y0 : y1);
   }
+  /// Where the polygon may lie across rows [ya, yb]: false, the whole rectangle being rasterised.
+  bool bandSpan(double, double, double&, double&) const { return false; }
   void range(int col, int row, double cx, double cy, float& zmin, float& zmax, float& zkey) const {
     const double a = nearest(col, row, col + 1.0, row + 1.0), b = farthest(col, row, col + 1.0, row + 1.0);
     zmin = float(a);
@@ -69,6 +71,27 @@ struct SegmentDepth {
     const double f0 = v.depthFromKey(kf0), f1 = v.depthFromKey(kf1);
     flo = std::min(f0, f1), fhi = std::max(f0, f1);
     alo = std::min(double(s.d0), double(s.d1)), ahi = std::max(double(s.d0), double(s.d1));
+    reach = std::max({double(std::hypot(s.o0.x, s.o0.y)), double(std::hypot(s.o1.x, s.o1.y)),
+                      1.5708 * double(std::max(s.w0, s.w1))});
+  }
+  double reach;  // how far the polygon lies from the axis (see binning.cpp)
+  /// The x extent of the polygon across rows [ya, yb]: the part of the axis within the reach of
+  /// those rows, widened by the reach.
+  bool bandSpan(double ya, double yb, double& xl, double& xr) const {
+    const double y0 = seg->p0.y, y1 = seg->p1.y, x0 = seg->p0.x, x1 = seg->p1.x;
+    double ta = 0.0, tb = 1.0;
+    if (y1 != y0) {
+      double u = (ya - reach - y0) / (y1 - y0), w = (yb + reach - y0) / (y1 - y0);
+      if (u > w) std::swap(u, w);
+      ta = std::max(ta, u), tb = std::min(tb, w);
+      if (!(ta <= tb)) {
+        xl = 1.0, xr = 0.0;  // empty
+        return true;
+      }
+    }
+    const double xa = x0 + (x1 - x0) * ta, xb = x0 + (x1 - x0) * tb;
+    xl = std::min(xa, xb) - reach, xr = std::max(xa, xb) + reach;
+    return true;
   }
   double nearest(double x0, double y0, double x1, double y1) const {
     const bool big = view->perspective;
@@ -146,14 +169,17 @@ inline void maskCentroid(MaskBits mask, const MaskLayout& layout, double& sx, do
 
 /// Rasterises the convex polygon `poly` (depth `depth`) over pixel columns [rx0, rx1] and rows
 /// [ry0, ry1] (inclusive). Callbacks, in the order a pixel meets them:
+///   cullBand(x0, y0, x1, y1, z)  true: every pixel of the rectangle hides what lies behind z
+///                             (asked for bands of 4 rows from blockOriginY, the tile's top)
 ///   cullRow(row, c0, c1, z)   true: every pixel c0 ... c1 of the row hides what lies behind z
 ///   cullPixel(col, row, z)    true: the pixel hides what lies behind z (z: the polygon's nearest)
 ///   hidden(col, row, mask, subpixel, z)  true: the subpixels of the mask (or the stand-in) do
 ///   emit(coverage)
-template <class Depth, class CullRow, class CullPixel, class Hidden, class Emit>
+template <class Depth, class CullBand, class CullRow, class CullPixel, class Hidden, class Emit>
 void rasterizePolygon(const ScreenPolygon& poly, const Depth& depth, int rx0, int ry0, int rx1, int ry1,
-                      const MaskLayout& layout, CullRow&& cullRow, CullPixel&& cullPixel, Hidden&& hidden,
-                      Emit&& emit) {
+                      int blockOriginY, const MaskLayout& layout, RenderStats::RasterWork& work, CullBand&& cullBand,
+                      CullRow&& cullRow, CullPixel&& cullPixel, Hidden&& hidden, Emit&& emit) {
+  constexpr int kBlockRows = 4;
   // The edges as inside->=0 functions with their y extents (the coverage masks: along a sample
   // row only the edges whose closed y extent holds the row can bound the convex polygon there).
   const int n = poly.count;
@@ -223,6 +249,22 @@ void rasterizePolygon(const ScreenPolygon& poly, const Depth& depth, int rx0, in
   const int N = layout.samples();
   const MaskBits full = layout.full();
   for (int row = row0; row <= row1; ++row) {
+    // Whole bands of rows (the rows of one line of the occlusion blocks) first: skipped at once
+    // when the polygon's part across them is behind what hides them.
+    if (row == row0 || ((row - blockOriginY) & (kBlockRows - 1)) == 0) {
+      const int bandEnd = std::min(row1, blockOriginY + ((row - blockOriginY) / kBlockRows + 1) * kBlockRows - 1);
+      double xl = rx0, xr = rx1 + 1.0;
+      if (depth.bandSpan(row, bandEnd + 1.0, xl, xr)) {
+        xl = std::max(xl, double(rx0)), xr = std::min(xr, rx1 + 1.0);
+      }
+      const int bx0 = int(std::floor(xl)), bx1 = int(std::ceil(xr)) - 1;
+      if (bx0 > bx1 || cullBand(bx0, row, bx1, bandEnd, depth.nearest(bx0, row, bx1 + 1.0, bandEnd + 1.0))) {
+        work.rows += std::uint64_t(bandEnd - row + 1);
+        work.rowsCulled += std::uint64_t(bandEnd - row + 1);
+        row = bandEnd;
+        continue;
+      }
+    }
     const double y0 = row, y1 = row + 1.0;
     int ns = 0;
     double xmin = 1e300, xmax = -1e300;
@@ -246,7 +288,13 @@ void rasterizePolygon(const ScreenPolygon& poly, const Depth& depth, int rx0, in
     if (ns < 2) continue;
     int c0, c1;
     pixelColumns(xmin, xmax, rx0, rx1 + 1, c0, c1);
-    if (c0 > c1 || cullRow(row, c0, c1, depth.nearest(c0, y0, c1 + 1.0, y1))) continue;
+    if (c0 > c1) continue;
+    ++work.rows;
+    const double zRow = depth.nearest(c0, y0, c1 + 1.0, y1);
+    if (cullRow(row, c0, c1, zRow)) {
+      ++work.rowsCulled;
+      continue;
+    }
     // Whole pixels: the band is covered from its top to its bottom between innerLo and innerHi.
     int in0 = INT_MAX, in1 = INT_MIN;
     if (ymin <= y0 && ymax >= y1 && innerLo < innerHi) {
@@ -258,8 +306,18 @@ void rasterizePolygon(const ScreenPolygon& poly, const Depth& depth, int rx0, in
     double left = 0;                     // area of the band left of x = leftAt
     int leftAt = INT_MIN;
     for (int col = c0; col <= c1; ++col) {
+      // Before any arithmetic (most are hidden): first against the row's nearest depth, then, if
+      // need be, the pixel's own.
+      ++work.pixels;
+      if (cullPixel(col, row, zRow)) {
+        ++work.pixelsCulled;
+        continue;
+      }
       const double zNear = depth.nearest(col, y0, col + 1.0, y1);
-      if (cullPixel(col, row, zNear)) continue;  // before any arithmetic: most are hidden
+      if (zNear > zRow && cullPixel(col, row, zNear)) {
+        ++work.pixelsCulled;
+        continue;
+      }
       PixelCoverage pc;
       pc.x = col;
       pc.y = row;
@@ -309,8 +367,12 @@ void rasterizePolygon(const ScreenPolygon& poly, const Depth& depth, int rx0, in
           pc.subpixel = sj * layout.w + si;
         }
       }
-      if (hidden(col, row, pc.mask, pc.subpixel, zNear)) continue;
+      if (hidden(col, row, pc.mask, pc.subpixel, zNear)) {
+        ++work.masksHidden;
+        continue;
+      }
       depth.range(col, row, pc.cx, pc.cy, pc.zmin, pc.zmax, pc.zkey);
+      ++work.emitted;
       emit(pc);
     }
   }
@@ -323,7 +385,7 @@ class PreparedFragmentSource final : public FragmentSource {
   explicit PreparedFragmentSource(const PreparedScene& ps) : ps_(ps) {}
   glm::vec3 shade(const Fragment& f, int x, int y) const override {
     if (f.prim == Fragment::kNoPrimitive) return f.colour;
-    return shadeFragment(ps_, f.prim, x + double(f.cx), y + double(f.cy), f.zkey);
+    return shadeFragment(ps_, f.prim, x + f.pointX(), y + f.pointY(), f.zkey);
   }
   bool surfaceDepth(const Fragment& f, int x, int y, SurfaceDepth& d) const override {
     if (f.prim == Fragment::kNoPrimitive) return false;

@@ -148,6 +148,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
         [&] { return TileABuffer(options.mask, options.budget, float(options.occlusionEpsilon)); });
     tbb::enumerable_thread_specific<ABufferCounters> counters;
     tbb::enumerable_thread_specific<size_t> occludedPrims(0);
+    tbb::enumerable_thread_specific<RenderStats::RasterWork> work;
     tbb::parallel_for(0, bins.tilesX * bins.tilesY, [&](int tile) {
       const int tx0 = (tile % tilesX) * options.tileSize, ty0 = (tile / tilesX) * options.tileSize;
       const int tx1 = std::min(options.width, tx0 + options.tileSize);
@@ -184,6 +185,11 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
       std::sort(order.begin(), order.end());
       const std::uint32_t n = std::uint32_t(order.size());
       const std::uint32_t triangleCount = std::uint32_t(ps.triangles.size());
+      RenderStats::RasterWork& wk = work.local();
+      // Bands of rows culled whole count no fragments (like primitives culled whole per tile).
+      auto cullBand = [&](int x0, int y0, int x1, int y1, double z) {
+        return z >= buf.regionOcclusionDepth(x0 - tx0, y0 - ty0, x1 - tx0, y1 - ty0);
+      };
       auto cullRow = [&](int y, int x0, int x1, double z) {
         if (!(z >= buf.rowOcclusionDepth(y - ty0, x0 - tx0, x1 - tx0))) return false;
         buf.countCulledRow(y - ty0, x0 - tx0, x1 - tx0);
@@ -218,6 +224,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
         const float opacity = ps.opacityOf(index);
         std::uint32_t tag;
         bool mayMerge;
+        ++wk.items;
         auto emit = [&](const PixelCoverage& pc) {
           if (opaque && !(pc.zkey < opaqueAt(pc.x, pc.y))) return;  // behind the external surface
           Fragment f;
@@ -230,8 +237,8 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
           f.tag = tag;
           f.mayMerge = mayMerge;
           f.prim = index;
-          f.cx = float(pc.cx - pc.x);
-          f.cy = float(pc.cy - pc.y);
+          f.cx = Fragment::toPoint(pc.cx - pc.x);
+          f.cy = Fragment::toPoint(pc.cy - pc.y);
           f.shaded = false;  // shaded only if it survives (PreparedFragmentSource)
           buf.insert(pc.x - tx0, pc.y - ty0, f, pc.subpixel);
         };
@@ -241,19 +248,17 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
           const SegmentPrim& s = ps.segments[index - triangleCount];
           tag = s.tag;
           mayMerge = s.flags & kSegmentMayMerge;
-          rasterizePolygon(poly, SegmentDepth(ps.view, s, ps.wireDepth), rx0, ry0, rx1, ry1, options.mask, cullRow,
-                           cullPixel, hidden, emit);
+          rasterizePolygon(poly, SegmentDepth(ps.view, s, ps.wireDepth), rx0, ry0, rx1, ry1, ty0, options.mask, wk,
+                           cullBand, cullRow, cullPixel, hidden, emit);
         } else {
           const TrianglePrim& t = ps.triangles[index];
           tag = t.tag;
           mayMerge = t.mayMerge;
-          rasterizePolygon(poly, TriangleDepth(ps.view, t), rx0, ry0, rx1, ry1, options.mask, cullRow, cullPixel,
-                           hidden, emit);
+          rasterizePolygon(poly, TriangleDepth(ps.view, t), rx0, ry0, rx1, ry1, ty0, options.mask, wk,
+                           cullBand, cullRow, cullPixel, hidden, emit);
         }
       }
-      for (int y = ty0; y < ty1; ++y)
-        for (int x = tx0; x < tx1; ++x)
-          result.image.at(x, y) = overBackground(buf.resolve(x - tx0, y - ty0), background);
+      buf.resolveTile([&](int x, int y, const glm::vec4& c) { result.image.at(tx0 + x, ty0 + y) = overBackground(c, background); });
       buf.finish(counters.local());
     });
     for (const ABufferCounters& c : counters) {
@@ -267,6 +272,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
       st.abuffer.peakFragmentsHeld += held;
     }
     for (size_t n : occludedPrims) st.primitivesOccluded += n;
+    for (const RenderStats::RasterWork& w : work) st.work.add(w);
     st.raster = secondsSince(tr);
     st.peakBytes = ps.bytes() + bins.bytes() + st.abuffer.peakBytes;
   });

@@ -96,6 +96,20 @@ struct RenderStats {
   size_t clippedAway = 0;                   ///< wholly outside near / far / image
   size_t endOnDiscs = 0;                    ///< segments drawn as their disc (seen end-on)
   size_t primitivesOccluded = 0;            ///< (primitive, tile) pairs skipped: tile hidden in front
+  /// The fragment stage's work, for the per-stage costs of the benchmarks.
+  struct RasterWork {
+    std::uint64_t items = 0;         ///< (primitive, tile) pairs rasterised (not culled whole)
+    std::uint64_t rows = 0;          ///< pixel rows of them visited
+    std::uint64_t rowsCulled = 0;    ///< of those, skipped whole (hidden in front)
+    std::uint64_t pixels = 0;        ///< pixels visited in the rows not culled
+    std::uint64_t pixelsCulled = 0;  ///< of those, skipped before their area (hidden in front)
+    std::uint64_t masksHidden = 0;   ///< skipped after their mask (its subpixels hidden in front)
+    std::uint64_t emitted = 0;       ///< fragments handed to the A-buffer
+    void add(const RasterWork& o) {
+      items += o.items, rows += o.rows, rowsCulled += o.rowsCulled, pixels += o.pixels;
+      pixelsCulled += o.pixelsCulled, masksHidden += o.masksHidden, emitted += o.emitted;
+    }
+  } work;
   // what the A-buffer did
   ABufferCounters abuffer;
   size_t tiles = 0, tilesEmpty = 0;
