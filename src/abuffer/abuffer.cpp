@@ -20,6 +20,8 @@ bool depthRangesTouch(const Fragment& a, const Fragment& b) {
 }
 
 void mergeInto(Fragment& g, const Fragment& f) {
+  // The other piece's primitive, for the depth of the merged surface (the first other one).
+  if (g.prim2 == Fragment::kNoPrimitive && f.prim != g.prim) g.prim2 = f.prim;
   const float a = g.area + f.area;
   const float wg = a > 0 ? g.area / a : 0.5f, wf = 1.0f - wg;
   g.colour = g.colour * wg + f.colour * wf;
@@ -70,10 +72,10 @@ template <bool Perspective, bool Round>
 void wireDepths(const SurfaceDepth& m, const float* sx, const float* sy, int n, float* out) {
   const float lo = std::max(m.nearPlane, m.lo), hi = m.hi;
   const float t0 = m.t0, tx = m.tx, ty = m.ty, l0 = m.l0, lx = m.lx, ly = m.ly, len = m.length;
-  const float w0 = m.w0, dw = m.dw, r0 = m.r0, dr = m.dr, k0 = m.k0, kx = m.kx;
+  const float w0 = m.w0, dw = m.dw, r0 = m.r0, dr = m.dr, k0 = m.k0, kx = m.kx, tmax = m.tmax;
   for (int k = 0; k < n; ++k) {
     const float t = t0 + tx * sx[k] + ty * sy[k];
-    const float tc = std::min(1.0f, std::max(0.0f, t));
+    const float tc = std::min(tmax, std::max(0.0f, t));
     float d = depthOfKey<Perspective>(k0 + kx * tc);
     if constexpr (Round) {
       const float lat = l0 + lx * sx[k] + ly * sy[k], along = (t - tc) * len, w = w0 + dw * tc;
@@ -129,8 +131,12 @@ void TileABuffer::reset(int w, int h, int x0, int y0, const FragmentSource* sour
 std::size_t TileABuffer::bytesFor(int w, int h, const MaskLayout& layout, int entriesPerPixel) {
   const std::size_t n = std::size_t(std::max(w, 0)) * std::size_t(std::max(h, 0));
   const std::size_t blocks = std::size_t((std::max(w, 0) + 3) / 4) * std::size_t((std::max(h, 0) + 3) / 4);
-  return n * (sizeof(Pixel) + 2 * sizeof(float) + 2 * std::size_t(layout.samples()) * sizeof(float) +
-              std::size_t(std::max(entriesPerPixel, 0)) * sizeof(Node)) +
+  // Per pixel: its record, occlusion and offered counts, the subpixel depths and transmittances,
+  // the list entries (nodes, free-list slots, the resolve's gathered pointers), a solid fragment
+  // and a tail; vectors grow by doubling, so up to twice the entries are reserved at a peak.
+  const std::size_t entries = std::size_t(std::max(entriesPerPixel, 0));
+  return n * (sizeof(Pixel) + 3 * sizeof(float) + 2 * std::size_t(layout.samples()) * sizeof(float) +
+              2 * entries * (sizeof(Node) + sizeof(std::int32_t) + sizeof(void*)) + sizeof(Fragment) + sizeof(Tail)) +
          blocks * sizeof(float);
 }
 
@@ -177,7 +183,7 @@ std::int32_t TileABuffer::allocNode(size_t pixelIndex) {
     nodes_.push_back(Node{});  // capacities never shrink: finish() reads the peak
     i = std::int32_t(nodes_.size() - 1);
   }
-  nodes_[size_t(i)].pixel = std::uint16_t(pixelIndex);
+  nodes_[size_t(i)].pixel = std::uint32_t(pixelIndex);
   return i;
 }
 
@@ -204,12 +210,7 @@ void TileABuffer::toTail(Pixel& p, const Fragment& in, bool evicted) {
   // counted for occlusion that way by the caller (occludeUniform); one evicted from the list was
   // counted by its mask, which no longer holds: from then on only the solid fragment (never
   // evicted) occludes this pixel.
-  if (evicted && !p.noOcclusion) {
-    p.noOcclusion = true;
-    const size_t pixelIndex = size_t(&p - pixels_.data());
-    occlusion_[pixelIndex] = p.hasSolid() ? solids_[size_t(p.solid)].zmax : INFINITY;
-    updateBlock(pixelIndex);
-  }
+  if (evicted) loseOcclusion(p, size_t(&p - pixels_.data()));
 }
 
 void TileABuffer::occludeUniform(Pixel& p, size_t pixelIndex, const Fragment& f) {
@@ -250,18 +251,31 @@ void TileABuffer::updateBlock(size_t pixelIndex) {
   blockOcclusion_[size_t(by) * size_t(bw_) + size_t(bx)] = bmax;
 }
 
-void TileABuffer::occlude(Pixel& p, size_t pixelIndex, const Fragment& f) {
+float TileABuffer::hideOf(const Fragment& f) const {
+  const int k = maskCount(f.mask);
+  return k ? f.opacity * std::min(1.0f, f.area * float(layout_.samples()) / float(k)) : 0.0f;
+}
+
+void TileABuffer::loseOcclusion(Pixel& p, size_t pixelIndex) {
+  if (p.noOcclusion) return;
+  p.noOcclusion = true;
+  p.prunedAt = INFINITY;  // what enters from now on may lie behind the old pruning depth
+  occlusion_[pixelIndex] = p.hasSolid() ? solids_[size_t(p.solid)].zmax : INFINITY;
+  updateBlock(pixelIndex);
+}
+
+void TileABuffer::occlude(Pixel& p, size_t pixelIndex, const Fragment& f) { occlude(p, pixelIndex, f.mask, hideOf(f), f.zmax); }
+
+void TileABuffer::occlude(Pixel& p, size_t pixelIndex, MaskBits mask, float hide, float zmax) {
   // Each subpixel tracks the transmittance T the fragments so far leave over it (the resolve's
   // own factors 1 - alpha * min(1, A N / k)) and the depth D behind which they all lie. Once
   // T <= epsilon the subpixel is settled: whatever lies behind D adds at most epsilon of its
   // colour there. With epsilon = 0 only fragments that hide wholly settle a subpixel and the skip
   // is exact; a fragment that alone hides a subpixel settles it at its own depth.
-  const int k = maskCount(f.mask);
   const int n = layout_.samples();
-  const float hide = f.opacity * std::min(1.0f, f.area * float(n) / float(std::max(k, 1)));
-  if (!(hide > 0.0f) || k == 0 || p.noOcclusion) return;
+  if (!(hide > 0.0f) || mask == 0 || p.noOcclusion) return;
   // A settled pixel changes only when a wholly hiding fragment comes nearer than its depth.
-  if (p.open == 0 && p.depths >= 0 && (hide < 1.0f || !(f.zmax < occlusion_[pixelIndex]))) return;
+  if (p.open == 0 && p.depths >= 0 && (hide < 1.0f || !(zmax < occlusion_[pixelIndex]))) return;
   if (p.depths < 0) {
     p.open = std::uint8_t(n);
     p.depths = std::int32_t(subpixelDepth_.size() / size_t(2 * n));
@@ -271,22 +285,22 @@ void TileABuffer::occlude(Pixel& p, size_t pixelIndex, const Fragment& f) {
   float* D = &subpixelDepth_[size_t(p.depths) * size_t(2 * n)];
   float* T = D + n;
   bool changed = false;
-  for (MaskBits m = f.mask; m; m &= m - 1) {
+  for (MaskBits m = mask; m; m &= m - 1) {
     const int s = std::countr_zero(m);
     const bool settled = T[s] <= epsilon_;
     if (hide >= 1.0f) {
       if (!settled) {
         --p.open;
-        D[s] = f.zmax;
+        D[s] = zmax;
         changed = true;
-      } else if (f.zmax < D[s]) {
-        D[s] = f.zmax;
+      } else if (zmax < D[s]) {
+        D[s] = zmax;
         changed = true;
       }
       T[s] = 0.0f;
     } else if (!settled) {
       T[s] *= 1.0f - hide;
-      D[s] = std::max(D[s], f.zmax);
+      D[s] = std::max(D[s], zmax);
       if (T[s] <= epsilon_) --p.open, changed = true;
     }
   }
@@ -339,7 +353,7 @@ TileABuffer::Placement TileABuffer::pushList(Pixel& p, const Fragment& f) {
   }
   const size_t pixelIndex = size_t(&p - pixels_.data());
   const std::int32_t n = allocNode(pixelIndex);
-  nodes_[size_t(n)] = Node{f, p.seq++, p.head, std::uint16_t(pixelIndex)};
+  nodes_[size_t(n)] = Node{f, p.seq++, p.head, std::uint32_t(pixelIndex)};
   p.head = n;
   ++p.length;
   local_.maxListLength = std::max<std::uint32_t>(local_.maxListLength, p.length);
@@ -398,8 +412,18 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
         depthRangesTouch(n.f, f)) {
       shadeNow(n.f, pixelIndex);
       shadeNow(f, pixelIndex);
+      const float hideBefore = hideOf(n.f);
+      const MaskBits added = f.mask;
       mergeInto(n.f, f);
       ++local_.merged;
+      // Occlusion counted the piece already here by its own hide; the merged fragment hides its
+      // subpixels by the merged one. Less than before: that count no longer bounds what shows
+      // through, and the pixel stops occluding. Otherwise the new piece's subpixels count at it.
+      if (n.f.occludesEarly) {
+        const float hideMerged = hideOf(n.f);
+        if (hideMerged < hideBefore) loseOcclusion(p, pixelIndex);
+        else occlude(p, pixelIndex, added & n.f.mask & ~n.f.standInBits, hideMerged, n.f.zmax);
+      }
       if (isSolid(n.f)) {
         const Fragment whole = n.f;
         const std::int32_t dead = *link;
@@ -413,18 +437,22 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
     }
     link = &n.next;
   }
-  // Occlusion counts what the resolve will do with this very fragment: a piece that may still
-  // merge with another (and change its hiding) counts only once it covers the whole pixel.
   const bool solid = isSolid(f);
   if (solid) {
     occlude(p, pixelIndex, f);
     setSolid(p, f);
     return;
   }
+  // Occlusion counts what the resolve will do with this very fragment: a piece alone (or a wire's
+  // piece, which is counted again if it merges, see above; its stand-in subpixels, which a merge
+  // may drop, not at all), or in the tail as a uniform layer.
   const Placement where = pushList(p, f);
-  if (!f.mayMerge) {
-    if (where == Placement::Tailed) occludeUniform(p, pixelIndex, f);
-    else occlude(p, pixelIndex, f);
+  if (where == Placement::Tailed) {
+    if (!f.mayMerge || f.occludesEarly) occludeUniform(p, pixelIndex, f);
+  } else if (!f.mayMerge) {
+    occlude(p, pixelIndex, f);
+  } else if (f.occludesEarly) {
+    occlude(p, pixelIndex, f.mask & ~f.standInBits, hideOf(f), f.zmax);
   }
 }
 
@@ -520,8 +548,13 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
     if (depthState[size_t(i)] == 0) {
       const Fragment& f = order[size_t(i)]->f;
       SurfaceDepth model;
-      if (source_ && f.prim != Fragment::kNoPrimitive && source_->surfaceDepth(f, px, py, model)) {
+      if (source_ && f.prim != Fragment::kNoPrimitive && source_->surfaceDepth(f.prim, px, py, model)) {
         model.atSamples(sampleX_, sampleY_, N, d);
+        if (f.prim2 != Fragment::kNoPrimitive && source_->surfaceDepth(f.prim2, px, py, model)) {
+          float d2[64];
+          model.atSamples(sampleX_, sampleY_, N, d2);
+          for (int s = 0; s < N; ++s) d[s] = std::min(d[s], d2[s]);
+        }
         depthState[size_t(i)] = 1;
       } else {
         std::fill(d, d + N, f.zkey);

@@ -55,18 +55,25 @@ struct Fragment {
   float opacity = 1;
   glm::vec3 colour{0.0f};    ///< radiance (not premultiplied)
   MaskBits mask = 0;         ///< subpixel samples covered
-  std::uint32_t tag = 0;     ///< object id: pieces with the same tag may merge
   /// Bits of `mask` that stand in for coverage no sample saw (a piece smaller than a subpixel
   /// gets its centroid's subpixel). A merge drops a stand-in bit once a sampled piece of the
   /// same object covers that subpixel, so that the merged mask converges to the sampled union and
   /// its bit count to the merged area (otherwise many tiny pieces leave the object's fragment
   /// more bits than area, hiding only part of what is behind it).
   MaskBits standInBits = 0;
-  bool mayMerge = true;      ///< false for an object of one piece (a one-segment hair): skips the merge search
-  bool shaded = true;        ///< `colour` holds its radiance; false: the FragmentSource shades it when needed
-  std::uint32_t prim = kNoPrimitive;  ///< the primitive it comes from (the FragmentSource's numbering)
+  std::uint32_t tag = 0;     ///< object id: pieces with the same tag may merge
+  std::uint32_t prim = kNoPrimitive;   ///< the primitive it comes from (the FragmentSource's numbering)
+  /// A merged fragment's other primitive (a wire's next segment at a joint): its surface is the
+  /// nearer of the two, subpixel by subpixel. The first piece of another kind keeps it unset.
+  std::uint32_t prim2 = kNoPrimitive;
   /// Shading point inside the pixel, from its top left corner, in 1/65535 of a pixel.
   std::uint16_t cx = 32768, cy = 32768;
+  bool mayMerge = true;      ///< false for an object of one piece (a one-segment hair): skips the merge search
+  bool shaded = true;        ///< `colour` holds its radiance; false: the FragmentSource shades it when needed
+  /// Counts for occlusion on arrival though it may still merge (pieces of a wire, which meet only
+  /// at joints). Pieces of a surface count only once merged whole: tiny ones would otherwise
+  /// hide their own siblings' stand-in subpixels and the surface would never close.
+  bool occludesEarly = false;
   static constexpr std::uint32_t kNoPrimitive = 0xFFFFFFFFu;
   static std::uint16_t toPoint(double fraction) { return std::uint16_t(std::clamp(fraction, 0.0, 1.0) * 65535.0 + 0.5); }
   double pointX() const { return cx / 65535.0; }
@@ -87,6 +94,7 @@ struct SurfaceDepth {
   float t0 = 0, tx = 0, ty = 0;      ///< wire: t along the axis (0 ... 1 between its ends)
   float l0 = 0, lx = 0, ly = 0;      ///< wire: lateral distance from the axis line (pixels)
   float length = 0;                  ///< wire: axis length (pixels), for the distance beyond its ends
+  float tmax = 1;                    ///< wire: t is clamped to [0, tmax] (0: a point, seen end-on)
   float w0 = 1, dw = 0, r0 = 0, dr = 0;  ///< wire: half width (pixels) and radius (world) at t, linear
   /// The depth at n samples (sx[k], sy[k]) into out[k] (a loop the compiler vectorises).
   void atSamples(const float* sx, const float* sy, int n, float* out) const;
@@ -96,7 +104,7 @@ struct SurfaceDepth {
       key = k0 + kx * sx + ky * sy;
     } else {
       const float t = t0 + tx * sx + ty * sy;
-      const float tc = std::min(1.0f, std::max(0.0f, t));
+      const float tc = std::min(tmax, std::max(0.0f, t));
       key = k0 + kx * tc;
       if (round) {
         const float lat = l0 + lx * sx + ly * sy, along = (t - tc) * length, w = w0 + dw * tc;
@@ -115,9 +123,9 @@ class FragmentSource {
   virtual ~FragmentSource() = default;
   /// The radiance of an unshaded fragment of pixel (x, y) (image coordinates).
   virtual glm::vec3 shade(const Fragment& f, int x, int y) const = 0;
-  /// The depth of the fragment's surface across pixel (x, y); false when it has none but zkey
-  /// (a flat fragment).
-  virtual bool surfaceDepth(const Fragment& f, int x, int y, SurfaceDepth& depth) const = 0;
+  /// The depth of primitive `prim`'s surface across pixel (x, y); false when it has none (the
+  /// fragment is flat, at its zkey).
+  virtual bool surfaceDepth(std::uint32_t prim, int x, int y, SurfaceDepth& depth) const = 0;
 };
 
 struct ABufferCounters {
@@ -217,9 +225,9 @@ class TileABuffer {
     Fragment f;
     std::uint32_t seq;    ///< arrival order within the pixel, for a deterministic sort
     std::int32_t next;
-    std::uint16_t pixel;  ///< tile pixel index, kFreeNode once freed
+    std::uint32_t pixel;  ///< tile pixel index, kFreeNode once freed
   };
-  static constexpr std::uint16_t kFreeNode = 0xFFFF;
+  static constexpr std::uint32_t kFreeNode = 0xFFFFFFFFu;
   struct Tail {
     glm::vec3 premultiplied{0.0f};
     float weight = 0;             ///< sum of alpha * area
@@ -265,6 +273,11 @@ class TileABuffer {
   void toTail(Pixel& p, const Fragment& f, bool evicted);
   void occludeUniform(Pixel& p, size_t pixelIndex, const Fragment& f);
   void occlude(Pixel& p, size_t pixelIndex, const Fragment& f);
+  void occlude(Pixel& p, size_t pixelIndex, MaskBits mask, float hide, float zmax);
+  float hideOf(const Fragment& f) const;
+  /// Stops counting occlusion in this pixel (what was counted no longer bounds the resolve): only
+  /// its solid fragment hides from then on.
+  void loseOcclusion(Pixel& p, size_t pixelIndex);
   void pruneHidden(Pixel& p, float depth);
   void updateBlock(size_t pixelIndex);
   std::int32_t allocNode(size_t pixelIndex);

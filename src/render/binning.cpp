@@ -17,6 +17,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 namespace wf {
 
@@ -111,10 +112,11 @@ class Binner {
         const double ay = s.p0.y + ta * (s.p1.y - s.p0.y), by = s.p0.y + tb * (s.p1.y - s.p0.y);
         TileBins::Item item = rectItem(i, tx, ty, std::min(ax, bx) - reach, std::min(ay, by) - reach,
                                        std::max(ax, bx) + reach, std::max(ay, by) + reach);
-        // The front depth is monotonic along the axis: its nearest is at one end of [ta, tb].
-        const double k = view_.perspective ? std::max(segmentFrontKey(view_, s, ta), segmentFrontKey(view_, s, tb))
-                                           : std::min(segmentFrontKey(view_, s, ta), segmentFrontKey(view_, s, tb));
-        const double z = view_.depthFromKey(k);
+        // The axis depth is monotonic along the axis: its nearest is at one end of [ta, tb]; the
+        // surface is at most the largest radius nearer (either WireDepth, segmentZlo).
+        const double k = view_.perspective ? std::max(segmentAxisKey(view_, s, ta), segmentAxisKey(view_, s, tb))
+                                           : std::min(segmentAxisKey(view_, s, ta), segmentAxisKey(view_, s, tb));
+        const double z = view_.depthFromKey(k) - std::max(double(s.r0), double(s.r1));
         item.zlo = z >= zlo ? float(z) : zlo;  // never nearer than the whole segment (nor NaN)
         f(ty * tilesX_ + tx, item);
       }
@@ -159,7 +161,7 @@ class Binner {
 
 }  // namespace
 
-TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& st) {
+TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& st, size_t memoryBudget) {
   const auto t0 = std::chrono::steady_clock::now();
   const Binner binner(ps, tileSize);
   TileBins bins;
@@ -190,6 +192,10 @@ TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& st) {
     }
   }
   if (total > std::numeric_limits<std::uint32_t>::max()) throw std::length_error("more than 4 billion tile items");
+  if (memoryBudget && double(total) * sizeof(TileBins::Item) > double(memoryBudget))
+    throw std::length_error("the primitives fall into " + std::to_string(total) + " tile bins (" +
+                            std::to_string(total * sizeof(TileBins::Item) >> 20) +
+                            " MiB), over the memory budget (RenderOptions::memoryBudget / --memory-budget)");
   bins.offsets[tiles] = std::uint32_t(total);
   bins.items.resize(total);
   tbb::parallel_for(size_t(0), chunks, [&](size_t c) {

@@ -109,10 +109,11 @@ struct SegmentPrim {
   float d0, d1;                ///< view depths of the axis at the two ends
   float r0, r1;                ///< radii in world units at the two ends
   std::uint32_t tag;           ///< object id (the polyline): its pieces merge in the A-buffer
-  std::uint16_t shader;        ///< into PreparedScene::shaders
-  std::uint8_t flags;          ///< kSegment* bits
-  std::uint8_t pad;
+  std::uint32_t shader : 24;   ///< into PreparedScene::shaders (one per wire: up to kMaxShaders)
+  std::uint32_t flags : 8;     ///< kSegment* bits
 };
+/// The most shader slots one render may have (a wire has its own; SegmentPrim::shader).
+inline constexpr size_t kMaxShaders = size_t(1) << 24;
 inline constexpr std::uint8_t kSegmentCap0 = 1;         ///< half disc at p0 (a round free end)
 inline constexpr std::uint8_t kSegmentCap1 = 2;         ///< half disc at p1
 inline constexpr std::uint8_t kSegmentEndOn = 4;        ///< shorter than wide: the hull of its end discs
@@ -189,7 +190,8 @@ void segmentPolygon(const SegmentPrim& s, ScreenPolygon& poly);
 
 /// Where screen point (x, y) lies relative to a segment's axis: t along it (0 at p0, 1 at p1,
 /// outside [0, 1] beyond the ends) and q, the distance from the nearest axis point in half
-/// widths (1 at the outline).
+/// widths (1 at the outline). A segment of no screen length (seen exactly end-on) is its end
+/// point: t is 0 everywhere and the distance is radial.
 struct SegmentFrame {
   double ax, ay;    ///< p0
   double ux, uy;    ///< (p1 - p0) / |p1 - p0|^2: t = (P - p0) . u
@@ -204,6 +206,13 @@ struct SegmentFrame {
     nx = length > 0 ? -dy / length : 0.0, ny = length > 0 ? dx / length : 1.0;
   }
   double t(double x, double y) const { return (x - ax) * ux + (y - ay) * uy; }
+  /// Squared distance in pixels from the nearest point of the axis.
+  double distance2(double x, double y) const {
+    if (!(length > 0)) return (x - ax) * (x - ax) + (y - ay) * (y - ay);
+    const double tt = t(x, y), tc = std::clamp(tt, 0.0, 1.0);
+    const double lateral = (x - ax) * nx + (y - ay) * ny, along = (tt - tc) * length;
+    return lateral * lateral + along * along;
+  }
 };
 
 /// The depth key (1/d, or d when orthographic) of a segment's front (the axis one radius
@@ -216,9 +225,10 @@ inline double segmentFrontKey(const ViewTransform& v, const SegmentPrim& s, doub
 inline double segmentAxisKey(const ViewTransform& v, const SegmentPrim& s, double t) {
   return v.depthKey(s.d0) + (v.depthKey(s.d1) - v.depthKey(s.d0)) * t;
 }
-/// The nearest and farthest depth of a segment's visible surface (its front and its axis).
+/// The nearest and farthest depth of a segment's visible surface (for either WireDepth): no
+/// nearer than its nearest axis depth less its largest radius, no farther than its axis.
 inline float segmentZlo(const ViewTransform& v, const SegmentPrim& s) {
-  return float(std::max(v.nearPlane, std::min(double(s.d0) - s.r0, double(s.d1) - s.r1)));
+  return float(std::max(v.nearPlane, std::min(double(s.d0), double(s.d1)) - std::max(double(s.r0), double(s.r1))));
 }
 inline float segmentZhi(const SegmentPrim& s) { return std::max(s.d0, s.d1); }
 
@@ -227,12 +237,10 @@ inline float segmentZhi(const SegmentPrim& s) { return std::max(s.d0, s.d1); }
 /// polygon (WireDepth::Flat). Never nearer than the near plane.
 inline double segmentDepthAt(const ViewTransform& v, const SegmentPrim& s, const SegmentFrame& fr, double x,
                              double y, WireDepth model) {
-  const double t = fr.t(x, y), tc = std::clamp(t, 0.0, 1.0);
+  const double tc = std::clamp(fr.t(x, y), 0.0, 1.0);
   if (model == WireDepth::Flat) return std::max(v.nearPlane, v.depthFromKey(segmentFrontKey(v, s, tc)));
-  const double lateral = (x - fr.ax) * fr.nx + (y - fr.ay) * fr.ny;
-  const double along = (t - tc) * fr.length;
   const double w = double(s.w0) + (double(s.w1) - double(s.w0)) * tc;
-  const double q2 = w > 0 ? std::min(1.0, (lateral * lateral + along * along) / (w * w)) : 1.0;
+  const double q2 = w > 0 ? std::min(1.0, fr.distance2(x, y) / (w * w)) : 1.0;
   const double r = double(s.r0) + (double(s.r1) - double(s.r0)) * tc;
   return std::max(v.nearPlane, v.depthFromKey(segmentAxisKey(v, s, tc)) - r * std::sqrt(1.0 - q2));
 }
@@ -297,7 +305,9 @@ void inArena(int threads, F&& f) {
 
 /// Primitive i's screen polygon.
 void screenPolygonOf(const PreparedScene& ps, std::uint32_t i, ScreenPolygon& poly);
-TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& stats);
+/// Stage "bins". Throws std::length_error when the items would exceed `memoryBudget` bytes
+/// (0: unlimited): many large primitives over small tiles multiply.
+TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& stats, size_t memoryBudget = 0);
 /// What a surface fragment interpolates (perspective-correct): eye-space unit normal (turned to
 /// the viewer), eye-space unit tangent (zero when the mesh has none), (u, v), colour.
 struct SurfaceSample {
@@ -392,7 +402,7 @@ void setupTriangles(const PreparedScene& ps, const SceneSurface& surf, std::uint
                     std::uint16_t shader, std::uint32_t tag, size_t begin, size_t end, TriangleSink& out,
                     SetupCounts& counts);
 /// Polylines [begin, end) of a wire: the paper's wire polygons (see SegmentPrim).
-void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint16_t shader,
+void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_t shader,
                     std::uint32_t tagBase, size_t begin, size_t end, SegmentSink& out, SetupCounts& counts);
 
 }  // namespace wf

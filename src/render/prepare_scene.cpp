@@ -107,10 +107,13 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
     nextTag += std::uint32_t(n);
     for (size_t b = 0; b < n; b += kLineChunk) {
       const size_t e = std::min(b + kLineChunk, n);
-      const size_t points = std::min<size_t>(lines.starts[e], lines.points.size()) -
-                            std::min<size_t>(lines.starts[b], lines.points.size());
       jobs.push_back({true, std::uint32_t(w), b, e, segmentRoom, 0, {}});
-      segmentRoom += points > e - b ? points - (e - b) : 0;  // segments of polylines b ... e-1, at most
+      // Room for the most segments polylines b ... e-1 can give (setupPolylines reads polyline li
+      // as points [starts[li], min(starts[li + 1], points)): empty or reversed ranges give none).
+      for (size_t li = b; li < e; ++li) {
+        const size_t a = lines.starts[li], z = std::min<size_t>(lines.starts[li + 1], lines.points.size());
+        if (z > a + 1) segmentRoom += z - a - 1;
+      }
     }
   }
   if (triangleRoom + segmentRoom > std::numeric_limits<std::uint32_t>::max() / 8)
@@ -124,7 +127,7 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
     Job& j = jobs[i];
     if (j.wire) {
       SegmentSink sink{ps.segments.data() + j.offset, ps.segmentShading.data() + j.offset};
-      setupPolylines(ps, scene.wires[j.object], std::uint16_t(wireShader[j.object]), tagBase[j.object], j.begin,
+      setupPolylines(ps, scene.wires[j.object], std::uint32_t(wireShader[j.object]), tagBase[j.object], j.begin,
                      j.end, sink, j.counts);
       j.count = sink.count;
     } else {

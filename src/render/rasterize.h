@@ -73,8 +73,10 @@ struct SegmentDepth {
     alo = std::min(double(s.d0), double(s.d1)), ahi = std::max(double(s.d0), double(s.d1));
     reach = std::max({double(std::hypot(s.o0.x, s.o0.y)), double(std::hypot(s.o1.x, s.o1.y)),
                       1.5708 * double(std::max(s.w0, s.w1))});
+    rmax = std::max(double(s.r0), double(s.r1));
   }
   double reach;  // how far the polygon lies from the axis (see binning.cpp)
+  double rmax;   // the largest radius
   /// The x extent of the polygon across rows [ya, yb]: the part of the axis within the reach of
   /// those rows, widened by the reach.
   bool bandSpan(double ya, double yb, double& xl, double& xr) const {
@@ -93,8 +95,15 @@ struct SegmentDepth {
     xl = std::min(xa, xb) - reach, xr = std::max(xa, xb) + reach;
     return true;
   }
+  /// The nearest depth over the rectangle: the paper's polygon's front plane (Flat); the axis
+  /// where nearest less the largest radius (Round: the radius is interpolated along the screen,
+  /// the axis depth perspective-correctly, so the front plane would not bound it).
   double nearest(double x0, double y0, double x1, double y1) const {
     const bool big = view->perspective;
+    if (model == WireDepth::Round) {
+      const double k = aa * ((aa > 0) == big ? x1 : x0) + ab * ((ab > 0) == big ? y1 : y0) + ac;
+      return std::max(view->nearPlane, std::clamp(view->depthFromKey(k), alo, ahi) - rmax);
+    }
     const double k = fa * ((fa > 0) == big ? x1 : x0) + fb * ((fb > 0) == big ? y1 : y0) + fc;
     return std::clamp(view->depthFromKey(k), flo, fhi);
   }
@@ -118,7 +127,7 @@ struct SegmentDepth {
         const double t = frame.t(x, y), l = (x - frame.ax) * frame.nx + (y - frame.ay) * frame.ny;
         tlo = std::min(tlo, t), thi = std::max(thi, t), llo = std::min(llo, l), lhi = std::max(lhi, l);
       }
-      if (tlo >= 0.0 && thi <= 1.0) {  // the caps (beyond the ends) keep [front, axis]
+      if (frame.length > 0 && tlo >= 0.0 && thi <= 1.0) {  // the caps (beyond the ends) keep [front, axis]
         const double wlo = std::min(double(seg->w0) + (double(seg->w1) - double(seg->w0)) * tlo,
                                     double(seg->w0) + (double(seg->w1) - double(seg->w0)) * thi);
         const double whi = std::max(double(seg->w0) + (double(seg->w1) - double(seg->w0)) * tlo,
@@ -367,11 +376,11 @@ void rasterizePolygon(const ScreenPolygon& poly, const Depth& depth, int rx0, in
           pc.subpixel = sj * layout.w + si;
         }
       }
-      if (hidden(col, row, pc.mask, pc.subpixel, zNear)) {
+      depth.range(col, row, pc.cx, pc.cy, pc.zmin, pc.zmax, pc.zkey);
+      if (hidden(col, row, pc.mask, pc.subpixel, std::max(zNear, double(pc.zmin)))) {
         ++work.masksHidden;
         continue;
       }
-      depth.range(col, row, pc.cx, pc.cy, pc.zmin, pc.zmax, pc.zkey);
       ++work.emitted;
       emit(pc);
     }
@@ -387,27 +396,35 @@ class PreparedFragmentSource final : public FragmentSource {
     if (f.prim == Fragment::kNoPrimitive) return f.colour;
     return shadeFragment(ps_, f.prim, x + f.pointX(), y + f.pointY(), f.zkey);
   }
-  bool surfaceDepth(const Fragment& f, int x, int y, SurfaceDepth& d) const override {
-    if (f.prim == Fragment::kNoPrimitive) return false;
+  bool surfaceDepth(std::uint32_t prim, int x, int y, SurfaceDepth& d) const override {
+    if (prim >= ps_.primitiveCount()) return false;
     const ViewTransform& v = ps_.view;
     d.perspective = v.perspective;
     d.nearPlane = float(v.nearPlane);
-    if (ps_.isSegment(f.prim)) {
-      const SegmentPrim& s = ps_.segmentOf(f.prim);
+    if (ps_.isSegment(prim)) {
+      const SegmentPrim& s = ps_.segmentOf(prim);
       const SegmentFrame fr(s);
       d.kind = SurfaceDepth::Kind::Wire;
       d.round = ps_.wireDepth == WireDepth::Round;
       const double k0 = d.round ? segmentAxisKey(v, s, 0.0) : segmentFrontKey(v, s, 0.0);
       const double k1 = d.round ? segmentAxisKey(v, s, 1.0) : segmentFrontKey(v, s, 1.0);
       d.k0 = float(k0), d.kx = float(k1 - k0);
-      d.t0 = float(fr.t(x, y)), d.tx = float(fr.ux), d.ty = float(fr.uy);
-      d.l0 = float((x - fr.ax) * fr.nx + (y - fr.ay) * fr.ny), d.lx = float(fr.nx), d.ly = float(fr.ny);
-      d.length = float(fr.length);
+      if (fr.length > 0) {
+        d.t0 = float(fr.t(x, y)), d.tx = float(fr.ux), d.ty = float(fr.uy);
+        d.l0 = float((x - fr.ax) * fr.nx + (y - fr.ay) * fr.ny), d.lx = float(fr.nx), d.ly = float(fr.ny);
+        d.length = float(fr.length);
+        d.tmax = 1.0f;
+      } else {  // seen exactly end-on: its end point, radially (t is the x offset, held at 0)
+        d.t0 = float(x - fr.ax), d.tx = 1.0f, d.ty = 0.0f;
+        d.l0 = float(y - fr.ay), d.lx = 0.0f, d.ly = 1.0f;
+        d.length = 1.0f;
+        d.tmax = 0.0f;
+      }
       d.w0 = s.w0, d.dw = s.w1 - s.w0, d.r0 = s.r0, d.dr = s.r1 - s.r0;
       d.lo = 0.0f, d.hi = INFINITY;
       return true;
     }
-    const TrianglePrim& t = ps_.triangles[f.prim];
+    const TrianglePrim& t = ps_.triangles[prim];
     d.kind = SurfaceDepth::Kind::Plane;
     d.k0 = float(t.depthKeyAt(x, y)), d.kx = float(t.qa), d.ky = float(t.qb);
     d.lo = t.zlo, d.hi = t.zhi;

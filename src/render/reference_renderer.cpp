@@ -60,7 +60,7 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
     // the A-buffer's box filter over one pixel's footprint.
     ps.filterTextures = false;
     auto variesInPixel = [&](std::uint32_t p) { return shadingVariesInPixel(ps, p); };
-    const TileBins bins = binPrimitives(ps, options.tileSize, st);
+    const TileBins bins = binPrimitives(ps, options.tileSize, st, options.memoryBudget);
     const auto tr = std::chrono::steady_clock::now();
     tbb::enumerable_thread_specific<TileSamples> store;
     tbb::parallel_for(0, bins.tilesX * bins.tilesY, [&](int tile) {

@@ -140,7 +140,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
     if (options.shadingCache) options.shadingCache->beginFrame();
     PreparedScene ps = prepareScene(scene, options, st);
     if (options.shadingCache) options.shadingCache->endFrame();  // tables in use are held by ps too
-    const TileBins bins = binPrimitives(ps, options.tileSize, st);
+    const TileBins bins = binPrimitives(ps, options.tileSize, st, options.memoryBudget);
     const PreparedFragmentSource source(ps);
     const auto tr = std::chrono::steady_clock::now();
     const int tilesX = bins.tilesX;
@@ -224,6 +224,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
         const float opacity = ps.opacityOf(index);
         std::uint32_t tag;
         bool mayMerge;
+        const bool segment = index >= triangleCount;
         ++wk.items;
         auto emit = [&](const PixelCoverage& pc) {
           if (opaque && !(pc.zkey < opaqueAt(pc.x, pc.y))) return;  // behind the external surface
@@ -236,6 +237,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
           f.opacity = opacity;
           f.tag = tag;
           f.mayMerge = mayMerge;
+          f.occludesEarly = segment;
           f.prim = index;
           f.cx = Fragment::toPoint(pc.cx - pc.x);
           f.cy = Fragment::toPoint(pc.cy - pc.y);

@@ -130,7 +130,7 @@ void segmentPolygon(const SegmentPrim& s, ScreenPolygon& poly) {
   poly.removeDuplicates();
 }
 
-void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint16_t shader,
+void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_t shader,
                     std::uint32_t tagBase, size_t begin, size_t end, SegmentSink& out, SetupCounts& counts) {
   const ViewTransform& view = ps.view;
   const PolylineSet& L = wire.lines;
@@ -250,7 +250,6 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint16_
       sp.d1 = float(wire.restsOnSurface ? std::max(nearP, s.d1 - r1) : s.d1);
       sp.tag = tag;
       sp.shader = shader;
-      sp.pad = 0;
       sp.flags = pieces > 1 ? kSegmentMayMerge : 0;  // one piece has nothing to merge with
       if (s.endOn) {
         sp.flags |= kSegmentEndOn;

@@ -11,6 +11,8 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <stdexcept>
+#include <string>
 
 namespace wf {
 
@@ -156,6 +158,8 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
     }
     surfaceShader.push_back(it->second);
   }
+  if (scene.wires.size() + ps.shaders.size() > kMaxShaders)
+    throw std::length_error("more than " + std::to_string(kMaxShaders) + " wires in one render");
   for (const SceneWire& w : scene.wires) {
     ShaderSlot slot;
     const int mi = std::clamp(w.material, 0, int(scene.materials.size()) - 1);

@@ -1,0 +1,109 @@
+// Tests of the dense-hair path: the compact segment set-up, the round wire depth and the
+// subpixel ownership of the resolve, and the culling that keeps dense hair fast. Each checks a
+// number against an independent expectation: a closed form, another render of the same scene
+// that must agree, or the brute-force reference.
+#include "render/pipeline.h"
+#include "render/rasterize.h"
+#include "render/renderer.h"
+
+#include "render_test_scenes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace wf {
+namespace {
+
+using test::V2;
+
+// ---- set-up ---------------------------------------------------------------------------------
+
+// Polylines the set-up reads as nothing (empty, or with a start past the next one) take no
+// room and write nothing: the picture is that of the good ones alone.
+TEST(DenseHair, EmptyAndReversedPolylinesDrawNothing) {
+  const int W = 48, H = 32;
+  const glm::dvec3 P = test::world(V2(10, 25), 5.0, W, H), Q = test::world(V2(30, 5), 5.0, W, H);
+  Scene want = test::baseScene(W, H);
+  want.wires.push_back(test::plainWire({{V2(4, 4), V2(40, 20), V2(44, 28)}}, 3.0, 5.0, W, H));
+  Scene bad = want;
+  want.wires[0].lines.add({P, Q});
+  // Polylines [0, 3) (the good one), [3, 3) (empty), [3, 5) (P, Q), [5, 4) (reversed: nothing)
+  // and [4, 5) (one point: nothing).
+  PolylineSet& L = bad.wires[0].lines;
+  L.points.push_back(P);
+  L.points.push_back(Q);
+  L.starts = {0, 3, 3, 5, 4, 5};
+  const RenderOptions o = test::smallOptions(W, H);
+  const RenderResult a = render(want, o), b = render(bad, o);
+  EXPECT_EQ(b.stats.segments, a.stats.segments);
+  EXPECT_LE(test::maxDiff(a.image, b.image), 1e-6);
+}
+
+// The largest tile (256 x 256) resolves its last pixel like any other: the same image as
+// 32-pixel tiles.
+TEST(DenseHair, LargestTileResolvesEveryPixel) {
+  const int W = 256, H = 256;
+  Scene s = test::baseScene(W, H);
+  s.surfaces.push_back(test::screenRect(0, 0, W, H, 8.0, W, H, glm::vec3(0.3f, 0.6f, 0.9f)));
+  s.wires.push_back(test::plainWire({{V2(-5, 250.5), V2(260, 255.2)}, {V2(3, 3), V2(250, 240)}}, 2.5, 4.0, W, H));
+  RenderOptions o = test::smallOptions(W, H);
+  o.tileSize = 32;
+  const RenderResult a = render(s, o);
+  o.tileSize = 256;
+  const RenderResult b = render(s, o);
+  EXPECT_LE(test::maxDiff(a.image, b.image), 1e-6);
+  EXPECT_NEAR(b.image.at(255, 255).w, 1.0, 1e-6);
+}
+
+// ---- round wire depth --------------------------------------------------------------------
+
+// Across a wire the depth is that of the cylinder: d - r sqrt(1 - q^2), q the distance from the
+// axis in half widths (orthographic camera, one pixel per world unit: r = w).
+TEST(DenseHair, RoundDepthAcrossAWireIsTheCylinders) {
+  const int W = 64, H = 48;
+  Scene s = test::baseScene(W, H);
+  SceneWire w = test::plainWire({{V2(8, 24), V2(56, 24)}}, 8.0, 20.0, W, H);
+  w.restsOnSurface = false;  // the polyline is the axis
+  s.wires.push_back(w);
+  RenderOptions o = test::smallOptions(W, H);
+  RenderStats st;
+  const PreparedScene ps = prepareScene(s, o, st);
+  ASSERT_EQ(ps.segments.size(), 1u);
+  const std::uint32_t i = std::uint32_t(ps.triangles.size());
+  for (double dy : {0.0, 1.0, 2.0, 3.0, 3.9}) {
+    const double want = 20.0 - 4.0 * std::sqrt(1.0 - (dy / 4.0) * (dy / 4.0));
+    EXPECT_NEAR(primitiveDepthAt(ps, i, 30.0, 24.0 + dy), want, 1e-9) << dy;
+    EXPECT_NEAR(primitiveDepthAt(ps, i, 30.0, 24.0 - dy), want, 1e-9) << dy;
+  }
+  // Beyond an end: the sphere about it.
+  EXPECT_NEAR(primitiveDepthAt(ps, i, 8.0 - 3.0, 24.0), 20.0 - 4.0 * std::sqrt(1.0 - 9.0 / 16.0), 1e-9);
+  // A wire that rests on a surface lies a radius nearer.
+  s.wires[0].restsOnSurface = true;
+  const PreparedScene pr = prepareScene(s, o, st);
+  EXPECT_NEAR(primitiveDepthAt(pr, i, 30.0, 24.0), 20.0 - 4.0 - 4.0, 1e-9);
+}
+
+// A segment seen exactly end-on (no screen length: an orthographic view along it) is the
+// sphere of its end: radial, not a cylinder across the screen's y.
+TEST(DenseHair, EndOnSegmentDepthIsRadial) {
+  const int W = 40, H = 40;
+  Scene s = test::baseScene(W, H);
+  SceneWire w;
+  w.thickness = 10.0;
+  w.restsOnSurface = false;
+  w.lines.add({test::world(V2(20, 20), 20.0, W, H), test::world(V2(20, 20), 30.0, W, H)});
+  s.wires.push_back(w);
+  RenderStats st;
+  const PreparedScene ps = prepareScene(s, test::smallOptions(W, H), st);
+  ASSERT_EQ(ps.segments.size(), 1u);
+  const std::uint32_t i = std::uint32_t(ps.triangles.size());
+  for (auto [dx, dy] : {std::pair{3.0, 0.0}, {0.0, 3.0}, {2.4, 1.8}}) {
+    const double want = 20.0 - 5.0 * std::sqrt(1.0 - (dx * dx + dy * dy) / 25.0);
+    EXPECT_NEAR(primitiveDepthAt(ps, i, 20.0 + dx, 20.0 + dy), want, 1e-9) << dx << "," << dy;
+  }
+}
+
+}  // namespace
+}  // namespace wf
