@@ -14,7 +14,25 @@
 #include <string>
 #include <vector>
 
+#include <sys/mman.h>
+
+#include <cstdlib>
+#include <new>
+
 namespace wf {
+
+void* allocateLarge(size_t bytes) {
+  constexpr size_t kHuge = size_t(2) << 20;
+  const size_t rounded = (bytes + kHuge - 1) / kHuge * kHuge;
+  void* p = std::aligned_alloc(kHuge, rounded);
+  if (!p) throw std::bad_alloc();
+#ifdef MADV_HUGEPAGE
+  madvise(p, rounded, MADV_HUGEPAGE);  // advice: refused (or no such kernel support) is fine
+#endif
+  return p;
+}
+
+void freeLarge(void* p, size_t) noexcept { std::free(p); }
 
 void screenPolygonOf(const PreparedScene& ps, std::uint32_t i, ScreenPolygon& poly) {
   if (ps.isSegment(i)) {
