@@ -493,6 +493,8 @@ void growCadFur(const CadGeometry& cad, SceneFile& sf) {
     wf::SceneWire w;
     w.name = "fur of face " + std::to_string(f.faceId);
     w.lines = std::move(fur.hairs);
+    w.restsOnSurface = false;  // hairs grow out of the face
+    w.aggregate = true;
     w.thickness = p.thickness;
     w.material = material;
     sf.scene.wires.push_back(std::move(w));

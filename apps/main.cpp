@@ -118,6 +118,19 @@ int run(const std::vector<std::string>& a) {
         o.viewGrid = wfapp::parsePositiveInt("--view-grid", need(a, i));
         if (o.viewGrid > 16) throw wfapp::UsageError("option --view-grid: expected 1 ... 16");
       }
+      else if (a[i] == "--simplify") {
+        const std::string v = need(a, i);
+        if (v != "off") {
+          char* end = nullptr;
+          const double w = std::strtod(v.c_str(), &end);
+          if (v.empty() || *end != '\0' || !(w >= 0.1 && w <= 64))
+            throw wfapp::UsageError("option --simplify: expected off or a width in pixels, 0.1 ... 64, got '" + v + "'");
+          o.simplify = w;
+        }
+      } else if (a[i] == "--wire-depth") {
+        o.wireDepth = need(a, i);
+        if (o.wireDepth != "round" && o.wireDepth != "flat") throw wfapp::UsageError("option --wire-depth: expected round or flat");
+      }
       else if (a[i] == "--time") {
         const std::string v = need(a, i);
         char* end = nullptr;

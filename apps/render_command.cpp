@@ -64,6 +64,12 @@ json statsJson(const wf::RenderStats& st, const wf::RenderOptions& o, bool refer
   e["budget_tail_share"] = st.budgetTailShare;
   e["occlusion_epsilon"] = st.occlusionEpsilon;
   e["shading_bound"] = st.mapError + st.sphereError + st.orthographicError;
+  if (o.simplify.enabled)
+    e["simplification"] = {{"hairs", st.simplifiedHairs},
+                           {"drawn", st.simplifiedKept},
+                           {"smallest_fraction", st.simplifiedLambda},
+                           {"target_width_pixels", o.simplify.targetWidth},
+                           {"note", "statistical: no per-pixel bound; wirefur accuracy measures its RMS against time"}};
   e["notes"] =
       "coverage: exact area per fragment; masks (1/N per subpixel) decide hiding where fragments "
       "overlap. occlusion_epsilon: bound per pixel of what occlusion culling leaves out. map_max / "
@@ -73,6 +79,8 @@ json statsJson(const wf::RenderStats& st, const wf::RenderOptions& o, bool refer
       "Radiance units.";
   j["error_estimate"] = e;
   j["options"] = {{"size", {o.width, o.height}},
+                  {"wire_depth", o.wireDepth == wf::WireDepth::Round ? "round" : "flat"},
+                  {"simplify", o.simplify.enabled ? json(o.simplify.targetWidth) : json("off")},
                   {"mask", o.mask.name()},
                   {"budget", o.budget},
                   {"occlusion_epsilon", o.occlusionEpsilon},
@@ -156,6 +164,11 @@ int runRender(const RenderCommandOptions& o) {
   ro.shading = (o.exact || o.reference) ? wf::ShadingPath::Exact : wf::ShadingPath::Maps;
   ro.referenceSamples = o.samples;
   if (o.viewGrid > 0) ro.viewGrid = o.viewGrid;
+  if (o.simplify) {
+    ro.simplify.enabled = true;
+    ro.simplify.targetWidth = *o.simplify;
+  }
+  if (o.wireDepth == "flat") ro.wireDepth = wf::WireDepth::Flat;
   if (o.memoryBudget) ro.memoryBudget = *o.memoryBudget;
   if (const std::string p = ro.problem(); !p.empty()) throw UsageError("render: " + p);
   // The memory the render (and the reference of --measure-error) will need, with this scene,

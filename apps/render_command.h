@@ -27,6 +27,8 @@ struct RenderCommandOptions {
   bool measureError = false;   ///< also render the reference and report the measured error
   int samples = 16;            ///< reference samples per side
   int viewGrid = 0;            ///< view-direction tables per side (0: from the scene)
+  std::optional<double> simplify;  ///< --simplify WIDTH: stochastic simplification of fur to WIDTH pixels
+  std::string wireDepth;       ///< --wire-depth round|flat (empty: round)
   bool quiet = false;
   std::optional<double> time;  ///< --time: every fur's wind time (an animation frame)
   std::optional<std::size_t> memoryBudget;  ///< --memory-budget: bytes (0: unlimited); unset: the core's default

@@ -187,6 +187,7 @@ void readGrowth(const Reader& r, const json& obj, const std::string& ptr, const 
     w.material = material;
     w.opacity = opacity;
     w.restsOnSurface = false;  // a hair's polyline is its axis: it grows out of the skin
+    w.aggregate = true;        // many similar strands: may be simplified (RenderOptions::simplify)
     if (j.contains("ends")) w.roundEnds = r.choice(j["ends"], Reader::at(fp, "ends"), {"square", "round"}) == "round";
     scene.wires.push_back(std::move(w));
   }

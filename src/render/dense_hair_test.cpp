@@ -2,6 +2,7 @@
 // subpixel ownership of the resolve, and the culling that keeps dense hair fast. Each checks a
 // number against an independent expectation: a closed form, another render of the same scene
 // that must agree, or the brute-force reference.
+#include "core/hash.h"
 #include "render/pipeline.h"
 #include "render/rasterize.h"
 #include "render/renderer.h"
@@ -103,6 +104,103 @@ TEST(DenseHair, EndOnSegmentDepthIsRadial) {
     const double want = 20.0 - 5.0 * std::sqrt(1.0 - (dx * dx + dy * dy) / 25.0);
     EXPECT_NEAR(primitiveDepthAt(ps, i, 20.0 + dx, 20.0 + dy), want, 1e-9) << dx << "," << dy;
   }
+}
+
+}  // namespace
+}  // namespace wf
+
+namespace wf {
+namespace {
+
+using test::V2;
+
+// ---- stochastic simplification --------------------------------------------------------------
+
+// A dense patch of thin hairs (aggregate, 0.3 px wide, about 9 px long, random colours) over
+// the middle of the image, orthographic: one pixel per world unit, so zooming is scaling.
+Scene furPatch(int W, int H, int hairs, double widthPx, double zoom = 1.0) {
+  Scene s = test::baseScene(W, H);
+  s.camera->orthoHeight = H / zoom;
+  SceneWire w;
+  w.aggregate = true;
+  w.restsOnSurface = false;
+  w.thickness = widthPx;  // world units = pixels at zoom 1
+  for (int i = 0; i < hairs; ++i) {
+    HashRandom r(7, 0, std::uint64_t(i));
+    const V2 root(8 + r.uniform(0, W - 16), 8 + r.uniform(0, H - 16));
+    const double a = r.uniform(0, 6.2832), len = r.uniform(6, 12);
+    const V2 tip = root + len * V2(std::cos(a), std::sin(a));
+    w.lines.add({test::world(root, 20.0, W, H), test::world(tip, 20.0 - 0.3 * len, W, H)});
+    const glm::vec3 c(float(r.uniform(0.2, 1)), float(r.uniform(0.2, 1)), float(r.uniform(0.2, 1)));
+    w.lines.colours.push_back(c);
+    w.lines.colours.push_back(c);
+  }
+  w.style = WireStyle::Plain;
+  s.wires.push_back(w);
+  return s;
+}
+
+RenderOptions simplifyOptions(int W, int H, double target) {
+  RenderOptions o = test::smallOptions(W, H);
+  o.simplify.enabled = target > 0;
+  o.simplify.targetWidth = target;
+  return o;
+}
+
+// Off is the exact path: bit for bit the render without it; on, with hairs already as wide as
+// the target, nothing changes either.
+TEST(Simplification, OffOrNothingToSimplifyIsTheSameImage) {
+  const int W = 96, H = 72;
+  const Scene s = furPatch(W, H, 4000, 0.3);
+  const RenderResult plain = render(s, test::smallOptions(W, H));
+  const RenderResult off = render(s, simplifyOptions(W, H, 0.0));
+  EXPECT_EQ(test::maxDiff(plain.image, off.image), 0.0);
+  const RenderResult wide = render(s, simplifyOptions(W, H, 0.3));  // lambda = 1 everywhere
+  EXPECT_EQ(test::maxDiff(plain.image, wide.image), 0.0);
+  EXPECT_EQ(wide.stats.simplifiedKept, wide.stats.simplifiedHairs);
+}
+
+// On: a fraction lambda = 0.3 / 1.5 of the hairs, widened: the total coverage of the patch and
+// the mean colour of every 24 x 24 block stay those of the full render within a few percent
+// (the expected values are equal; what is left is the sampling noise of 20,000 hairs).
+TEST(Simplification, KeepsCoverageAndMeanColour) {
+  const int W = 96, H = 72;
+  const Scene s = furPatch(W, H, 20000, 0.3);
+  const RenderResult full = render(s, test::smallOptions(W, H));
+  const RenderResult simple = render(s, simplifyOptions(W, H, 1.5));
+  EXPECT_LT(simple.stats.simplifiedKept, simple.stats.simplifiedHairs / 3);  // about a fifth drawn
+  EXPECT_NEAR(simple.stats.simplifiedLambda, 0.2, 1e-6);
+  const double a = test::sumAlpha(full.image), b = test::sumAlpha(simple.image);
+  EXPECT_NEAR(b / a, 1.0, 0.03);
+  for (int by = 0; by < H / 24; ++by)
+    for (int bx = 0; bx < W / 24; ++bx) {
+      glm::dvec4 f(0.0), g(0.0);
+      for (int y = by * 24; y < by * 24 + 24; ++y)
+        for (int x = bx * 24; x < bx * 24 + 24; ++x) f += glm::dvec4(full.image.at(x, y)), g += glm::dvec4(simple.image.at(x, y));
+      if (f.w < 24 * 24 * 0.3) continue;  // the patch's border
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(g[c] / g.w, f[c] / f.w, 0.03) << bx << "," << by << " channel " << c;
+    }
+}
+
+// No popping: zoomed by 1%, lambda changes by 1% and hairs near the cut fade rather than
+// appear or vanish: the image changes by no more than the full render's own change plus 0.01
+// RGBA RMS. Without the fade (fade 0) hairs switch on and off and the change is larger.
+TEST(Simplification, NoPoppingAsTheCameraMoves) {
+  const int W = 96, H = 72;
+  auto rms = [](const ImageRGBA& a, const ImageRGBA& b) {
+    double s = 0;
+    for (size_t i = 0; i < a.pixels.size(); ++i)
+      for (int c = 0; c < 4; ++c) s += double(a.pixels[i][c] - b.pixels[i][c]) * double(a.pixels[i][c] - b.pixels[i][c]);
+    return std::sqrt(s / (4.0 * a.pixels.size()));
+  };
+  const Scene s0 = furPatch(W, H, 20000, 0.3, 1.0), s1 = furPatch(W, H, 20000, 0.3, 1.01);
+  const double fullChange = rms(render(s0, test::smallOptions(W, H)).image, render(s1, test::smallOptions(W, H)).image);
+  RenderOptions o = simplifyOptions(W, H, 1.5);
+  const double simpleChange = rms(render(s0, o).image, render(s1, o).image);
+  EXPECT_LE(simpleChange, fullChange + 0.01) << fullChange;
+  o.simplify.fade = 0.0;
+  const double poppingChange = rms(render(s0, o).image, render(s1, o).image);
+  EXPECT_GT(poppingChange, simpleChange) << "the fade should make a difference";
 }
 
 }  // namespace

@@ -398,6 +398,20 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
                     std::vector<int>& surfaceShader, std::vector<int>& wireShader, RenderStats& stats);
 
 
+/// Stage "simplification" (simplify.cpp), before the primitives: for each polyline of each
+/// aggregate wire, the factor its width is drawn at (0: left out) and its lambda (the fraction
+/// of its neighbours drawn, which also sets how far its colours are pulled to the wire's mean).
+struct WireSimplification {
+  std::vector<float> scale, lambda;
+  glm::vec3 meanColour{1.0f};
+};
+struct SimplificationPlan {
+  std::vector<WireSimplification> wires;  ///< per scene wire (empty vectors: drawn as it is)
+  size_t hairs = 0, kept = 0;
+  double minLambda = 1.0;
+};
+SimplificationPlan planSimplification(const Scene& scene, const ViewTransform& view, const SimplifyOptions& options);
+
 /// Counts of one set-up work item, added into RenderStats.
 struct SetupCounts {
   size_t triangles = 0, segments = 0, rejected = 0, zeroLength = 0, clipped = 0, endOn = 0;
@@ -423,6 +437,7 @@ void setupTriangles(const PreparedScene& ps, const SceneSurface& surf, std::uint
                     SetupCounts& counts);
 /// Polylines [begin, end) of a wire: the paper's wire polygons (see SegmentPrim).
 void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_t shader,
-                    std::uint32_t tagBase, size_t begin, size_t end, SegmentSink& out, SetupCounts& counts);
+                    std::uint32_t tagBase, size_t begin, size_t end, SegmentSink& out, SetupCounts& counts,
+                    const WireSimplification* simplification = nullptr);
 
 }  // namespace wf

@@ -95,6 +95,12 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
   ps.cueNear = std::max(cn, ps.view.nearPlane);
   ps.cueFar = std::min(cf, ps.view.farPlane);
 
+  // Stochastic simplification of aggregate wires (off by default: every hair drawn as it is).
+  const SimplificationPlan simplification = planSimplification(scene, ps.view, o.simplify);
+  st.simplifiedHairs = simplification.hairs;
+  st.simplifiedKept = simplification.kept;
+  st.simplifiedLambda = simplification.minLambda;
+
   // Work items in a fixed order: chunks of triangles, then chunks of polylines. Each writes
   // straight into the final arrays at the offset of its input (room for every input primitive;
   // a triangle clips to at most 5 vertices); the items are then joined by moving each one's
@@ -145,8 +151,9 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
     Job& j = jobs[i];
     if (j.wire) {
       SegmentSink sink{ps.segments.data() + j.offset, ps.segmentShading.data() + j.offset};
+      const WireSimplification& simp = simplification.wires[j.object];
       setupPolylines(ps, scene.wires[j.object], std::uint32_t(wireShader[j.object]), tagBase[j.object], j.begin,
-                     j.end, sink, j.counts);
+                     j.end, sink, j.counts, simp.scale.empty() ? nullptr : &simp);
       j.count = sink.count;
     } else {
       const SceneSurface& s = scene.surfaces[j.object];

@@ -32,6 +32,22 @@ enum class WireDepth {
   Flat,   ///< the paper's polygon: one plane at the wire's front, a radius before its axis
 };
 
+/// Stochastic simplification of aggregate detail (Cook, Halstead, Planck and Ryu, "Stochastic
+/// Simplification of Aggregate Detail", SIGGRAPH 2007) for wires marked SceneWire::aggregate
+/// (fur): where hairs are thinner than `targetWidth` pixels and overlap each other at least
+/// `minDepthComplexity` times, a stable random fraction lambda = width / targetWidth of them is
+/// drawn (chosen by a hash of each hair's index, never its position), each widened by 1 /
+/// lambda so that the expected coverage stays the same, its colours pulled toward the wire's
+/// mean by sqrt(lambda) so that the pixels' variance stays the same, and faded across the cut
+/// so that nothing pops as the camera moves. An approximation with no per-pixel bound:
+/// `wirefur accuracy` measures its error against time; off (the default) is the exact path.
+struct SimplifyOptions {
+  bool enabled = false;
+  double targetWidth = 2.0;         ///< pixels: thinner hairs are thinned out and widened to it
+  double minDepthComplexity = 4.0;  ///< projected hair area per pixel of a region below which none is
+  double fade = 0.25;               ///< width of the fade across the cut, relative to lambda
+};
+
 class ShadingCache;
 
 /// The default RenderOptions::memoryBudget: half of the machine's physical memory (8 GiB where
@@ -51,6 +67,7 @@ struct RenderOptions {
   int threads = 0;          ///< 0: all cores
   ShadingPath shading = ShadingPath::Maps;
   WireDepth wireDepth = WireDepth::Round;
+  SimplifyOptions simplify{};
   PseudoReflectanceMapOptions map{};
   /// Tables for a viewGrid x viewGrid grid of view directions over the image, blended by screen
   /// position (1: the paper's single orthographic table; see render/view_tables.h). Default 1:
@@ -123,6 +140,10 @@ struct RenderStats {
   double orthographicError = 0;     ///< tables with the view-direction approximation vs exact, where worst
   double budgetTailShare = 0;       ///< share of fragments blended into tails
   double occlusionEpsilon = 0;      ///< bound of the error of occlusion culling per pixel
+  /// Stochastic simplification (RenderOptions::simplify): hairs of aggregate wires considered,
+  /// drawn, and the smallest fraction drawn anywhere (1: nothing simplified).
+  size_t simplifiedHairs = 0, simplifiedKept = 0;
+  double simplifiedLambda = 1.0;
   std::vector<std::string> warnings;
 };
 

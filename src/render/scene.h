@@ -113,6 +113,9 @@ struct SceneWire {
   /// shows whole in front of it. False (hairs): the polyline is the cylinder's axis, as a ray
   /// caster draws a round curve, and a hair enters the skin it grows from.
   bool restsOnSurface = true;
+  /// Many similar strands (fur): RenderOptions::simplify may draw a fraction of them where they
+  /// are much denser than the pixels resolve. False: every polyline is drawn as it is.
+  bool aggregate = false;
 };
 
 struct Scene {

@@ -131,7 +131,8 @@ void segmentPolygon(const SegmentPrim& s, ScreenPolygon& poly) {
 }
 
 void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_t shader,
-                    std::uint32_t tagBase, size_t begin, size_t end, SegmentSink& out, SetupCounts& counts) {
+                    std::uint32_t tagBase, size_t begin, size_t end, SegmentSink& out, SetupCounts& counts,
+                    const WireSimplification* simplification) {
   const ViewTransform& view = ps.view;
   const PolylineSet& L = wire.lines;
   const ShaderSlot& slot = ps.shaders[shader];
@@ -141,13 +142,21 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
   // is the same at both ends).
   const bool preshadeMaps = ps.path == ShadingPath::Maps && slot.kind == ShaderSlot::Kind::WireShaded &&
                             slot.wireTables && ps.grid->size() == 1;
-  const double halfT = 0.5 * wire.thickness;
+  const bool simplified = simplification && simplification->scale.size() == L.polylineCount();
   const double nearP = view.nearPlane, farP = view.farPlane;
   thread_local std::vector<SegScreen> segs;
   thread_local std::vector<size_t> ids;
   thread_local std::vector<glm::dvec2> offsets;
   thread_local std::vector<char> mitred;
   for (size_t li = begin; li < end; ++li) {
+    // Stochastic simplification (simplify.cpp): left out, or widened.
+    double widthScale = 1.0, contrast = 1.0;
+    if (simplified) {
+      widthScale = simplification->scale[li];
+      if (!(widthScale > 0.0)) continue;
+      contrast = std::sqrt(double(simplification->lambda[li]));
+    }
+    const double halfT = 0.5 * wire.thickness * widthScale;
     const size_t a = L.starts[li], b = std::min<size_t>(L.starts[li + 1], L.points.size());
     // Repeated points make zero-length segments: drop them here, so that the segments on either
     // side still meet in a mitred joint.
@@ -297,6 +306,11 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       sh.t1 = glm::vec3(t1);
       sh.c0 = hasColours ? safeColour(L.colours[ids[j]]) : glm::vec3(1.0f);
       sh.c1 = hasColours ? safeColour(L.colours[ids[j + 1]]) : glm::vec3(1.0f);
+      if (contrast < 1.0) {
+        const glm::vec3 mean = simplification->meanColour;
+        sh.c0 = mean + (sh.c0 - mean) * float(contrast);
+        sh.c1 = mean + (sh.c1 - mean) * float(contrast);
+      }
       if (slot.kind == ShaderSlot::Kind::WirePlain) {
         sh.c0 *= slot.colour;
         sh.c1 *= slot.colour;
