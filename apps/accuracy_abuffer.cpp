@@ -2,7 +2,8 @@
 // fragment budget K, on a line-rich scene (hairs over a torus) and a triangle scene
 // (interpenetrating, partly translucent surfaces and small triangles), each against the
 // brute-force reference at 16x16 stratified samples per pixel. Both sides shade by the same
-// tables, so the difference is the A-buffer's own: coverage, hiding and the budget tail.
+// tables, so the difference is the A-buffer's own: coverage, hiding and the budget tail. Then
+// dense hair: round against flat wires, and stochastic simplification.
 #include "accuracy_abuffer.h"
 
 #include "render_command.h"
@@ -23,7 +24,7 @@ namespace {
 
 using json = nlohmann::ordered_json;
 
-wf::Scene hairScene(int hairs) {
+wf::Scene hairScene(int hairs, double thickness = 0.01) {
   wf::Scene s;
   s.lights = wf::LightRig::studioRig(3);
   s.lightsFollowCamera = true;
@@ -40,7 +41,9 @@ wf::Scene hairScene(int hairs) {
   wf::SceneWire w;
   w.name = "hair";
   w.material = 2;
-  w.thickness = 0.01;
+  w.thickness = thickness;
+  w.restsOnSurface = false;  // hairs: the polyline is the axis
+  w.aggregate = true;
   std::mt19937_64 rng(15);
   std::uniform_real_distribution<double> U(0.0, 1.0);
   const double pi2 = 2 * std::numbers::pi;
@@ -165,6 +168,64 @@ json viewGridStudy(bool quick, const Progress& progress, std::vector<std::pair<s
   return out;
 }
 
+// Dense hair (render/renderer.h: WireDepth, SimplifyOptions): thin hairs, many times denser than
+// the pixels, against the brute-force reference of the full scene with round wires. Points: the
+// A-buffer with round wires (the default), with the paper's flat polygons, and with stochastic
+// simplification to 0.5 ... 4 pixels, error against time.
+json denseHairStudy(bool quick, const Progress& progress, std::vector<std::pair<std::string, PlotSpec>>& plots) {
+  progress.say("dense hair: round and flat wires, stochastic simplification, against the reference");
+  const int W = quick ? 160 : 320, H = quick ? 120 : 240;
+  const int hairs = quick ? 60000 : 100000;  // overlapping about 6 and 10 times over the torus
+  const wf::Scene scene = hairScene(hairs, 0.003);  // about 0.2 pixel wide at 320x240
+  wf::RenderOptions base;
+  base.width = W;
+  base.height = H;
+  base.referenceSamples = quick ? 8 : 16;
+  const wf::RenderResult ref = wf::renderReference(scene, base);
+  json out;
+  out["size"] = {W, H};
+  out["hairs"] = hairs;
+  out["reference_seconds"] = ref.stats.total;
+  json points = json::array();
+  PlotSpec spec{"Dense hair (" + std::to_string(hairs) + " hairs about 0.2 px wide, " + std::to_string(W) + "x" +
+                    std::to_string(H) + "): error against time",
+                "render time [ms]", "RGBA error vs reference (round wires)", true, true, {}, {}};
+  PlotSeries simple{"stochastic simplification (labels: target width, px)", {}, {}, {}, "linespoints"};
+  auto point = [&](const std::string& name, const wf::RenderOptions& o, PlotSeries* series, const std::string& label) {
+    wf::RenderResult r;
+    const double secs = medianSeconds(quick ? 1 : 3, scene, o, r);
+    const ImageError e = imageError(r.image, ref.image);
+    points.push_back({{"setting", name}, {"seconds", secs}, {"rgba_rms", e.rms}, {"rgba_max", e.max},
+                      {"coverage_rms", e.coverageRms}, {"fragments", r.stats.abuffer.fragments},
+                      {"hairs_drawn", o.simplify.enabled ? r.stats.simplifiedKept : size_t(hairs)}});
+    std::printf("  dense hair %-22s %8.2f ms  RGBA rms %.2e max %.2e  coverage rms %.2e\n", name.c_str(), secs * 1e3, e.rms,
+                e.max, e.coverageRms);
+    if (series) {
+      series->x.push_back(secs * 1e3);
+      series->y.push_back(std::max(e.rms, 1e-7));
+      series->labels.push_back(label);
+    } else {
+      spec.series.push_back({name, {secs * 1e3}, {std::max(e.rms, 1e-7)}, {}, "points pt 7 ps 2"});
+    }
+  };
+  point("round wires (default)", base, &simple, "off");
+  wf::RenderOptions flat = base;
+  flat.wireDepth = wf::WireDepth::Flat;
+  point("flat wires (the paper)", flat, nullptr, "");
+  for (double target : {0.5, 1.0, 2.0, 4.0}) {
+    wf::RenderOptions o = base;
+    o.simplify.enabled = true;
+    o.simplify.targetWidth = target;
+    char label[16];
+    std::snprintf(label, sizeof label, "%g", target);
+    point(std::string("simplified to ") + label + " px", o, &simple, label);
+  }
+  spec.series.push_back(simple);
+  out["sweep"] = points;
+  plots.emplace_back("dense_hair.png", spec);
+  return out;
+}
+
 json abufferStudy(bool quick, const Progress& progress, std::vector<std::pair<std::string, PlotSpec>>& plots) {
   json out;
   const int W = quick ? 160 : 320, H = quick ? 120 : 240;
@@ -264,6 +325,7 @@ json abufferStudy(bool quick, const Progress& progress, std::vector<std::pair<st
     plots.emplace_back("abuffer_" + c.name + ".png", spec);
   }
   out["view_grid"] = viewGridStudy(quick, progress, plots);
+  out["dense_hair"] = denseHairStudy(quick, progress, plots);
   return out;
 }
 
