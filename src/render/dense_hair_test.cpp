@@ -205,3 +205,104 @@ TEST(Simplification, NoPoppingAsTheCameraMoves) {
 
 }  // namespace
 }  // namespace wf
+
+namespace wf {
+namespace {
+
+using test::V2;
+
+// ---- determinism, culling bound, memory -------------------------------------------------
+
+// Curved, crossing, interpenetrating hairs over a surface, round wires, simplified and not: the
+// same image bit for bit for 1, 2 and 7 threads.
+TEST(DenseHair, SameImageForAnyThreadCount) {
+  const int W = 120, H = 90;
+  Scene s = test::baseScene(W, H);
+  s.surfaces.push_back(test::screenRect(10, 10, 110, 80, 30.0, W, H, glm::vec3(0.5f, 0.3f, 0.2f)));
+  SceneWire w;
+  w.aggregate = true;
+  w.restsOnSurface = false;
+  w.thickness = 1.7;
+  w.roundEnds = true;
+  for (int i = 0; i < 3000; ++i) {
+    HashRandom r(11, 0, std::uint64_t(i));
+    const V2 root(10 + r.uniform(0, 100), 10 + r.uniform(0, 70));
+    const double a = r.uniform(0, 6.2832);
+    std::vector<glm::dvec3> pts;
+    for (int k = 0; k < 4; ++k) {
+      const double t = 4.0 * k;
+      pts.push_back(test::world(root + t * V2(std::cos(a + 0.2 * k), std::sin(a + 0.2 * k)), 30.0 - 1.5 * k, W, H));
+    }
+    w.lines.add(pts);
+  }
+  s.wires.push_back(w);
+  for (bool simplify : {false, true}) {
+    RenderOptions o = test::smallOptions(W, H);
+    o.simplify.enabled = simplify;
+    o.simplify.targetWidth = 4.0;
+    o.threads = 1;
+    const RenderResult a = render(s, o);
+    for (int t : {2, 7}) {
+      o.threads = t;
+      const RenderResult b = render(s, o);
+      EXPECT_EQ(test::maxDiff(a.image, b.image), 0.0) << t << " threads, simplified " << simplify;
+    }
+  }
+}
+
+// Occlusion culling with epsilon leaves out only what lies behind subpixels whose transmittance
+// is at most epsilon: against epsilon = 0 (only what is wholly hidden is left out) the image
+// differs by at most epsilon times the largest radiance (white wires: 1), with a budget large
+// enough that no tail forms either way.
+TEST(DenseHair, CullingErrorIsWithinEpsilon) {
+  const int W = 96, H = 72;
+  Scene s = test::baseScene(W, H);
+  SceneWire w = test::plainWire({}, 1.3, 0.0, W, H);
+  w.restsOnSurface = false;
+  for (int i = 0; i < 6000; ++i) {
+    HashRandom r(3, 0, std::uint64_t(i));
+    const V2 a(r.uniform(0, W), r.uniform(0, H));
+    const double ang = r.uniform(0, 6.2832), len = r.uniform(4, 30);
+    w.lines.add({test::world(a, 10.0 + r.uniform(0, 20), W, H),
+                 test::world(a + len * V2(std::cos(ang), std::sin(ang)), 10.0 + r.uniform(0, 20), W, H)});
+  }
+  s.wires.push_back(w);
+  RenderOptions o = test::smallOptions(W, H);
+  o.budget = 65535;
+  o.occlusionEpsilon = 0.0;
+  const RenderResult exact = render(s, o);
+  for (double eps : {1e-4, 1e-2}) {
+    o.occlusionEpsilon = eps;
+    const RenderResult r = render(s, o);
+    EXPECT_EQ(r.stats.abuffer.tail, 0u);
+    EXPECT_LE(test::maxDiff(exact.image, r.image), eps + 1e-6) << eps;
+    EXPECT_LT(r.stats.abuffer.fragments - r.stats.abuffer.culled, exact.stats.abuffer.fragments - exact.stats.abuffer.culled);
+  }
+}
+
+// 5,000 hairs through the same pixels, one behind the other: the tile buffers stay within the
+// bound of their budget (TileABuffer::bytesFor with every pixel's list full), not the layers.
+TEST(DenseHair, FiveThousandHairLayersStayWithinTheBufferBound) {
+  const int W = 32, H = 32;
+  Scene s = test::baseScene(W, H);
+  SceneWire w = test::plainWire({}, 0.4, 0.0, W, H);
+  w.restsOnSurface = false;
+  for (int i = 0; i < 5000; ++i) {
+    const double y = 15.5 + ((i * 7919) % 5000) / 5000.0;  // all within two pixel rows
+    w.lines.add({test::world(V2(-4, y), 5.0 + i * 1e-3, W, H), test::world(V2(36, y + 0.5), 5.0 + i * 1e-3, W, H)});
+  }
+  s.wires.push_back(w);
+  for (int budget : {8, 64}) {
+    RenderOptions o = test::smallOptions(W, H);
+    o.tileSize = 32;
+    o.threads = 2;
+    o.budget = budget;
+    const RenderResult r = render(s, o);
+    ASSERT_TRUE(test::allFinite(r.image));
+    EXPECT_GE(r.stats.abuffer.maxFragmentsPerPixel, 2500u);
+    EXPECT_LE(r.stats.abuffer.peakBytes, 2 * TileABuffer::bytesFor(32, 32, o.mask, budget)) << budget;
+  }
+}
+
+}  // namespace
+}  // namespace wf
