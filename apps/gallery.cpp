@@ -14,6 +14,8 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <exception>
+#include <optional>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -97,6 +99,13 @@ int runGallery(const GalleryOptions& opt) {
 
   // Every scene in the scenes folder, in the order of the paper's images (then by name).
   std::vector<std::pair<std::string, SceneFile>> scenes;
+  double loadSeconds = 0, renderSeconds = 0, writeSeconds = 0;
+  // The pictures are written after the renders (whose times are shown), in parallel.
+  struct PendingPng {
+    wf::ImageRGBA image;
+    std::string path;
+  };
+  std::vector<PendingPng> pending;
   {
     std::error_code ec;
     if (!std::filesystem::is_directory(opt.scenesDir, ec))
@@ -104,7 +113,22 @@ int runGallery(const GalleryOptions& opt) {
     std::vector<std::string> files;
     for (const auto& e : std::filesystem::directory_iterator(opt.scenesDir))
       if (e.path().extension() == ".json") files.push_back(e.path().string());
-    for (const std::string& f : files) scenes.emplace_back(f, loadSceneFile(f));  // all checked first
+    // Read (and grow) every scene first, all checked before anything is drawn, in parallel: the
+    // first problem in file order is the one reported.
+    const auto tl = std::chrono::steady_clock::now();
+    std::vector<std::optional<SceneFile>> loaded(files.size());
+    std::vector<std::exception_ptr> failed(files.size());
+    tbb::parallel_for(size_t(0), files.size(), [&](size_t i) {
+      try {
+        loaded[i] = loadSceneFile(files[i]);
+      } catch (...) {
+        failed[i] = std::current_exception();
+      }
+    });
+    for (size_t i = 0; i < files.size(); ++i)
+      if (failed[i]) std::rethrow_exception(failed[i]);
+    for (size_t i = 0; i < files.size(); ++i) scenes.emplace_back(files[i], std::move(*loaded[i]));
+    loadSeconds = secondsSince(tl);
     auto key = [](const SceneFile& sf) {
       return std::atof(sf.paperImage.c_str()) + (sf.paperImage.empty() ? 1e6 : 0.0);
     };
@@ -125,8 +149,12 @@ int runGallery(const GalleryOptions& opt) {
       ro.width = std::max(1, int(std::lround(ro.width * f)));
       ro.height = std::max(1, int(std::lround(ro.height * f)));
     }
+    const auto tr = std::chrono::steady_clock::now();
     const wf::RenderResult r = wf::render(sf.scene, ro);
-    writePng(r.image, dir + "/" + stem + ".png");
+    const auto tw = std::chrono::steady_clock::now();
+    renderSeconds += std::chrono::duration<double>(tw - tr).count();
+    pending.push_back({r.image, dir + "/" + stem + ".png"});
+    writeSeconds += secondsSince(tw);
     json st = statsJson(r.stats, ro, false);
     st["seconds"]["generate"] = sf.generateSeconds;
     st["generated"] = {{"hairs", sf.hairsGrown}, {"scales", sf.scalesGrown}};
@@ -220,6 +248,11 @@ int runGallery(const GalleryOptions& opt) {
     }
   }
 
+  {
+    const auto tw = std::chrono::steady_clock::now();
+    tbb::parallel_for(size_t(0), pending.size(), [&](size_t i) { writePng(pending[i].image, pending[i].path, 1); });
+    writeSeconds += secondsSince(tw);
+  }
   const double total = secondsSince(tStart);
   writeIndex(dir, entries, total);
   json doc = json::array();
@@ -235,7 +268,8 @@ int runGallery(const GalleryOptions& opt) {
   }
   for (const Entry& e : entries)
     std::printf("%-24s %8.3f s  %s\n", e.file.c_str(), e.seconds, e.error.c_str());
-  std::printf("gallery: %zu pictures in %s/index.html, %.2f s\n", entries.size(), dir.c_str(), total);
+  std::printf("gallery: %zu pictures in %s/index.html, %.2f s (reading and growing %.2f s, rendering %.2f s, writing %.2f s)\n",
+              entries.size(), dir.c_str(), total, loadSeconds, renderSeconds, writeSeconds);
   return 0;
 }
 

@@ -61,7 +61,7 @@ wf::ImageRGBA readPng(const std::string& path, size_t maxPixels) {
   return img;
 }
 
-void writePng(const wf::ImageRGBA& image, const std::string& path) {
+void writePng(const wf::ImageRGBA& image, const std::string& path, int compression) {
   if (image.width <= 0 || image.height <= 0) throw std::runtime_error(path + ": empty image");
   vtkNew<vtkImageData> data;
   data->SetDimensions(image.width, image.height, 1);
@@ -84,6 +84,7 @@ void writePng(const wf::ImageRGBA& image, const std::string& path) {
   vtkNew<vtkPNGWriter> writer;
   writer->SetFileName(tmp.string().c_str());
   writer->SetInputData(data);
+  writer->SetCompressionLevel(std::clamp(compression, 0, 9));
   writer->Write();
   std::error_code ec;
   if (writer->GetErrorCode() != 0 || !std::filesystem::exists(tmp)) {
