@@ -1,10 +1,13 @@
 // Peer benchmark of issue 3: N hair-like segments over a torus at 1024x768 (hair_torus.h),
 // drawn by the WireFur A-buffer and by VTK 9.1's RenderLinesAsTubes (Mesa llvmpipe), both
 // measured against WireFur's brute-force reference (16x16 stratified samples per pixel) for
-// coverage. Every renderer runs in its own forked child so that its peak memory (ru_maxrss)
-// is its own. Prints a table and, with --json, writes the figures.
+// coverage. The A-buffer runs as it is (every hair) and with stochastic simplification to each
+// width of --simplify (RenderOptions::simplify: a fraction of the hairs, widened). Every
+// renderer runs in its own forked child so that its peak memory (ru_maxrss) is its own. Prints
+// a table and, with --json, writes the figures.
 //
 //   peer_hair [--segments N] [--frames F] [--samples S] [--threads T] [--no-vtk] [--json FILE]
+//             [--simplify 3,6]
 //
 // Under CI it runs with a small N as a smoke test; the full comparison is
 //   xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" build/peer_hair --json out/peer_hair.json
@@ -25,6 +28,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -39,6 +43,7 @@ struct Args {
   int threads = 0;
   bool vtk = true;
   std::string jsonPath;
+  std::vector<double> simplify{3.0, 6.0};
 };
 
 using wfbench::median;
@@ -53,6 +58,8 @@ wf::Scene hairScene(const std::vector<wfbench::HairSegment>& segs) {
   wire.thickness = wfbench::kHairWidthPixels;
   wire.thicknessInPixels = true;
   wire.lines = wfbench::polylines(segs);
+  wire.restsOnSurface = false;  // hairs: the segment is the axis
+  wire.aggregate = true;        // many similar strands: RenderOptions::simplify may thin them
   scene.wires.push_back(std::move(wire));
   return scene;
 }
@@ -114,6 +121,12 @@ int main(int argc, char** argv) {
     else if (s == "--threads") a.threads = std::stoi(next());
     else if (s == "--no-vtk") a.vtk = false;
     else if (s == "--json") a.jsonPath = next();
+    else if (s == "--simplify") {
+      a.simplify.clear();
+      std::stringstream ss(next());
+      for (std::string v; std::getline(ss, v, ',');)
+        if (!v.empty() && v != "off") a.simplify.push_back(std::stod(v));
+    }
     else {
       std::cerr << "peer_hair: unknown option " << s << "\n";
       return 2;
@@ -136,26 +149,39 @@ int main(int argc, char** argv) {
 
   json ja, jr, jv;
   std::vector<float> ca, cr, cv;
-  const bool okA = measure(tmp + "_abuffer", ja, ca, pixels, [&](json& j, std::vector<float>& cov) {
-    const wf::Scene scene = hairScene(wfbench::hairTorus(a.segments));
-    std::vector<double> times;
-    wf::RenderResult r;
-    for (int f = 0; f < a.frames; ++f) {
-      r = wf::render(scene, opt);
-      times.push_back(r.stats.total);
-    }
-    j["frame_seconds"] = times;
-    j["median_seconds"] = median(times);
-    j["fragments"] = r.stats.abuffer.fragments;
-    j["max_fragments_per_pixel"] = r.stats.abuffer.maxFragmentsPerPixel;
-    j["pixels_with_list"] = r.stats.abuffer.pixelsWithList;
-    j["tail_fragments"] = r.stats.abuffer.tail;
-    j["renderer_peak_bytes"] = r.stats.peakBytes;
-    j["seconds_setup"] = r.stats.setup;
-    j["seconds_raster_resolve"] = r.stats.raster;
-    cov.resize(pixels);
-    for (size_t i = 0; i < pixels; ++i) cov[i] = r.image.pixels[i].w;
-  });
+  auto abuffer = [&](const wf::RenderOptions& o) {
+    return [&, o](json& j, std::vector<float>& cov) {
+      const wf::Scene scene = hairScene(wfbench::hairTorus(a.segments));
+      std::vector<double> times;
+      wf::RenderResult r;
+      for (int f = 0; f < a.frames; ++f) {
+        r = wf::render(scene, o);
+        times.push_back(r.stats.total);
+      }
+      j["frame_seconds"] = times;
+      j["median_seconds"] = median(times);
+      j["fragments"] = r.stats.abuffer.fragments;
+      j["fragments_emitted"] = r.stats.work.emitted;
+      j["max_fragments_per_pixel"] = r.stats.abuffer.maxFragmentsPerPixel;
+      j["pixels_with_list"] = r.stats.abuffer.pixelsWithList;
+      j["tail_fragments"] = r.stats.abuffer.tail;
+      j["renderer_peak_bytes"] = r.stats.peakBytes;
+      j["seconds_setup"] = r.stats.setup;
+      j["seconds_raster_resolve"] = r.stats.raster;
+      if (o.simplify.enabled) j["hairs_drawn"] = r.stats.simplifiedKept;
+      cov.resize(pixels);
+      for (size_t i = 0; i < pixels; ++i) cov[i] = r.image.pixels[i].w;
+    };
+  };
+  const bool okA = measure(tmp + "_abuffer", ja, ca, pixels, abuffer(opt));
+  std::vector<json> simplified(a.simplify.size());
+  std::vector<std::vector<float>> cs(a.simplify.size());
+  for (size_t k = 0; k < a.simplify.size(); ++k) {
+    wf::RenderOptions o = opt;
+    o.simplify.enabled = true;
+    o.simplify.targetWidth = a.simplify[k];
+    if (!measure(tmp + "_simplified", simplified[k], cs[k], pixels, abuffer(o))) cs[k].clear();
+  }
   const bool okR = measure(tmp + "_reference", jr, cr, pixels, [&](json& j, std::vector<float>& cov) {
     const wf::Scene scene = hairScene(wfbench::hairTorus(a.segments));
     const wf::RenderResult r = wf::renderReference(scene, opt);
@@ -183,6 +209,15 @@ int main(int argc, char** argv) {
   }
   ja["coverage_error"] = coverageError(ca, cr);
   report["wirefur_abuffer"] = ja;
+  json js = json::array();
+  for (size_t k = 0; k < a.simplify.size(); ++k) {
+    if (cs[k].empty()) continue;
+    simplified[k]["target_width_pixels"] = a.simplify[k];
+    simplified[k]["coverage_error"] = coverageError(cs[k], cr);
+    if (okV) simplified[k]["speedup_vs_vtk"] = jv["median_seconds"].get<double>() / simplified[k]["median_seconds"].get<double>();
+    js.push_back(simplified[k]);
+  }
+  report["wirefur_abuffer_simplified"] = js;
   report["reference"] = jr;
   if (okV) {
     jv["coverage_error"] = coverageError(cv, cr);
