@@ -21,7 +21,10 @@ bool depthRangesTouch(const Fragment& a, const Fragment& b) {
 
 void mergeInto(Fragment& g, const Fragment& f) {
   // The other piece's primitive, for the depth of the merged surface (the first other one).
-  if (g.prim2 == Fragment::kNoPrimitive && f.prim != g.prim) g.prim2 = f.prim;
+  // Only for a wire's pieces: the pieces of a surface share its plane (or abut where they do not),
+  // and another triangle's plane, extrapolated over this one's subpixels, is no depth of it.
+  if (g.occludesEarly && g.prim2 == Fragment::kNoPrimitive && f.prim != g.prim) g.prim2 = f.prim;
+  g.hideFloor = std::max(g.hideFloor, f.hideFloor);
   const float a = g.area + f.area;
   const float wg = a > 0 ? g.area / a : 0.5f, wf = 1.0f - wg;
   g.colour = g.colour * wg + f.colour * wf;
@@ -253,7 +256,7 @@ void TileABuffer::updateBlock(size_t pixelIndex) {
 
 float TileABuffer::hideOf(const Fragment& f) const {
   const int k = maskCount(f.mask);
-  return k ? f.opacity * std::min(1.0f, f.area * float(layout_.samples()) / float(k)) : 0.0f;
+  return k ? std::max(f.hideFloor, f.opacity * std::min(1.0f, f.area * float(layout_.samples()) / float(k))) : 0.0f;
 }
 
 void TileABuffer::loseOcclusion(Pixel& p, size_t pixelIndex) {
@@ -413,16 +416,14 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
       shadeNow(n.f, pixelIndex);
       shadeNow(f, pixelIndex);
       const float hideBefore = hideOf(n.f);
-      const MaskBits added = f.mask;
+      const MaskBits newlySampled = f.mask & ~f.standInBits;  // disjoint from n's sampled bits
       mergeInto(n.f, f);
       ++local_.merged;
-      // Occlusion counted the piece already here by its own hide; the merged fragment hides its
-      // subpixels by the merged one. Less than before: that count no longer bounds what shows
-      // through, and the pixel stops occluding. Otherwise the new piece's subpixels count at it.
+      // Occlusion counted the piece already here at its hide; the merged fragment never hides
+      // less (Fragment::hideFloor), and the new piece's sampled subpixels count at its hide.
       if (n.f.occludesEarly) {
-        const float hideMerged = hideOf(n.f);
-        if (hideMerged < hideBefore) loseOcclusion(p, pixelIndex);
-        else occlude(p, pixelIndex, added & n.f.mask & ~n.f.standInBits, hideMerged, n.f.zmax);
+        n.f.hideFloor = std::max(n.f.hideFloor, hideBefore);
+        occlude(p, pixelIndex, newlySampled, hideOf(n.f), n.f.zmax);
       }
       if (isSolid(n.f)) {
         const Fragment whole = n.f;
@@ -537,7 +538,7 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
   for (int i = 0; i < n; ++i) {
     const Fragment& f = order[size_t(i)]->f;
     const int k = maskCount(f.mask);
-    hides[size_t(i)] = k ? f.opacity * std::min(1.0f, f.area * float(N) / float(k)) : 0.0f;
+    hides[size_t(i)] = k ? std::max(f.hideFloor, f.opacity * std::min(1.0f, f.area * float(N) / float(k))) : 0.0f;
     if (hides[size_t(i)] >= 1.0f) owned[size_t(i)] = f.mask;
     else if (k) anyPartial = true;
   }

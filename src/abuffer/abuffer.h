@@ -74,6 +74,12 @@ struct Fragment {
   /// at joints). Pieces of a surface count only once merged whole: tiny ones would otherwise
   /// hide their own siblings' stand-in subpixels and the surface would never close.
   bool occludesEarly = false;
+  /// The least hide (opacity times covered share of its subpixels) the resolve gives this
+  /// fragment. A wire's piece counts for occlusion on arrival at its own hide; a later piece
+  /// merged into it may lower the merged fragment's hide, and what was culled meanwhile behind
+  /// the old one is gone. So the merged fragment keeps the hide it was counted at: culling and
+  /// resolve agree, and epsilon = 0 stays exact.
+  float hideFloor = 0.0f;
   static constexpr std::uint32_t kNoPrimitive = 0xFFFFFFFFu;
   static std::uint16_t toPoint(double fraction) { return std::uint16_t(std::clamp(fraction, 0.0, 1.0) * 65535.0 + 0.5); }
   double pointX() const { return cx / 65535.0; }
@@ -208,7 +214,7 @@ class TileABuffer {
     for (int y = 0; y < h_; ++y)
       for (int x = 0; x < w_; ++x) {
         const size_t i = size_t(y) * size_t(w_) + size_t(x);
-        out(x, y, resolveEntries(i, &scratch_.gathered[scratch_.gatherStart[i]], pixels_[i].length));
+        out(x, y, resolveEntries(i, scratch_.gathered.data() + scratch_.gatherStart[i], pixels_[i].length));
       }
   }
   /// Folds the per-pixel counts into counters (call after resolving the tile).

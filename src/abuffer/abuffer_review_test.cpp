@@ -126,6 +126,39 @@ TEST(TileABufferReview, OcclusionCullingIsExactAtEpsilonZeroForOverBudgetPixels)
   EXPECT_NEAR(got.w, 1.0f, 1e-5f) << "a pixel covered by opaque fragments shows the background";
 }
 
+// ---- wire pieces that occlude on arrival ---------------------------------------------------
+
+TEST(TileABufferReview, WirePieceMergedLaterNeverHidesLessThanItWasCountedAt) {
+  // Epsilon 0 ("culling is exact"). A wire's piece A (area 0.04 on one subpixel: hide
+  // min(1, 0.04 * 32 / 1) = 1) counts for occlusion on arrival and settles subpixel 0. A hair
+  // behind it on subpixel 0 (area 0.02, z = 3) is then culled as the rasteriser culls it
+  // (maskHidden). The wire's next piece B (area 0.005, subpixel 1) merges into A: by area and
+  // bits the merged fragment would hide 0.045 * 32 / 2 = 0.72 of what is behind, and the hair,
+  // had it arrived after the merge, would add 0.02 * 0.28. Culling and resolve must agree
+  // whatever the arrival order: the merged fragment keeps the hide it was counted at
+  // (Fragment::hideFloor), and the pixel is A + B = 0.045 either way.
+  auto run = [](bool hairLast) {
+    TileABuffer buf(kL, 64, 0.0f);
+    buf.reset(1, 1);
+    Fragment a = frag(2.0f, 0.04f, 1.0f, kRed, 0x1, 1), b = frag(2.0f, 0.005f, 1.0f, kRed, 0x2, 1);
+    a.occludesEarly = b.occludesEarly = true;
+    const Fragment hair = frag(3.0f, 0.02f, 1.0f, kBlue, 0x1, 2, false);
+    auto offer = [&](const Fragment& f) {
+      if (!buf.maskHidden(0, 0, f.mask, 0, f.zmin)) buf.insert(0, 0, f, 0);
+    };
+    offer(a);
+    if (!hairLast) offer(hair);
+    offer(b);
+    if (hairLast) offer(hair);
+    return buf.resolve(0, 0);
+  };
+  const glm::vec4 first = run(false), last = run(true);
+  EXPECT_NEAR(first.w, 0.045f, 1e-6f);
+  EXPECT_NEAR(last.w, 0.045f, 1e-6f) << "the hair behind shows through a merge it was culled by";
+  EXPECT_EQ(first.z, 0.0f);
+  EXPECT_EQ(last.z, 0.0f);
+}
+
 // ---- solid / merge interplay ---------------------------------------------------------------------
 
 TEST(TileABufferReview, MergedPiecesBecomeSolidInFrontOfAnExistingSolid) {
