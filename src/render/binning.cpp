@@ -77,7 +77,7 @@ class Binner {
   template <class F>
   void triangleItems(std::uint32_t i, const TrianglePrim& p, F& f) const {
     int tx0, ty0, tx1, ty1;
-    tileRange(p.bbox[0], p.bbox[1], p.bbox[2], p.bbox[3], tx0, ty0, tx1, ty1);
+    if (!tileRange(p.bbox[0], p.bbox[1], p.bbox[2], p.bbox[3], tx0, ty0, tx1, ty1)) return;
     for (int ty = ty0; ty <= ty1; ++ty)
       for (int tx = tx0; tx <= tx1; ++tx) {
         TileBins::Item item = rectItem(i, tx, ty, p.bbox[0], p.bbox[1], p.bbox[2], p.bbox[3]);
@@ -192,10 +192,13 @@ TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& st, s
     }
   }
   if (total > std::numeric_limits<std::uint32_t>::max()) throw std::length_error("more than 4 billion tile items");
-  if (memoryBudget && double(total) * sizeof(TileBins::Item) > double(memoryBudget))
+  // The items are allocated while the primitives and the counts are held.
+  const double held = double(ps.bytes()) + double(counts.size() + start.size()) * sizeof(std::uint32_t);
+  if (memoryBudget && held + double(total) * sizeof(TileBins::Item) > double(memoryBudget))
     throw std::length_error("the primitives fall into " + std::to_string(total) + " tile bins (" +
-                            std::to_string(total * sizeof(TileBins::Item) >> 20) +
-                            " MiB), over the memory budget (RenderOptions::memoryBudget / --memory-budget)");
+                            std::to_string(total * sizeof(TileBins::Item) >> 20) + " MiB beside " +
+                            std::to_string(size_t(held) >> 20) +
+                            " MiB of primitives), over the memory budget (RenderOptions::memoryBudget / --memory-budget)");
   bins.offsets[tiles] = std::uint32_t(total);
   bins.items.resize(total);
   tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
