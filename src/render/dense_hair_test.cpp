@@ -182,6 +182,32 @@ TEST(Simplification, KeepsCoverageAndMeanColour) {
     }
 }
 
+// A pattern in the fur keeps its colours: dark hairs rooted in the left half, bright ones in the
+// right. Each hair's colour is pulled toward the mean of the hairs around it, not the whole
+// wire's: 24 x 24 blocks away from the border between the halves keep the full render's mean
+// colour within 0.03 (pulled toward the wire's mean 0.5, the dark ones would come out 0.32
+// instead of 0.1 at lambda = 0.2).
+TEST(Simplification, APatternKeepsItsColours) {
+  const int W = 192, H = 72;
+  Scene s = furPatch(W, H, 40000, 0.3);
+  PolylineSet& L = s.wires[0].lines;
+  for (size_t li = 0; li < L.polylineCount(); ++li) {
+    const bool left = L.points[L.starts[li]].x < 0.0;  // test::world puts the image's centre at x = 0
+    for (size_t k = L.starts[li]; k < L.starts[li + 1]; ++k) L.colours[k] = glm::vec3(left ? 0.1f : 0.9f);
+  }
+  const RenderResult full = render(s, test::smallOptions(W, H));
+  const RenderResult simple = render(s, simplifyOptions(W, H, 1.5));
+  ASSERT_LT(simple.stats.simplifiedLambda, 0.25);
+  for (int bx : {0, 1, 6, 7})
+    for (int by = 0; by < H / 24; ++by) {
+      glm::dvec4 f(0.0), g(0.0);
+      for (int y = by * 24; y < by * 24 + 24; ++y)
+        for (int x = bx * 24; x < bx * 24 + 24; ++x) f += glm::dvec4(full.image.at(x, y)), g += glm::dvec4(simple.image.at(x, y));
+      if (f.w < 24 * 24 * 0.3) continue;  // the patch's border
+      EXPECT_NEAR(g.x / g.w, f.x / f.w, 0.03) << "block " << bx << "," << by;
+    }
+}
+
 // No popping: zoomed by 1%, lambda changes by 1% and hairs near the cut fade rather than
 // appear or vanish: the image changes by no more than the full render's own change plus 0.01
 // RGBA RMS. Without the fade (fade 0) hairs switch on and off and the change is larger.

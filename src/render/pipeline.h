@@ -20,7 +20,7 @@
 // abut exactly: no gap, no overlap, and the A-buffer merges the two pieces by their common tag.
 // A mitre longer than kMitreLimit half-widths, or one that would fold a polygon, falls back to
 // square ends. A segment whose screen length is less than its width is seen (nearly) end-on and
-// is drawn as the hull of its two end discs (32-gons of the disc's exact area).
+// is drawn as the hull of its two end discs (16-gons of the discs' exact areas).
 #pragma once
 
 #include "abuffer/coverage_mask.h"
@@ -402,8 +402,8 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
 /// aggregate wire, the factor its width is drawn at (0: left out) and its lambda (the fraction
 /// of its neighbours drawn, which also sets how far its colours are pulled to the wire's mean).
 struct WireSimplification {
-  std::vector<float> scale, lambda;
-  glm::vec3 meanColour{1.0f};
+  std::vector<float> scale, lambda;  ///< per hair: width factor (0: left out), fraction drawn around it
+  std::vector<glm::vec3> meanColour;  ///< per hair, when the wire has colours: the local mean
 };
 struct SimplificationPlan {
   std::vector<WireSimplification> wires;  ///< per scene wire (empty vectors: drawn as it is)

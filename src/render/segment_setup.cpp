@@ -306,8 +306,8 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       sh.t1 = glm::vec3(t1);
       sh.c0 = hasColours ? safeColour(L.colours[ids[j]]) : glm::vec3(1.0f);
       sh.c1 = hasColours ? safeColour(L.colours[ids[j + 1]]) : glm::vec3(1.0f);
-      if (contrast < 1.0) {
-        const glm::vec3 mean = simplification->meanColour;
+      if (contrast < 1.0 && hasColours && simplification->meanColour.size() == simplification->scale.size()) {
+        const glm::vec3 mean = simplification->meanColour[li];
         sh.c0 = mean + (sh.c0 - mean) * float(contrast);
         sh.c1 = mean + (sh.c1 - mean) * float(contrast);
       }

@@ -15,8 +15,13 @@
 // range D = fade * lambda of it instead of popping. The same hairs are kept frame after frame.
 //
 // Colours: the mean over n hairs in a pixel has a variance proportional to 1 / n; with lambda n
-// of them it rises by 1 / lambda, so each hair's colour is pulled toward the wire's mean by
-// sqrt(lambda) (Cook et al.'s contrast correction).
+// of them it rises by 1 / lambda, so each hair's colour is pulled by sqrt(lambda) toward the
+// mean colour of the hairs around it (Cook et al.'s contrast correction; the local mean, so that
+// a pattern in the fur keeps its colours).
+//
+// The cells' complexity and mean colour are interpolated bilinearly between cell centres, so a
+// hair's lambda changes smoothly as its root moves across the screen; a root just off the image
+// takes the edge's. Hairs rooted behind the near plane or beyond the far one are drawn as they are.
 #include "render/pipeline.h"
 
 #include <tbb/parallel_for.h>
@@ -55,9 +60,11 @@ SimplificationPlan planSimplification(const Scene& scene, const ViewTransform& v
     const PolylineSet& L = w.lines;
     const size_t n = L.polylineCount();
     if (!w.aggregate || n == 0 || !(w.thickness > 0) || !std::isfinite(w.thickness)) continue;
-    // Per hair: its cell (-1: not on screen) and its projected width and area.
-    std::vector<std::int32_t> cellOf(n, -1);
+    // Per hair: its root on screen (clamped into the image; NaN: behind the near plane, beyond
+    // the far one, or not finite) and its projected width and area.
+    std::vector<glm::vec2> root(n, glm::vec2(NAN));
     std::vector<float> width(n, 0.0f), area(n, 0.0f);
+    std::vector<char> onScreen(n, 0);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t li = r.begin(); li < r.end(); ++li) {
         const size_t a = L.starts[li], b = std::min<size_t>(L.starts[li + 1], L.points.size());
@@ -69,40 +76,71 @@ SimplificationPlan planSimplification(const Scene& scene, const ViewTransform& v
         const double wpx = w.thicknessInPixels ? w.thickness : w.thickness * view.pixelsPerWorld(d0);
         double len = 0.0;
         if (d1 >= view.nearPlane) len = glm::length(view.project(e1) - p0);
-        if (!std::isfinite(wpx) || !std::isfinite(len) || !(p0.x >= 0 && p0.x < view.width && p0.y >= 0 && p0.y < view.height))
-          continue;
-        cellOf[li] = std::int32_t(int(p0.y / cell) * cx + int(p0.x / cell));
+        if (!std::isfinite(wpx) || !std::isfinite(len) || !std::isfinite(p0.x) || !std::isfinite(p0.y)) continue;
+        onScreen[li] = p0.x >= 0 && p0.x < view.width && p0.y >= 0 && p0.y < view.height;
+        // A root just off the image takes the edge's density, as its neighbours inside do.
+        root[li] = glm::vec2(float(std::clamp(p0.x, 0.0, double(view.width))), float(std::clamp(p0.y, 0.0, double(view.height))));
         width[li] = float(wpx);
         area[li] = float(wpx * std::max(len, wpx));
       }
     });
-    // Depth complexity per cell (summed in hair order: the same for any thread count).
+    // Depth complexity per cell: the hair area rooted in it (summed in hair order: the same for
+    // any thread count) per pixel of the cell inside the image; and its mean hair colour,
+    // weighted by area (what the cell's pixels show), the contrast correction's centre.
+    const bool hasColours = L.colours.size() == L.points.size() && !L.colours.empty();
     std::vector<double> complexity(size_t(cx) * cy, 0.0);
-    for (size_t li = 0; li < n; ++li)
-      if (cellOf[li] >= 0) complexity[size_t(cellOf[li])] += area[li];
-    for (double& c : complexity) c /= cell * cell;
-    // The wire's mean colour (the contrast correction's centre).
-    WireSimplification& ws = plan.wires[wi];
-    if (L.colours.size() == L.points.size() && !L.colours.empty()) {
-      glm::dvec3 sum(0.0);
-      size_t count = 0;
-      for (const glm::vec3& c : L.colours) {
-        const glm::vec3 s = safeColour(c);
-        sum += glm::dvec3(s), ++count;
-      }
-      ws.meanColour = glm::vec3(sum / double(count));
+    std::vector<glm::dvec3> colourSum(hasColours ? size_t(cx) * cy : 0, glm::dvec3(0.0));
+    auto cellIndex = [&](glm::vec2 q) {
+      const int i = std::min(cx - 1, int(q.x / cell)), j = std::min(cy - 1, int(q.y / cell));
+      return size_t(j) * size_t(cx) + size_t(i);
+    };
+    auto hairColour = [&](size_t li) {
+      const size_t a = L.starts[li], b = std::min<size_t>(L.starts[li + 1], L.points.size());
+      glm::dvec3 c(0.0);
+      for (size_t k = a; k < b; ++k) c += glm::dvec3(safeColour(L.colours[k]));
+      return c / double(std::max<size_t>(1, b - a));
+    };
+    for (size_t li = 0; li < n; ++li) {
+      if (!onScreen[li]) continue;
+      const size_t c = cellIndex(root[li]);
+      complexity[c] += area[li];
+      if (hasColours) colourSum[c] += hairColour(li) * double(area[li]);
     }
+    const std::vector<double> areaSum = complexity;
+    for (int j = 0; j < cy; ++j)
+      for (int i = 0; i < cx; ++i) {
+        const size_t c = size_t(j) * size_t(cx) + size_t(i);
+        const double inside = std::min(cell, view.width - i * cell) * std::min(cell, view.height - j * cell);
+        complexity[c] /= std::max(inside, 1.0);
+      }
+    // Bilinear between cell centres, so that a hair's lambda (and its colour's centre) changes
+    // smoothly as its root moves across the screen: no step at a cell's border.
+    auto bilinear = [&](glm::vec2 q, auto&& at) {
+      const double gx = std::clamp(q.x / cell - 0.5, 0.0, double(cx - 1)), gy = std::clamp(q.y / cell - 0.5, 0.0, double(cy - 1));
+      const int i0 = int(gx), j0 = int(gy), i1 = std::min(i0 + 1, cx - 1), j1 = std::min(j0 + 1, cy - 1);
+      const double fx = gx - i0, fy = gy - j0;
+      auto v = [&](int i, int j) { return at(size_t(j) * size_t(cx) + size_t(i)); };
+      return (v(i0, j0) * (1 - fx) + v(i1, j0) * fx) * (1 - fy) + (v(i0, j1) * (1 - fx) + v(i1, j1) * fx) * fy;
+    };
+    WireSimplification& ws = plan.wires[wi];
     ws.scale.assign(n, 1.0f);
     ws.lambda.assign(n, 1.0f);
+    if (hasColours) ws.meanColour.assign(n, glm::vec3(1.0f));
     for (size_t li = 0; li < n; ++li) {
       ++plan.hairs;
       double lambda = 1.0;
-      if (cellOf[li] >= 0 && width[li] < target) {
+      if (!std::isnan(root[li].x) && width[li] < target) {
         // Full simplification from twice the threshold down, none below it: no step where the
         // depth complexity crosses it.
-        const double c = complexity[size_t(cellOf[li])];
+        const double c = bilinear(root[li], [&](size_t k) { return complexity[k]; });
         const double on = std::clamp((c - minComplexity) / std::max(minComplexity, 1e-9), 0.0, 1.0);
         lambda = 1.0 - on * (1.0 - std::max(double(width[li]) / target, 1.0 / 64.0));
+        if (hasColours && lambda < 1.0) {
+          // Area-weighted, so that a cell without hairs pulls toward nothing.
+          const double wsum = bilinear(root[li], [&](size_t k) { return areaSum[k]; });
+          ws.meanColour[li] = wsum > 0.0 ? glm::vec3(bilinear(root[li], [&](size_t k) { return colourSum[k]; }) / wsum)
+                                         : glm::vec3(hairColour(li));
+        }
       }
       const double u = unitFromHash(hashWords(0x5157A7C4ull, wi, li));
       const double kappa = keepWeight(lambda, u, fade);
