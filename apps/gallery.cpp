@@ -113,6 +113,7 @@ int runGallery(const GalleryOptions& opt) {
     std::vector<std::string> files;
     for (const auto& e : std::filesystem::directory_iterator(opt.scenesDir))
       if (e.path().extension() == ".json") files.push_back(e.path().string());
+    std::sort(files.begin(), files.end());  // the directory's order is the file system's
     // Read (and grow) every scene first, all checked before anything is drawn, in parallel: the
     // first problem in file order is the one reported.
     const auto tl = std::chrono::steady_clock::now();
@@ -150,11 +151,9 @@ int runGallery(const GalleryOptions& opt) {
       ro.height = std::max(1, int(std::lround(ro.height * f)));
     }
     const auto tr = std::chrono::steady_clock::now();
-    const wf::RenderResult r = wf::render(sf.scene, ro);
-    const auto tw = std::chrono::steady_clock::now();
-    renderSeconds += std::chrono::duration<double>(tw - tr).count();
-    pending.push_back({r.image, dir + "/" + stem + ".png"});
-    writeSeconds += secondsSince(tw);
+    wf::RenderResult r = wf::render(sf.scene, ro);
+    renderSeconds += secondsSince(tr);
+    pending.push_back({std::move(r.image), dir + "/" + stem + ".png"});
     json st = statsJson(r.stats, ro, false);
     st["seconds"]["generate"] = sf.generateSeconds;
     st["generated"] = {{"hairs", sf.hairsGrown}, {"scales", sf.scalesGrown}};
@@ -250,7 +249,18 @@ int runGallery(const GalleryOptions& opt) {
 
   {
     const auto tw = std::chrono::steady_clock::now();
-    tbb::parallel_for(size_t(0), pending.size(), [&](size_t i) { writePng(pending[i].image, pending[i].path, 1); });
+    // Each picture is written to a temporary file and renamed (writePng); of several failures the
+    // first in gallery order is reported.
+    std::vector<std::exception_ptr> failed(pending.size());
+    tbb::parallel_for(size_t(0), pending.size(), [&](size_t i) {
+      try {
+        writePng(pending[i].image, pending[i].path, 1);
+      } catch (...) {
+        failed[i] = std::current_exception();
+      }
+    });
+    for (const std::exception_ptr& e : failed)
+      if (e) std::rethrow_exception(e);
     writeSeconds += secondsSince(tw);
   }
   const double total = secondsSince(tStart);
