@@ -31,7 +31,7 @@ constexpr const char* kUsage =
     "                                               error against run time of every shading approximation\n"
     "  render   [INPUT] -o OUT.png [--size WxH] [--style STYLE] [--mask 4x4|8x4|8x8] [--threads N]\n"
     "           [--stats FILE] [--budget K] [--shading maps|exact] [--reference [--samples N]]\n"
-    "           [--time T]\n"
+    "           [--time T] [--simplify WIDTH|off] [--wire-depth round|flat]\n"
     "           [--view-grid N] [--measure-error] [--memory-budget BYTES|NNM|NNG] [--quiet] [CAD options]\n"
     "                                               INPUT: scene .json, CAD .step .stp .iges .igs .brep .FCStd,\n"
     "                                               or mesh .vtp .vtk .stl .obj .ply; none: built-in scene\n"
