@@ -143,6 +143,8 @@ std::size_t TileABuffer::bytesFor(int w, int h, const MaskLayout& layout, int en
          blocks * sizeof(float);
 }
 
+std::size_t TileABuffer::listEntryBytes() { return sizeof(Node); }
+
 std::size_t TileABuffer::bytes() const {
   return pixels_.capacity() * sizeof(Pixel) + nodes_.capacity() * sizeof(Node) +
          freeNodes_.capacity() * sizeof(std::int32_t) + tails_.capacity() * sizeof(Tail) +

@@ -225,6 +225,8 @@ class TileABuffer {
   /// What bytes() comes to for a tile of w x h pixels whose lists hold `entriesPerPixel`
   /// fragments per pixel, every pixel with an occluder record (the renderer's memory estimate).
   static std::size_t bytesFor(int w, int h, const MaskLayout& layout, int entriesPerPixel);
+  /// Bytes of one list entry (a fragment, its arrival, its link and its pixel).
+  static std::size_t listEntryBytes();
 
  private:
   struct Node {

@@ -137,7 +137,7 @@ int concurrency(int threads) { return threads > 0 ? threads : tbb::info::default
 
 // The most the tile buffers can hold, from the code of TileABuffer (src/abuffer/abuffer.h): the
 // fixed part of a tile (pixel records, occlusion, counts, the reserved subpixel depths) measured
-// from an empty buffer, plus list entries (Node = Fragment + seq + next, and a free-list index)
+// from an empty buffer, plus list entries (TileABuffer::listEntryBytes(), and a free-list index)
 // for at most T^2 K live fragments (vectors grow by doubling: the capacity is the next power of
 // two), plus one tail (24 bytes) and one solid Fragment per pixel; times the threads, each of
 // which keeps its own buffer.
@@ -146,7 +146,7 @@ json tileBound(const wf::RenderOptions& opt) {
   empty.reset(opt.tileSize, opt.tileSize);
   const size_t fixed = empty.bytes();
   const size_t P = size_t(opt.tileSize) * size_t(opt.tileSize);
-  const size_t nodeBytes = sizeof(wf::Fragment) + 2 * sizeof(std::uint32_t);
+  const size_t nodeBytes = wf::TileABuffer::listEntryBytes();
   const size_t tailBytes = 6 * sizeof(float);
   const size_t lists = std::bit_ceil(P * size_t(opt.budget)) * (nodeBytes + sizeof(std::int32_t));
   const size_t perPixel = std::bit_ceil(P) * (tailBytes + sizeof(wf::Fragment));
