@@ -2,6 +2,8 @@
 //
 //   scene -> camera          view_setup.cpp      chooseCamera: the scene's camera, or one framing it
 //         -> tables          shading_tables.cpp  prepareShaders: the shading tables the scene needs
+//         -> simplification  simplify.cpp        planSimplification: which hairs of dense fur to draw
+//                                                (RenderOptions::simplify; off by default)
 //         -> primitives      prepare_scene.cpp   prepareScene: the stages above, then clipping and
 //                            triangle_setup.cpp    projection of triangles and wire segments into
 //                            segment_setup.cpp     convex screen polygons
@@ -10,9 +12,10 @@
 //         -> resolve         abuffer/abuffer.cpp TileABuffer: depth order, coverage, tails
 //         -> image
 //
-// Shading of a fragment (fragment_shading.cpp, surface_shading.cpp) is called from the fragment
-// stage. The brute-force reference (reference_renderer.cpp) and the benchmarks' ray caster share
-// every stage up to the bins. This header holds the data the stages hand each other.
+// Shading of a fragment (fragment_shading.cpp, surface_shading.cpp) is deferred: the resolve
+// asks for it (FragmentSource) only for fragments that show, merge or join a tail. The
+// brute-force reference (reference_renderer.cpp) and the benchmarks' ray caster share every
+// stage up to the bins. This header holds the data the stages hand each other.
 //
 // Wire segments follow the paper (§3): a polygon as thick as the wire, its narrow side across
 // the screen direction of the segment and its long side joining the end points. Consecutive

@@ -35,9 +35,10 @@ enum class WireDepth {
 /// Stochastic simplification of aggregate detail (Cook, Halstead, Planck and Ryu, "Stochastic
 /// Simplification of Aggregate Detail", SIGGRAPH 2007) for wires marked SceneWire::aggregate
 /// (fur): where hairs are thinner than `targetWidth` pixels and overlap each other at least
-/// `minDepthComplexity` times, a stable random fraction lambda = width / targetWidth of them is
+/// `minDepthComplexity` times (fully from twice that), a stable random fraction lambda =
+/// max(width / targetWidth, 1/64) of them is
 /// drawn (chosen by a hash of each hair's index, never its position), each widened by 1 /
-/// lambda so that the expected coverage stays the same, its colours pulled toward the wire's
+/// lambda so that the expected coverage stays the same, its colours pulled toward the local
 /// mean by sqrt(lambda) so that the pixels' variance stays the same, and faded across the cut
 /// so that nothing pops as the camera moves. An approximation with no per-pixel bound:
 /// `wirefur accuracy` measures its error against time; off (the default) is the exact path.
