@@ -1,6 +1,6 @@
 // CAD input for the wirefur command (.step .stp .iges .igs .brep .FCStd): read by the VTK
 // module WireFur::CAD (vtkWireFurCADReader, OpenCASCADE), which this program opens at run time
-// only when a CAD file is given, so that nothing else pays for loading OpenCASCADE (DESIGN.md:
+// only when a CAD file is given, so that nothing else pays for loading OpenCASCADE (docs/design.md:
 // "load OpenCASCADE only for CAD input"). See docs/cad.md.
 #pragma once
 

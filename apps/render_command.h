@@ -43,7 +43,7 @@ SceneFile loadInput(const std::string& input, const std::string& style, const Sc
 /// Render options from a scene file's settings.
 wf::RenderOptions renderOptionsFor(const SceneFile& sf);
 
-/// The --stats document: the keys of DESIGN.md plus what was left out and the error estimate.
+/// The --stats document: the keys of docs/design.md plus what was left out and the error estimate.
 nlohmann::ordered_json statsJson(const wf::RenderStats& stats, const wf::RenderOptions& options,
                                  bool reference);
 

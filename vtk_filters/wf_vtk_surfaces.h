@@ -1,4 +1,4 @@
-// Adapters from VTK data to the core's one surface concept (src/surface/surface.h, DESIGN.md "One
+// Adapters from VTK data to the core's one surface concept (src/surface/surface.h, docs/design.md "One
 // surface concept"): a vtkParametricFunction (exact derivatives where the function gives them) and
 // a triangle mesh with texture coordinates (piecewise linear, derivatives constant per triangle).
 // The fur and scale generators and the burnish filter of this module only ever see wf::Surface.

@@ -1,6 +1,6 @@
 // Surface::frame: the unit normal and tangents of a parametric surface, defined everywhere.
 //
-// The rule (DESIGN.md "poles of patches"; docs/surfaces.md):
+// The rule (docs/design.md, "One surface concept"; docs/surfaces.md):
 //  1. (u, v) that is NaN or infinite is replaced by the domain's centre (per coordinate); finite
 //     values outside the domain are clamped (wrapped where periodic) by the surface itself.
 //  2. A point is regular when Su and Sv are finite and non-zero and the sine of the angle between

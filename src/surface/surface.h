@@ -1,4 +1,4 @@
-// The one surface concept of DESIGN.md: a surface answers S(u,v) and its first derivatives
+// The one surface concept of docs/design.md: a surface answers S(u,v) and its first derivatives
 // Su = dS/du, Sv = dS/dv over a rectangular parameter domain, with N = Su x Sv / |Su x Sv|.
 // Analytic patches (src/surface/patches.h), vtkParametricFunction and meshes with texture
 // coordinates (vtk_filters) and OpenCASCADE faces (vtk_filters) are adapters to it; the

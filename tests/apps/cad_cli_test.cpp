@@ -242,7 +242,7 @@ TEST(CadCli, ExportWritesTheTessellationWithTangents) {
 }
 
 // OpenCASCADE is not linked into the executable: it is opened (with the CAD module) only when
-// a CAD file is read (DESIGN.md: "load OpenCASCADE only for CAD input").
+// a CAD file is read (docs/design.md: "load OpenCASCADE only for CAD input").
 TEST(CadCli, OpenCascadeIsNotLinkedIntoTheCommand) {
   FILE* p = popen(("ldd '" + std::string(WIREFUR_EXE) + "'").c_str(), "r");
   ASSERT_NE(p, nullptr);

@@ -1,4 +1,4 @@
-// `wirefur render` as users and scripts call it (docs/cli.md): the stats keys of DESIGN.md,
+// `wirefur render` as users and scripts call it (docs/cli.md): the stats keys of docs/design.md,
 // one-line errors naming the file and the JSON pointer with exit status 2 and nothing written,
 // determinism across thread counts, and the reference path.
 #include "cli_support.h"
@@ -40,7 +40,7 @@ TEST(RenderCli, BuiltInSceneWritesPngAndTheContractsStatsKeys) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(fs::exists(png));
   const json s = json::parse(slurp(stats));
-  // DESIGN.md: seconds (total and per stage), segments, triangles, fragments,
+  // docs/design.md: seconds (total and per stage), segments, triangles, fragments,
   // max_fragments_per_pixel, peak_bytes, error_estimate.
   for (const char* k : {"seconds", "segments", "triangles", "fragments", "max_fragments_per_pixel", "peak_bytes", "error_estimate"})
     EXPECT_TRUE(s.contains(k)) << k;

@@ -1,6 +1,6 @@
 // Scene-file keys of the surface, texture, burnish and growth issue, through `wirefur render`.
 //
-// The contract (DESIGN.md, docs/cli.md, docs/scenes.md): bad input gets ONE line on stderr naming
+// The contract (docs/design.md, docs/cli.md, docs/scenes.md): bad input gets ONE line on stderr naming
 // the file, the JSON pointer and the problem, exit status 2, and nothing written (no PNG, no
 // stats); never a crash, never a hang, never an enormous allocation, never a silent empty image;
 // the same input gives the same image bit for bit for any --threads. Positive cases check the
@@ -775,7 +775,7 @@ TEST(SceneKeysCli, ScalesAddFourTrianglesPerCell) {
   EXPECT_EQ(scaly.value("segments", -1), 0);
 }
 
-// DESIGN.md "leave out what a scene does not need": a burnished surface is shaded through the
+// docs/design.md "leave out what a scene does not need": a burnished surface is shaded through the
 // pseudo-reflectance map (one per view-grid node), a plain Phong surface needs none, and a
 // colour-textured one needs its tables in two parts (two reflectance spheres, not one).
 TEST(SceneKeysCli, MapsAndSpheresAreBuiltOnlyWhereNeeded) {
@@ -860,7 +860,7 @@ TEST(SceneKeysCli, EveryGallerySceneRendersSmallWithFiniteErrorEstimates) {
 }
 
 // Area-correct, curved, clumped, windy fur with maps and colour regions: bit-identical PNGs for
-// any thread count (counter-based randomness; DESIGN.md "Deterministic").
+// any thread count (counter-based randomness; docs/design.md "Deterministic").
 TEST(SceneKeysCli, CurvedClumpedWindyFurIsTheSameForAnyThreadCount) {
   const fs::path d = testDir();
   const std::string scene = write(

@@ -1,5 +1,5 @@
 // What fuzz_scene and fuzz_mesh check after the code under test returns: the one-line error
-// contract (DESIGN.md: "one line on stderr naming the file, the place in it and what is wrong")
+// contract (docs/design.md: "one line on stderr naming the file, the place in it and what is wrong")
 // and the geometry the readers hand to the renderer (indices in range, array sizes that agree).
 // A broken check is a finding: the program prints one FINDING line and aborts, so that libFuzzer
 // keeps the input (run_fuzz.sh counts these as WireFur's own).

@@ -24,7 +24,7 @@
 //  - a loaded scene that breaks what the renderer relies on: triangle indices out of range,
 //    per-vertex arrays of the wrong size, material indices out of range, polylines whose starts
 //    do not match their points, a camera with a problem(), an image size out of range;
-//  - a rendered pixel that is not finite (DESIGN.md: "no NaN in any pixel").
+//  - a rendered pixel that is not finite (docs/design.md: "no NaN in any pixel").
 #include "fuzz_app_assets.h"
 #include "fuzz_app_checks.h"
 
