@@ -148,6 +148,37 @@ TEST(RenderCli, BadOptionsAreExitTwo) {
   EXPECT_FALSE(fs::exists(png));
 }
 
+// --simplify and --wire-depth: out of range, not a number, NaN, Inf, empty: one line naming the
+// option, exit 2, no PNG. In range: the stats say what was used, and how many hairs of how many
+// were drawn (error_estimate.simplification).
+TEST(RenderCli, SimplifyAndWireDepthOptions) {
+  const fs::path png = dir() / "simplify.png";
+  const std::string scene = "'" + kScenes + "fur_torus.json'";
+  for (const std::string& bad : {"--simplify 0", "--simplify 0.05", "--simplify 65", "--simplify nan", "--simplify inf",
+                                 "--simplify 1e400", "--simplify abc", "--simplify ''", "--simplify 2px", "--wire-depth square",
+                                 "--wire-depth ''"}) {
+    const Result r = run("render " + scene + " -o '" + png.string() + "' " + bad);
+    EXPECT_EQ(r.status, 2) << bad << ": " << r.err;
+    EXPECT_EQ(lines(r.err), 1) << bad << ": " << r.err;
+    EXPECT_NE(r.err.find(bad.substr(0, bad.find(' '))), std::string::npos) << bad << ": " << r.err;
+  }
+  EXPECT_FALSE(fs::exists(png));
+  const fs::path stats = dir() / "simplify.json";
+  const Result r = run("render " + scene + " -o '" + png.string() + "' --size 160x120 --simplify 2 --wire-depth flat --stats '" +
+                       stats.string() + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json j = json::parse(slurp(stats));
+  EXPECT_EQ(j["options"]["wire_depth"], "flat");
+  EXPECT_EQ(j["options"]["simplify"], 2.0);
+  const json& e = j["error_estimate"]["simplification"];
+  ASSERT_TRUE(e.is_object()) << j["error_estimate"].dump();
+  EXPECT_EQ(e["hairs"], 7000);
+  EXPECT_GT(e["drawn"].get<double>(), 0.0);
+  EXPECT_LE(e["drawn"].get<double>(), 7000.0);
+  EXPECT_GT(e["smallest_fraction"].get<double>(), 0.0);
+  EXPECT_LE(e["smallest_fraction"].get<double>(), 1.0);
+}
+
 // NaN / Inf vertices (a binary STL, where they survive the reader): the bad triangles and the
 // wire segments touching them are skipped with one warning line per object naming the file,
 // and the rest renders.
