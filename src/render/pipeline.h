@@ -55,7 +55,8 @@ inline constexpr double kMitreLimit = 4.0;
 /// Memory for the render's large arrays (primitives, bins): blocks of 4 MiB and more are laid on
 /// 2 MiB boundaries and offered to the kernel as huge pages, so that writing them the first
 /// time faults once per 2 MiB instead of once per 4 KiB (on a virtual machine those faults
-/// cost as much as the set-up's arithmetic). Elsewhere, or when refused, plain pages.
+/// cost as much as the set-up's arithmetic). Elsewhere, or when refused, plain pages. Freed
+/// blocks are kept for the next render (bounded; releaseRenderMemory in renderer.h).
 void* allocateLarge(size_t bytes);
 void freeLarge(void* p, size_t bytes) noexcept;
 inline constexpr size_t kLargeAllocation = size_t(4) << 20;

@@ -15,24 +15,123 @@
 #include <vector>
 
 #include <sys/mman.h>
+#include <unistd.h>
+
+#include <mutex>
 
 #include <cstdlib>
 #include <new>
 
 namespace wf {
 
+namespace {
+constexpr size_t kHuge = size_t(2) << 20;
+size_t roundedLarge(size_t bytes) { return (bytes + kHuge - 1) / kHuge * kHuge; }
+
+// The large blocks the last renders freed, kept for the next one: a viewer or a benchmark draws
+// frame after frame with arrays of the same sizes, and a block the kernel hands out afresh is
+// zeroed page by page on its first writes (8% of a 700,000-hair frame here). Bounded: at most
+// kCachedBlocks blocks and cacheLimit() bytes (an eighth of the memory, at most 1 GiB); a block
+// is reused only for a request of at least half its size, so little is held idle; and
+// releaseRenderMemory() gives everything back.
+constexpr int kCachedBlocks = 8;
+struct BlockCache {
+  std::mutex mutex;
+  void* block[kCachedBlocks] = {};
+  size_t size[kCachedBlocks] = {};
+  size_t total = 0;
+};
+BlockCache& blockCache() {
+  static BlockCache cache;
+  return cache;
+}
+size_t cacheLimit() {
+  static const size_t limit = [] {
+    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+    const size_t eighth = pages > 0 && page > 0 ? size_t(pages) / 8 * size_t(page) : 0;
+    return std::min(eighth, size_t(1) << 30);
+  }();
+  return limit;
+}
+}  // namespace
+
 void* allocateLarge(size_t bytes) {
-  constexpr size_t kHuge = size_t(2) << 20;
-  const size_t rounded = (bytes + kHuge - 1) / kHuge * kHuge;
+  const size_t rounded = roundedLarge(bytes);
+  {
+    BlockCache& c = blockCache();
+    std::lock_guard<std::mutex> lock(c.mutex);
+    int best = -1;  // the smallest cached block that fits and is not twice too large
+    for (int i = 0; i < kCachedBlocks; ++i)
+      if (c.block[i] && c.size[i] >= rounded && c.size[i] / 2 <= rounded && (best < 0 || c.size[i] < c.size[best])) best = i;
+    if (best >= 0) {
+      void* p = c.block[best];
+      c.total -= c.size[best];
+      c.block[best] = nullptr;
+      c.size[best] = 0;
+      return p;
+    }
+  }
   void* p = std::aligned_alloc(kHuge, rounded);
-  if (!p) throw std::bad_alloc();
+  if (!p) {
+    releaseRenderMemory();  // what the cache holds may be what is missing
+    p = std::aligned_alloc(kHuge, rounded);
+    if (!p) throw std::bad_alloc();
+  }
 #ifdef MADV_HUGEPAGE
   madvise(p, rounded, MADV_HUGEPAGE);  // advice: refused (or no such kernel support) is fine
 #endif
   return p;
 }
 
-void freeLarge(void* p, size_t) noexcept { std::free(p); }
+void freeLarge(void* p, size_t bytes) noexcept {
+  if (!p) return;
+  // allocateLarge reuses a cached block for a request of at least half its size: the block's
+  // own size is what is recorded, and every block came from aligned_alloc of a rounded size.
+  const size_t rounded = roundedLarge(bytes);
+  BlockCache& c = blockCache();
+  {
+    std::lock_guard<std::mutex> lock(c.mutex);
+    if (rounded <= cacheLimit()) {
+      // Make room: drop the largest cached blocks until this one fits the limits.
+      while (true) {
+        int empty = -1, largest = -1;
+        for (int i = 0; i < kCachedBlocks; ++i) {
+          if (!c.block[i]) empty = empty < 0 ? i : empty;
+          else if (largest < 0 || c.size[i] > c.size[largest]) largest = i;
+        }
+        if (empty >= 0 && c.total + rounded <= cacheLimit()) {
+          c.block[empty] = p;
+          c.size[empty] = rounded;
+          c.total += rounded;
+          return;
+        }
+        if (largest < 0) break;
+        std::free(c.block[largest]);
+        c.total -= c.size[largest];
+        c.block[largest] = nullptr;
+        c.size[largest] = 0;
+      }
+    }
+  }
+  std::free(p);
+}
+
+void releaseRenderMemory() {
+  BlockCache& c = blockCache();
+  std::lock_guard<std::mutex> lock(c.mutex);
+  for (int i = 0; i < kCachedBlocks; ++i) {
+    std::free(c.block[i]);
+    c.block[i] = nullptr;
+    c.size[i] = 0;
+  }
+  c.total = 0;
+}
+
+size_t renderMemoryHeld() {
+  BlockCache& c = blockCache();
+  std::lock_guard<std::mutex> lock(c.mutex);
+  return c.total;
+}
 
 void screenPolygonOf(const PreparedScene& ps, std::uint32_t i, ScreenPolygon& poly) {
   if (ps.isSegment(i)) {

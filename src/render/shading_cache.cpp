@@ -33,7 +33,7 @@ std::shared_ptr<WireTables> ShadingCache::wire(const ViewGrid& grid, const Phong
     built = false;
     return e->wire;
   }
-  Entry e{Kind::Wire, gridCopy(grid), m, eyeLights, options};
+  Entry e{Kind::Wire, gridCopy(grid), m, eyeLights, options, 0, nullptr, glm::dvec3(0.0), nullptr, nullptr};
   e.wire = std::make_shared<WireTables>(*e.grid, m, eyeLights, options);
   entries_.push_back(e);
   built = true;
@@ -48,7 +48,7 @@ std::shared_ptr<SurfaceTables> ShadingCache::phong(const ViewGrid& grid, int res
     built = false;
     return e->surface;
   }
-  Entry e{Kind::Phong, gridCopy(grid), m, eyeLights, {}, resolution};
+  Entry e{Kind::Phong, gridCopy(grid), m, eyeLights, {}, resolution, nullptr, glm::dvec3(0.0), nullptr, nullptr};
   e.surface = std::make_shared<SurfaceTables>(SurfaceTables::phong(*e.grid, resolution, m, eyeLights));
   entries_.push_back(e);
   built = true;
@@ -64,7 +64,7 @@ std::shared_ptr<SurfaceTables> ShadingCache::chrome(const ViewGrid& grid, int re
     built = false;
     return e->surface;
   }
-  Entry e{Kind::Chrome, gridCopy(grid), {}, {}, {}, resolution, env, reflectance};
+  Entry e{Kind::Chrome, gridCopy(grid), {}, {}, {}, resolution, env, reflectance, nullptr, nullptr};
   e.surface = std::make_shared<SurfaceTables>(SurfaceTables::chrome(*e.grid, resolution, *env, reflectance));
   entries_.push_back(e);
   built = true;

@@ -123,6 +123,34 @@ TEST(RobustMemory, DefaultBudgetIsHalfThePhysicalMemory) {
   EXPECT_NEAR(double(RenderOptions{}.memoryBudget), phys / 2, double(sysconf(_SC_PAGE_SIZE)));
 }
 
+// The large arrays a render frees are kept for the next (renderer.h, releaseRenderMemory):
+// 60,000 segments need 7.7 MB of SegmentPrim alone, over the 4 MiB of a large block. Held at
+// most an eighth of the memory (1 GiB) and 8 blocks (each under 2x its request); a second frame
+// reuses them and draws the same image bit for bit; releaseRenderMemory empties the cache.
+TEST(RobustMemory, LargeBlocksAreKeptBoundedReusedAndReleased) {
+  constexpr int W = 256, H = 256;
+  Scene s = test::baseScene(W, H);
+  std::vector<std::vector<test::V2>> lines;
+  for (int i = 0; i < 60000; ++i) {
+    const double y = 8.0 + (i % 240), x = 8.0 + (i / 240) % 240;
+    lines.push_back({{x, y}, {x + 3.0, y + 1.0}});
+  }
+  s.wires.push_back(test::plainWire(lines, 1.0, 5.0, W, H));
+  const RenderOptions o = test::smallOptions(W, H);
+  releaseRenderMemory();
+  ASSERT_EQ(renderMemoryHeld(), 0u);
+  const RenderResult a = render(s, o);
+  const size_t held = renderMemoryHeld();
+  const double phys = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
+  EXPECT_GE(held, size_t(4) << 20);  // the segments' arrays, at least
+  EXPECT_LE(double(held), std::min(phys / 8, double(kGiB)));
+  const RenderResult b = render(s, o);
+  EXPECT_EQ(renderMemoryHeld(), held);  // the same blocks, taken and given back
+  EXPECT_EQ(test::maxDiff(a.image, b.image), 0.0);
+  releaseRenderMemory();
+  EXPECT_EQ(renderMemoryHeld(), 0u);
+}
+
 }  // namespace
 }  // namespace wf
 
