@@ -260,33 +260,40 @@ double fade(double t) { return t * t * t * (t * (t * 6.0 - 15.0) + 10.0); }
 double fadeDerivative(double t) { return 30.0 * t * t * (t * (t - 2.0) + 1.0); }
 
 /// One octave of gradient noise at lattice coordinates (x, y), value in [-sqrt(2)/2, sqrt(2)/2],
-/// with its analytic derivative in (x, y). Period (cellsX, cellsY) when non-zero.
-double gradientNoise(double x, double y, std::int64_t cellsX, std::int64_t cellsY,
-                     std::uint64_t seed, std::uint64_t octave, glm::dvec2& d) {
+/// with its analytic derivative in (x, y) when asked. Period (cellsX, cellsY) when non-zero.
+/// `octaveKey` is mix64(mix64(seed) ^ octave): a corner's gradient is
+/// hashWords(seed, octave, i, j) = mix64(mix64(octaveKey ^ i) ^ j), the first two rounds shared
+/// by every corner and sample of the octave, the third by the corners of one column.
+template <bool WithDerivative>
+double gradientNoise(double x, double y, std::int64_t cellsX, std::int64_t cellsY, std::uint64_t octaveKey,
+                     glm::dvec2& d) {
   const double fx0 = std::floor(x), fy0 = std::floor(y);
   const double tx = x - fx0, ty = y - fy0;
   std::int64_t i0 = cellIndex(fx0), j0 = cellIndex(fy0);
   std::int64_t i1 = i0 + 1, j1 = j0 + 1;
-  if (cellsX > 0) i0 = positiveMod(i0, cellsX), i1 = positiveMod(i1, cellsX);
-  if (cellsY > 0) j0 = positiveMod(j0, cellsY), j1 = positiveMod(j1, cellsY);
+  // positiveMod(i0 + 1, n) from positiveMod(i0, n): one division per axis, not two.
+  if (cellsX > 0) i0 = positiveMod(i0, cellsX), i1 = i0 + 1 == cellsX ? 0 : i0 + 1;
+  if (cellsY > 0) j0 = positiveMod(j0, cellsY), j1 = j0 + 1 == cellsY ? 0 : j0 + 1;
   const GradientTable& table = gradients();
-  auto grad = [&](std::int64_t i, std::int64_t j) {
-    return table.g[hashWords(seed, octave, std::uint64_t(i), std::uint64_t(j)) & 15u];
-  };
-  const glm::dvec2 g00 = grad(i0, j0), g10 = grad(i1, j0), g01 = grad(i0, j1), g11 = grad(i1, j1);
+  const std::uint64_t hi0 = mix64(octaveKey ^ std::uint64_t(i0)), hi1 = mix64(octaveKey ^ std::uint64_t(i1));
+  const glm::dvec2 g00 = table.g[mix64(hi0 ^ std::uint64_t(j0)) & 15u], g10 = table.g[mix64(hi1 ^ std::uint64_t(j0)) & 15u];
+  const glm::dvec2 g01 = table.g[mix64(hi0 ^ std::uint64_t(j1)) & 15u], g11 = table.g[mix64(hi1 ^ std::uint64_t(j1)) & 15u];
   const double a = g00.x * tx + g00.y * ty;
   const double b = g10.x * (tx - 1.0) + g10.y * ty;
   const double c = g01.x * tx + g01.y * (ty - 1.0);
   const double e = g11.x * (tx - 1.0) + g11.y * (ty - 1.0);
-  const double sx = fade(tx), sy = fade(ty), dsx = fadeDerivative(tx), dsy = fadeDerivative(ty);
+  const double sx = fade(tx), sy = fade(ty);
   const double k = a - b - c + e;
   const double value = a + (b - a) * sx + (c - a) * sy + k * sx * sy;
-  // d/dx of each corner term is its gradient's x component (and likewise y).
-  const glm::dvec2 dk = g00 - g10 - g01 + g11;
-  d.x = g00.x + (g10.x - g00.x) * sx + (b - a) * dsx + (g01.x - g00.x) * sy + dk.x * sx * sy +
-        k * dsx * sy;
-  d.y = g00.y + (g10.y - g00.y) * sx + (g01.y - g00.y) * sy + (c - a) * dsy + dk.y * sx * sy +
-        k * sx * dsy;
+  if constexpr (WithDerivative) {
+    // d/dx of each corner term is its gradient's x component (and likewise y).
+    const double dsx = fadeDerivative(tx), dsy = fadeDerivative(ty);
+    const glm::dvec2 dk = g00 - g10 - g01 + g11;
+    d.x = g00.x + (g10.x - g00.x) * sx + (b - a) * dsx + (g01.x - g00.x) * sy + dk.x * sx * sy +
+          k * dsx * sy;
+    d.y = g00.y + (g10.y - g00.y) * sx + (g01.y - g00.y) * sy + (c - a) * dsy + dk.y * sx * sy +
+          k * sx * dsy;
+  }
   return value;
 }
 
@@ -319,6 +326,7 @@ NoiseTexture::NoiseTexture(const NoiseParams& params) : params_(params) {
     cellsU_.push_back(cu);
     cellsV_.push_back(cv);
     weight_.push_back(w);
+    octaveKey_.push_back(mix64(mix64(p.seed) ^ std::uint64_t(o)));
     total += std::fabs(w);
     w *= p.gain;
     f *= p.lacunarity;
@@ -338,10 +346,15 @@ double NoiseTexture::evaluate(const glm::dvec2& uv, glm::dvec2* gradient) const 
                                      : uv.y;
   double sum = 0.0;
   glm::dvec2 g(0.0);
+  if (!gradient) {  // the value alone (a colour ramp's samples): no derivatives
+    glm::dvec2 unused;
+    for (size_t o = 0; o < weight_.size(); ++o)
+      sum += weight_[o] * gradientNoise<false>(u * freqU_[o], v * freqV_[o], cellsU_[o], cellsV_[o], octaveKey_[o], unused);
+    return std::isfinite(sum) ? sum : 0.0;
+  }
   for (size_t o = 0; o < weight_.size(); ++o) {
     glm::dvec2 d;
-    const double n = gradientNoise(u * freqU_[o], v * freqV_[o], cellsU_[o], cellsV_[o],
-                                   params_.seed, o, d);
+    const double n = gradientNoise<true>(u * freqU_[o], v * freqV_[o], cellsU_[o], cellsV_[o], octaveKey_[o], d);
     sum += weight_[o] * n;
     g += weight_[o] * glm::dvec2(d.x * freqU_[o], d.y * freqV_[o]);
   }
