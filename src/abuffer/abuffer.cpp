@@ -537,11 +537,13 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
   depthState.assign(size_t(n), 0);
   depths.resize(size_t(n) * size_t(N));
   bool anyPartial = false;
+  std::vector<int>& whole = scratch_.whole;  // the fragments that hide wholly, front to back
+  whole.clear();
   for (int i = 0; i < n; ++i) {
     const Fragment& f = order[size_t(i)]->f;
     const int k = maskCount(f.mask);
     hides[size_t(i)] = k ? std::max(f.hideFloor, f.opacity * std::min(1.0f, f.area * float(N) / float(k))) : 0.0f;
-    if (hides[size_t(i)] >= 1.0f) owned[size_t(i)] = f.mask;
+    if (hides[size_t(i)] >= 1.0f) owned[size_t(i)] = f.mask, whole.push_back(i);
     else if (k) anyPartial = true;
   }
   // The depth of fragment i's surface at its subpixels, evaluated once, when two surfaces whose
@@ -581,10 +583,12 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
     return front;
   };
   // Ownership among the fragments that hide wholly: each pair sharing subpixels splits them.
-  for (int i = 0; i < n; ++i) {
-    if (hides[size_t(i)] < 1.0f) continue;
-    for (int j = i + 1; j < n; ++j) {
-      if (hides[size_t(j)] < 1.0f) continue;
+  // (Only those have owned bits: the loops below visit them alone, in the same order.)
+  const int nw = int(whole.size());
+  for (int a = 0; a < nw; ++a) {
+    const int i = whole[size_t(a)];
+    for (int b = a + 1; b < nw; ++b) {
+      const int j = whole[size_t(b)];
       const MaskBits common = owned[size_t(i)] & owned[size_t(j)];
       if (!common) continue;
       const MaskBits front = frontOf(i, j, common);
@@ -592,6 +596,8 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
       owned[size_t(i)] &= ~(common & ~front);
     }
   }
+  MaskBits ownedAny = 0;
+  for (int i : whole) ownedAny |= owned[size_t(i)];
   alignas(32) float T[64];
   std::fill(T, T + N, 1.0f);
   glm::vec3 rgb(0.0f);
@@ -603,7 +609,8 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
       const float hide = hides[size_t(i)];
       if (hide >= 1.0f || f.mask == 0) continue;
       MaskBits seen = f.mask;
-      for (int j = 0; j < n && seen; ++j) {
+      for (int b = 0; b < nw && (seen & ownedAny); ++b) {
+        const int j = whole[size_t(b)];
         const MaskBits common = seen & owned[size_t(j)];
         if (!common) continue;
         const MaskBits front = j > i ? frontOf(i, j, common) : common & ~frontOf(j, i, common);
@@ -621,7 +628,7 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
       alpha += w;
     }
   // The owners, through what lies in front of them.
-  for (int i = 0; i < n; ++i) {
+  for (int i : whole) {
     const MaskBits mine = owned[size_t(i)];
     if (!mine) continue;
     const Fragment& f = order[size_t(i)]->f;

@@ -265,6 +265,7 @@ class TileABuffer {
     std::vector<MaskBits> owned;
     std::vector<float> hides, depths;
     std::vector<std::int8_t> depthState;
+    std::vector<int> whole;                  ///< the fragments that hide their subpixels wholly
     std::vector<const Node*> gathered;      ///< every pixel's list, pixel after pixel (resolveTile)
     std::vector<std::uint32_t> gatherStart;  ///< pixel i's list begins at gathered[gatherStart[i]]
   };
