@@ -31,18 +31,22 @@ size_t roundedLarge(size_t bytes) { return (bytes + kHuge - 1) / kHuge * kHuge; 
 // The large blocks the last renders freed, kept for the next one: a viewer or a benchmark draws
 // frame after frame with arrays of the same sizes, and a block the kernel hands out afresh is
 // zeroed page by page on its first writes (8% of a 700,000-hair frame here). Bounded: at most
-// kCachedBlocks blocks and cacheLimit() bytes (an eighth of the memory, at most 1 GiB); a block
-// is reused only for a request of at least half its size, so little is held idle; and
-// releaseRenderMemory() gives everything back.
+// kCachedBlocks blocks and cacheLimit() bytes (an eighth of the memory, at most 1 GiB), counted
+// at the blocks' real sizes; a block is reused only for a request of more than half its size,
+// so little of it lies idle; releaseRenderMemory() gives everything back.
 constexpr int kCachedBlocks = 8;
 struct BlockCache {
   std::mutex mutex;
   void* block[kCachedBlocks] = {};
-  size_t size[kCachedBlocks] = {};
+  size_t size[kCachedBlocks] = {};  ///< real sizes (what aligned_alloc was asked for)
   size_t total = 0;
+  /// Cached blocks handed out for a smaller request, with their real sizes: freeLarge learns the
+  /// request's size only, and the cache must count (and bound) what it really holds.
+  std::vector<std::pair<void*, size_t>> lent;
 };
 BlockCache& blockCache() {
-  static BlockCache cache;
+  // Never destroyed: a PodVector freed during static destruction still finds it.
+  static BlockCache& cache = *new BlockCache;
   return cache;
 }
 size_t cacheLimit() {
@@ -60,11 +64,12 @@ void* allocateLarge(size_t bytes) {
   {
     BlockCache& c = blockCache();
     std::lock_guard<std::mutex> lock(c.mutex);
-    int best = -1;  // the smallest cached block that fits and is not twice too large
+    int best = -1;  // the smallest cached block that fits and is less than twice the request
     for (int i = 0; i < kCachedBlocks; ++i)
-      if (c.block[i] && c.size[i] >= rounded && c.size[i] / 2 <= rounded && (best < 0 || c.size[i] < c.size[best])) best = i;
+      if (c.block[i] && c.size[i] >= rounded && c.size[i] / 2 < rounded && (best < 0 || c.size[i] < c.size[best])) best = i;
     if (best >= 0) {
       void* p = c.block[best];
+      if (c.size[best] != rounded) c.lent.emplace_back(p, c.size[best]);  // may throw: nothing changed yet
       c.total -= c.size[best];
       c.block[best] = nullptr;
       c.size[best] = 0;
@@ -85,13 +90,21 @@ void* allocateLarge(size_t bytes) {
 
 void freeLarge(void* p, size_t bytes) noexcept {
   if (!p) return;
-  // allocateLarge reuses a cached block for a request of at least half its size: the block's
-  // own size is what is recorded, and every block came from aligned_alloc of a rounded size.
-  const size_t rounded = roundedLarge(bytes);
-  BlockCache& c = blockCache();
+  size_t real = roundedLarge(bytes);  // what allocateLarge asked aligned_alloc for, unless lent
+  void* evicted[kCachedBlocks];
+  int nEvicted = 0;
+  bool kept = false;
   {
+    BlockCache& c = blockCache();
     std::lock_guard<std::mutex> lock(c.mutex);
-    if (rounded <= cacheLimit()) {
+    for (size_t i = 0; i < c.lent.size(); ++i)
+      if (c.lent[i].first == p) {
+        real = c.lent[i].second;
+        c.lent[i] = c.lent.back();
+        c.lent.pop_back();
+        break;
+      }
+    if (real <= cacheLimit()) {
       // Make room: drop the largest cached blocks until this one fits the limits.
       while (true) {
         int empty = -1, largest = -1;
@@ -99,32 +112,39 @@ void freeLarge(void* p, size_t bytes) noexcept {
           if (!c.block[i]) empty = empty < 0 ? i : empty;
           else if (largest < 0 || c.size[i] > c.size[largest]) largest = i;
         }
-        if (empty >= 0 && c.total + rounded <= cacheLimit()) {
+        if (empty >= 0 && c.total + real <= cacheLimit()) {
           c.block[empty] = p;
-          c.size[empty] = rounded;
-          c.total += rounded;
-          return;
+          c.size[empty] = real;
+          c.total += real;
+          kept = true;
+          break;
         }
         if (largest < 0) break;
-        std::free(c.block[largest]);
+        evicted[nEvicted++] = c.block[largest];
         c.total -= c.size[largest];
         c.block[largest] = nullptr;
         c.size[largest] = 0;
       }
     }
   }
-  std::free(p);
+  // Given back to the system outside the lock (a large free unmaps).
+  for (int i = 0; i < nEvicted; ++i) std::free(evicted[i]);
+  if (!kept) std::free(p);
 }
 
 void releaseRenderMemory() {
-  BlockCache& c = blockCache();
-  std::lock_guard<std::mutex> lock(c.mutex);
-  for (int i = 0; i < kCachedBlocks; ++i) {
-    std::free(c.block[i]);
-    c.block[i] = nullptr;
-    c.size[i] = 0;
+  void* blocks[kCachedBlocks];
+  {
+    BlockCache& c = blockCache();
+    std::lock_guard<std::mutex> lock(c.mutex);
+    for (int i = 0; i < kCachedBlocks; ++i) {
+      blocks[i] = c.block[i];
+      c.block[i] = nullptr;
+      c.size[i] = 0;
+    }
+    c.total = 0;
   }
-  c.total = 0;
+  for (void* b : blocks) std::free(b);
 }
 
 size_t renderMemoryHeld() {
@@ -297,8 +317,9 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
     st.endOnDiscs += c.endOn;
     rejectedPerObject[j.wire ? scene.surfaces.size() + j.object : j.object] += c.rejected;
   }
-  // Shrink to what was kept (memory no page of which was touched costs nothing; the rest is
-  // given back only when much is unused, since shrinking copies).
+  // Shrink to what was kept (memory no page of which was touched costs nothing, unless it came
+  // from the blocks a previous render left, whose pages are resident; the rest is given back
+  // only when much is unused, since shrinking copies).
   auto fit = [](auto& v, size_t n) {
     v.resize(n);
     if (v.capacity() > 2 * n + 4096) v.shrink_to_fit();

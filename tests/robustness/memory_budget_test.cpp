@@ -2,6 +2,7 @@
 // memory budget"). A 16384^2 image is never allocated here: the refusals are checked to happen
 // before any allocation (the process's peak resident memory does not grow by the image's 4 GiB).
 #include "render/renderer.h"
+#include "render/pipeline.h"
 
 #include "render_test_scenes.h"
 #include "test_support.h"
@@ -124,9 +125,9 @@ TEST(RobustMemory, DefaultBudgetIsHalfThePhysicalMemory) {
 }
 
 // The large arrays a render frees are kept for the next (renderer.h, releaseRenderMemory):
-// 60,000 segments need 7.7 MB of SegmentPrim alone, over the 4 MiB of a large block. Held at
-// most an eighth of the memory (1 GiB) and 8 blocks (each under 2x its request); a second frame
-// reuses them and draws the same image bit for bit; releaseRenderMemory empties the cache.
+// 60,000 segments need 4.8 MB of SegmentPrim (80 bytes each), over the 4 MiB of a large block.
+// Held at most an eighth of the memory (1 GiB); a second frame reuses the blocks and draws the
+// same image bit for bit; releaseRenderMemory empties the cache.
 TEST(RobustMemory, LargeBlocksAreKeptBoundedReusedAndReleased) {
   constexpr int W = 256, H = 256;
   Scene s = test::baseScene(W, H);
@@ -183,6 +184,30 @@ TEST(RobustOptions, RenderersRefuseOptionsOutOfRange) {
     EXPECT_THROW((void)renderReference(tinyScene(), o), std::invalid_argument) << o.problem();
   }
   EXPECT_NO_THROW((void)render(tinyScene(), test::smallOptions(64, 64)));
+}
+
+// A cached block serving a smaller request (more than half its size) is counted at its real
+// size when it comes back: 16 MiB freed, 10 MiB asked (the same block), 10 MiB freed: 16 MiB held,
+// not 10 (otherwise each reuse could shrink the count and the bound would hold only on paper).
+// A request of half a block's size or less gets a fresh block.
+TEST(RobustMemory, ACachedBlockIsCountedAtItsRealSize) {
+  constexpr size_t MiB = size_t(1) << 20;
+  releaseRenderMemory();
+  void* a = allocateLarge(16 * MiB);
+  freeLarge(a, 16 * MiB);
+  ASSERT_EQ(renderMemoryHeld(), 16 * MiB);
+  void* b = allocateLarge(10 * MiB);
+  EXPECT_EQ(b, a);  // reused
+  EXPECT_EQ(renderMemoryHeld(), 0u);
+  freeLarge(b, 10 * MiB);
+  EXPECT_EQ(renderMemoryHeld(), 16 * MiB);
+  void* c = allocateLarge(8 * MiB);  // half: not this block
+  EXPECT_NE(c, a);
+  EXPECT_EQ(renderMemoryHeld(), 16 * MiB);
+  freeLarge(c, 8 * MiB);
+  EXPECT_EQ(renderMemoryHeld(), 24 * MiB);
+  releaseRenderMemory();
+  EXPECT_EQ(renderMemoryHeld(), 0u);
 }
 
 }  // namespace
