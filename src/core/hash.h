@@ -15,10 +15,15 @@ constexpr std::uint64_t mix64(std::uint64_t z) {
   return z ^ (z >> 31);
 }
 
+/// One more word into a hash chain: hashWords is hashAppend(hashAppend(hashAppend(mix64(a), b),
+/// c), d), so that a caller hashing many tuples with a common prefix (seed, octave, column) can
+/// keep the prefix's chain and append only what differs, with the same values.
+constexpr std::uint64_t hashAppend(std::uint64_t chain, std::uint64_t word) { return mix64(chain ^ word); }
+
 /// A 64-bit hash of up to four words.
 constexpr std::uint64_t hashWords(std::uint64_t a, std::uint64_t b = 0, std::uint64_t c = 0,
                                   std::uint64_t d = 0) {
-  return mix64(mix64(mix64(mix64(a) ^ b) ^ c) ^ d);
+  return hashAppend(hashAppend(hashAppend(mix64(a), b), c), d);
 }
 
 /// Uniform in [0, 1) from a hash (53 bits).

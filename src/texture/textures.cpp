@@ -261,9 +261,9 @@ double fadeDerivative(double t) { return 30.0 * t * t * (t * (t - 2.0) + 1.0); }
 
 /// One octave of gradient noise at lattice coordinates (x, y), value in [-sqrt(2)/2, sqrt(2)/2],
 /// with its analytic derivative in (x, y) when asked. Period (cellsX, cellsY) when non-zero.
-/// `octaveKey` is mix64(mix64(seed) ^ octave): a corner's gradient is
-/// hashWords(seed, octave, i, j) = mix64(mix64(octaveKey ^ i) ^ j), the first two rounds shared
-/// by every corner and sample of the octave, the third by the corners of one column.
+/// A corner's gradient is hashWords(seed, octave, i, j), built from the octave's chain
+/// `octaveKey` (core/hash.h, hashAppend): the prefix (seed, octave) is shared by every corner
+/// and sample of the octave, (seed, octave, i) by the corners of one column.
 template <bool WithDerivative>
 double gradientNoise(double x, double y, std::int64_t cellsX, std::int64_t cellsY, std::uint64_t octaveKey,
                      glm::dvec2& d) {
@@ -275,9 +275,9 @@ double gradientNoise(double x, double y, std::int64_t cellsX, std::int64_t cells
   if (cellsX > 0) i0 = positiveMod(i0, cellsX), i1 = i0 + 1 == cellsX ? 0 : i0 + 1;
   if (cellsY > 0) j0 = positiveMod(j0, cellsY), j1 = j0 + 1 == cellsY ? 0 : j0 + 1;
   const GradientTable& table = gradients();
-  const std::uint64_t hi0 = mix64(octaveKey ^ std::uint64_t(i0)), hi1 = mix64(octaveKey ^ std::uint64_t(i1));
-  const glm::dvec2 g00 = table.g[mix64(hi0 ^ std::uint64_t(j0)) & 15u], g10 = table.g[mix64(hi1 ^ std::uint64_t(j0)) & 15u];
-  const glm::dvec2 g01 = table.g[mix64(hi0 ^ std::uint64_t(j1)) & 15u], g11 = table.g[mix64(hi1 ^ std::uint64_t(j1)) & 15u];
+  const std::uint64_t h0 = hashAppend(octaveKey, std::uint64_t(i0)), h1 = hashAppend(octaveKey, std::uint64_t(i1));
+  auto grad = [&](std::uint64_t column, std::int64_t j) { return table.g[hashAppend(column, std::uint64_t(j)) & 15u]; };
+  const glm::dvec2 g00 = grad(h0, j0), g10 = grad(h1, j0), g01 = grad(h0, j1), g11 = grad(h1, j1);
   const double a = g00.x * tx + g00.y * ty;
   const double b = g10.x * (tx - 1.0) + g10.y * ty;
   const double c = g01.x * tx + g01.y * (ty - 1.0);
@@ -326,7 +326,7 @@ NoiseTexture::NoiseTexture(const NoiseParams& params) : params_(params) {
     cellsU_.push_back(cu);
     cellsV_.push_back(cv);
     weight_.push_back(w);
-    octaveKey_.push_back(mix64(mix64(p.seed) ^ std::uint64_t(o)));
+    octaveKey_.push_back(hashAppend(mix64(p.seed), std::uint64_t(o)));  // hashWords' chain after (seed, octave)
     total += std::fabs(w);
     w *= p.gain;
     f *= p.lacunarity;

@@ -124,7 +124,7 @@ class NoiseTexture final : public ScalarTexture {
   NoiseParams params_;
   std::vector<double> freqU_, freqV_, weight_;  ///< per octave (weights sum to amplitude)
   std::vector<std::int64_t> cellsU_, cellsV_;   ///< lattice period per octave (0: aperiodic)
-  std::vector<std::uint64_t> octaveKey_;         ///< per octave: mix64(mix64(seed) ^ octave)
+  std::vector<std::uint64_t> octaveKey_;         ///< per octave: hashWords' chain of (seed, octave) (core/hash.h)
 };
 
 /// One stop of a colour ramp.
