@@ -22,8 +22,11 @@ std::string quoted(const std::string& s) {
 
 void plotPng(const PlotSpec& spec, const std::string& pngPath) {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("wirefur-plot-" + std::to_string(getpid()));
-  fs::create_directories(dir);
+  // A folder of this call's own: mkdtemp, so no other process and no folder left by an earlier
+  // process with the same pid can share it.
+  std::string tmpl = (fs::temp_directory_path() / "wirefur-plot-XXXXXX").string();
+  if (::mkdtemp(tmpl.data()) == nullptr) throw std::runtime_error(pngPath + ": cannot make a folder for gnuplot in " + fs::temp_directory_path().string());
+  const fs::path dir = tmpl;
   const fs::path script = dir / "plot.gp";
   std::ofstream gp(script);
   gp << "set terminal pngcairo size 900,720 font 'Sans,10'\n";

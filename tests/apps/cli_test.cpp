@@ -25,7 +25,7 @@ Result run(const std::string& args) { return wf::test::runWirefur(args); }
 using wf::test::lineCount;
 
 fs::path freshDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("wirefur-cli-" + name + "-" + std::to_string(::getpid()));
+  const fs::path d = wf::test::processScratchRoot() / name;
   fs::remove_all(d);
   return d;
 }

@@ -154,9 +154,10 @@ TEST(RenderCli, BadOptionsAreExitTwo) {
 TEST(RenderCli, SimplifyAndWireDepthOptions) {
   const fs::path png = dir() / "simplify.png";
   const std::string scene = "'" + kScenes + "fur_torus.json'";
-  for (const std::string& bad : {"--simplify 0", "--simplify 0.05", "--simplify 65", "--simplify nan", "--simplify inf",
+  for (const char* badText : {"--simplify 0", "--simplify 0.05", "--simplify 65", "--simplify nan", "--simplify inf",
                                  "--simplify 1e400", "--simplify abc", "--simplify ''", "--simplify 2px", "--wire-depth square",
                                  "--wire-depth ''"}) {
+    const std::string bad = badText;
     const Result r = run("render " + scene + " -o '" + png.string() + "' " + bad);
     EXPECT_EQ(r.status, 2) << bad << ": " << r.err;
     EXPECT_EQ(lines(r.err), 1) << bad << ": " << r.err;

@@ -37,10 +37,7 @@ const std::string kScenes = std::string(WIREFUR_SOURCE_DIR) + "/data/scenes/";
 // Each test writes into its own folder, named after the test.
 fs::path testDir() {
   const ::testing::TestInfo* t = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path p = fs::temp_directory_path() / ("wirefur-keys-" + std::to_string(::getpid())) /
-                     (std::string(t->test_suite_name()) + "." + t->name());
-  fs::create_directories(p);
-  return p;
+  return wf::test::scratchDir(std::string(t->test_suite_name()) + "." + t->name());
 }
 
 std::string write(const fs::path& d, const std::string& name, const std::string& bytes) { return wf::test::writeFile(d, name, bytes); }
@@ -62,7 +59,7 @@ constexpr bool kCapAddressSpace = true;
 #endif
 
 Result runCapped(const std::string& args, long memKiB, int seconds) {
-  const fs::path errFile = fs::temp_directory_path() / ("wirefur-keys-err-" + std::to_string(::getpid()));
+  const fs::path errFile = wf::test::processScratchRoot() / "capped-stderr.txt";
   const std::string cap = kCapAddressSpace ? "ulimit -v " + std::to_string(memKiB) + "; " : std::string();
   const std::string cmd = cap + "exec timeout " + std::to_string(seconds) +
                           " '" + WIREFUR_EXE + "' " + args + " >/dev/null 2>'" + errFile.string() + "'";

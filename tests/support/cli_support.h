@@ -8,10 +8,29 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <stdexcept>
 #include <sstream>
 #include <string>
 
 namespace wf::test {
+
+/// This test process's own folder, made by mkdtemp on first use (so no other process, nor a
+/// folder left by an earlier process that had the same pid, can be in it) and removed when the
+/// process exits.
+inline const std::filesystem::path& processScratchRoot() {
+  // Never destroyed: the exit handler below runs after static destructors registered later.
+  static const std::filesystem::path* const root = [] {
+    std::string tmpl = (std::filesystem::temp_directory_path() / "wirefur-test-XXXXXX").string();
+    if (::mkdtemp(tmpl.data()) == nullptr) throw std::runtime_error("mkdtemp failed for " + tmpl);
+    auto* p = new std::filesystem::path(tmpl);
+    std::atexit([] {
+      std::error_code ec;
+      std::filesystem::remove_all(processScratchRoot(), ec);
+    });
+    return p;
+  }();
+  return *root;
+}
 
 struct CliResult {
   int status;       ///< exit status (-1 when killed by a signal)
@@ -20,8 +39,7 @@ struct CliResult {
 
 /// Runs `WIREFUR_EXE args` through the shell, stdout discarded.
 inline CliResult runWirefur(const std::string& args) {
-  const std::filesystem::path errFile =
-      std::filesystem::temp_directory_path() / ("wirefur-cli-err-" + std::to_string(::getpid()));
+  const std::filesystem::path errFile = processScratchRoot() / "stderr.txt";
   const std::string cmd = std::string("'") + WIREFUR_EXE + "' " + args + " >/dev/null 2>'" + errFile.string() + "'";
   const int raw = std::system(cmd.c_str());
   std::ifstream f(errFile);
@@ -31,9 +49,9 @@ inline CliResult runWirefur(const std::string& args) {
   return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, ss.str()};
 }
 
-/// A folder of this test process's own, emptied on first use: temp/<prefix>-<pid>.
+/// A folder of this test process's own under processScratchRoot(), emptied on first use.
 inline std::filesystem::path scratchDir(const std::string& prefix) {
-  const std::filesystem::path p = std::filesystem::temp_directory_path() / (prefix + "-" + std::to_string(::getpid()));
+  const std::filesystem::path p = processScratchRoot() / prefix;
   static std::set<std::string> cleared;  // each prefix is emptied once per process
   if (cleared.insert(prefix).second) std::filesystem::remove_all(p);
   std::filesystem::create_directories(p);
