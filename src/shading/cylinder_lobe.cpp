@@ -1,0 +1,131 @@
+#include "shading/cylinder_lobe.h"
+
+#include "shading/quadrature.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace wf {
+
+namespace {
+
+// Beyond n x^2 = 745, (1 - x^2)^n <= exp(-n x^2) is below the smallest double: nothing is left
+// to integrate there.
+constexpr double kTailExponent = 745.0;
+
+// Integer exponents up to this use the recurrence in lobeFactorExact (cheaper than quadrature).
+constexpr double kRecurrenceMax = 256.0;
+
+}  // namespace
+
+double lobeIntegral(double n, double lo, double hi) {
+  n = sanitizedExponent(n);
+  lo = std::clamp(std::isnan(lo) ? 0.0 : lo, 0.0, 1.0);
+  hi = std::clamp(std::isnan(hi) ? 0.0 : hi, 0.0, 1.0);
+  if (!(hi > lo)) return 0.0;
+  if (n == 0.0) return hi - lo;
+  hi = std::min(hi, std::sqrt(kTailExponent / n));
+  if (!(hi > lo)) return 0.0;
+  auto f = [n](double x) { return std::exp(n * std::log1p(-x * x)); };
+  // The integrand is ~exp(-n x^2): break at multiples of its width so that each piece is smooth
+  // on its own scale.
+  const double sigma = 1.0 / std::sqrt(2.0 * n);
+  std::vector<std::array<double, 2>> pieces;
+  double a = lo;
+  for (double k : {1.0, 3.0, 8.0, 24.0}) {
+    const double b = k * sigma;
+    if (b <= a) continue;
+    if (b >= hi) break;
+    pieces.push_back({a, b});
+    a = b;
+  }
+  pieces.push_back({a, hi});
+  return quadrature::integrateAdaptive(f, pieces, 1e-13, 1e-300);
+}
+
+double lobeFactorExact(double n, double y) {
+  if (!(y > 0.0)) return 1.0;  // also NaN
+  if (std::isinf(y)) return 0.0;
+  n = sanitizedExponent(n);
+  const double x = std::min(y, 1.0);
+  if (n <= kRecurrenceMax && n == std::floor(n)) {
+    // Integer exponents by the reduction formula F_k = (x (1 - x^2)^k + 2k F_(k-1)) / (2k + 1),
+    // F_0 = x: every term is positive, so the recurrence is stable (relative error ~k ulp).
+    const double d = 1.0 - x * x;
+    double F = x, p = 1.0;
+    for (int k = 1; k <= int(n); ++k) {
+      p *= d;
+      F = (x * p + 2.0 * k * F) / (2.0 * k + 1.0);
+    }
+    return F / y;
+  }
+  return lobeIntegral(n, 0.0, x) / y;
+}
+
+CylinderLobeTable::CylinderLobeTable(double exponent, int nodes) {
+  const auto t0 = std::chrono::steady_clock::now();
+  n_ = sanitizedExponent(exponent);
+  const int K = std::clamp(nodes, 4, 1 << 20);
+  scale_ = std::sqrt(n_ + 1.0);
+  tauMax_ = scale_ / (1.0 + scale_);
+  const double step = tauMax_ / (K - 1);
+  invStep_ = 1.0 / step;
+  auto yAt = [&](double tau) { return tau / ((1.0 - tau) * scale_); };
+  auto dyDtau = [&](double tau) { return 1.0 / (scale_ * (1.0 - tau) * (1.0 - tau)); };
+  auto lobe = [&](double y) { return n_ == 0.0 ? 1.0 : std::exp(n_ * std::log1p(-y * y)); };
+  std::vector<double> ys(static_cast<size_t>(K)), Fs(static_cast<size_t>(K));
+  value_.resize(size_t(K));
+  slope_.resize(size_t(K));
+  double F = 0.0;
+  for (int i = 0; i < K; ++i) {
+    const double tau = i == K - 1 ? tauMax_ : i * step;
+    const double y = i == K - 1 ? 1.0 : yAt(tau);
+    if (i > 0) F += lobeIntegral(n_, ys[size_t(i) - 1], y);
+    ys[size_t(i)] = y, Fs[size_t(i)] = F;
+    const double G = i == 0 ? 1.0 : F / y;
+    const double dGdy = i == 0 ? 0.0 : (lobe(y) - G) / y;
+    value_[size_t(i)] = G;
+    slope_[size_t(i)] = dGdy * dyDtau(tau) * step;  // per node spacing
+  }
+  f1_ = F;
+  // The interpolation error, found between the nodes where it peaks.
+  error_ = 0.0;
+  for (int i = 0; i + 1 < K; ++i) {
+    for (double frac : {0.25, 0.5, 0.75}) {
+      const double tau = (i + frac) * step, y = yAt(tau);
+      const double exact = (Fs[size_t(i)] + lobeIntegral(n_, ys[size_t(i)], y)) / y;
+      error_ = std::max(error_, std::abs(factor(y) - exact));
+    }
+  }
+  buildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+double CylinderLobeTable::factor(double y) const {
+  if (!(y > 0.0)) return 1.0;  // also NaN
+  if (y >= 1.0) return f1_ / y;  // +Inf: 0
+  const double z = y * scale_;
+  const double x = z / (1.0 + z) * invStep_;
+  const int last = int(value_.size()) - 2;
+  const int i = std::min(int(x), last);
+  const double t = std::min(x - i, 1.0), s = 1.0 - t;
+  const double h00 = (1.0 + 2.0 * t) * s * s, h10 = t * s * s, h01 = t * t * (3.0 - 2.0 * t), h11 = -t * t * s;
+  return h00 * value_[size_t(i)] + h10 * slope_[size_t(i)] + h01 * value_[size_t(i) + 1] + h11 * slope_[size_t(i) + 1];
+}
+
+double cylinderSpecularClosedForm(double a, double b, double u, double w, double v, double exponent,
+                                  const CylinderLobeTable* table) {
+  const double rho = std::sqrt(a * a + b * b);
+  const double P = rho * v, A = P - u * w;
+  if (!(P > 0.0) || !(A > 0.0)) return 0.0;  // also NaN
+  const double c2 = std::clamp(0.5 * (1.0 + a / rho), 0.0, 1.0);  // cos^2(beta / 2)
+  const double y = std::sqrt(2.0 * c2 * P / A);
+  const double n = sanitizedExponent(exponent);
+  if (table && table->exponent() != n) table = nullptr;  // a table of another exponent: exact
+  return c2 * phongLobe(A, n) * (table ? table->factor(y) : lobeFactorExact(n, y));
+}
+
+}  // namespace wf
