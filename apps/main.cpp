@@ -30,7 +30,7 @@ constexpr const char* kUsage =
     "  accuracy [--json FILE] [--plots DIR] [--quick] [--quiet]\n"
     "                                               error against run time of every shading approximation\n"
     "  render   [INPUT] -o OUT.png [--size WxH] [--style STYLE] [--mask 4x4|8x4|8x8] [--threads N]\n"
-    "           [--stats FILE] [--budget K] [--shading maps|exact] [--reference [--samples N]]\n"
+    "           [--stats FILE] [--budget K] [--shading closed|maps|exact] [--reference [--samples N]]\n"
     "           [--time T] [--simplify WIDTH|off] [--wire-depth round|flat]\n"
     "           [--view-grid N] [--measure-error] [--memory-budget BYTES|NNM|NNG] [--quiet] [CAD options]\n"
     "                                               INPUT: scene .json, CAD .step .stp .iges .igs .brep .FCStd,\n"
@@ -109,8 +109,9 @@ int run(const std::vector<std::string>& a) {
       else if (a[i] == "--memory-budget") o.memoryBudget = wfapp::parseByteSize("--memory-budget", need(a, i));
       else if (a[i] == "--shading") {
         const std::string v = need(a, i);
-        if (v != "maps" && v != "exact") throw wfapp::UsageError("option --shading: expected maps or exact");
-        o.exact = v == "exact";
+        if (v != "closed" && v != "maps" && v != "exact")
+          throw wfapp::UsageError("option --shading: expected closed, maps or exact");
+        o.shading = v;
       } else if (a[i] == "--reference") o.reference = true;
       else if (a[i] == "--measure-error") o.measureError = true;
       else if (a[i] == "--samples") o.samples = wfapp::parsePositiveInt("--samples", need(a, i));

@@ -46,6 +46,19 @@ wf::RenderOptions renderOptionsFor(const SceneFile& sf) {
   return o;
 }
 
+wf::ShadingPath shadingPathNamed(const std::string& name) {
+  return name == "maps" ? wf::ShadingPath::Maps : name == "exact" ? wf::ShadingPath::Exact : wf::ShadingPath::Closed;
+}
+
+const char* shadingPathName(wf::ShadingPath path) {
+  switch (path) {
+    case wf::ShadingPath::Maps: return "maps";
+    case wf::ShadingPath::Exact: return "exact";
+    case wf::ShadingPath::Closed: break;
+  }
+  return "closed";
+}
+
 json statsJson(const wf::RenderStats& st, const wf::RenderOptions& o, bool reference) {
   json j;
   j["renderer"] = reference ? "reference" : "abuffer";
@@ -61,9 +74,10 @@ json statsJson(const wf::RenderStats& st, const wf::RenderOptions& o, bool refer
   e["map_max"] = st.mapError;
   e["sphere_max"] = st.sphereError;
   e["orthographic_max"] = st.orthographicError;
+  e["lobe_max"] = st.lobeError;
   e["budget_tail_share"] = st.budgetTailShare;
   e["occlusion_epsilon"] = st.occlusionEpsilon;
-  e["shading_bound"] = st.mapError + st.sphereError + st.orthographicError;
+  e["shading_bound"] = st.mapError + st.sphereError + st.orthographicError + st.lobeError;
   if (o.simplify.enabled)
     e["simplification"] = {{"hairs", st.simplifiedHairs},
                            {"drawn", st.simplifiedKept},
@@ -76,7 +90,9 @@ json statsJson(const wf::RenderStats& st, const wf::RenderOptions& o, bool refer
       "sphere_max: max |table - exact| over 192 test directions at a node of the view grid; "
       "orthographic_max: the same with the view-direction approximation where it is worst (the "
       "image corner for one orthographic table, the corner cell's centre for a grid of them). "
-      "Radiance units.";
+      "lobe_max: closed path (the default), where shading is exact at each fragment's own view "
+      "vector but for the tabulated factor of the cylinder integral: its measured error times the "
+      "specular colour and the lights' sum. Radiance units.";
   j["error_estimate"] = e;
   j["options"] = {{"size", {o.width, o.height}},
                   {"wire_depth", o.wireDepth == wf::WireDepth::Round ? "round" : "flat"},
@@ -84,7 +100,7 @@ json statsJson(const wf::RenderStats& st, const wf::RenderOptions& o, bool refer
                   {"mask", o.mask.name()},
                   {"budget", o.budget},
                   {"occlusion_epsilon", o.occlusionEpsilon},
-                  {"shading", o.shading == wf::ShadingPath::Maps ? "maps" : "exact"},
+                  {"shading", shadingPathName(o.shading)},
                   {"threads", o.threads},
                   {"tile_size", o.tileSize},
                   {"map_resolution", o.map.resolution},
@@ -93,6 +109,7 @@ json statsJson(const wf::RenderStats& st, const wf::RenderOptions& o, bool refer
   if (reference) j["options"]["reference_samples"] = o.referenceSamples * o.referenceSamples;
   j["left_out"] = {{"pseudo_reflectance_maps_built", st.pseudoReflectanceMaps},
                    {"reflectance_spheres_built", st.reflectanceSpheres},
+                   {"lobe_tables_built", st.lobeTables},
                    {"tiles", st.tiles},
                    {"tiles_empty", st.tilesEmpty},
                    {"covered_pixels", st.abuffer.coveredPixels},
@@ -161,7 +178,7 @@ int runRender(const RenderCommandOptions& o) {
     throw UsageError("option --mask: expected 4x4, 8x4 or 8x8, got '" + o.mask + "'");
   if (o.budget > 0) ro.budget = o.budget;
   ro.threads = o.threads;
-  ro.shading = (o.exact || o.reference) ? wf::ShadingPath::Exact : wf::ShadingPath::Maps;
+  ro.shading = o.reference ? wf::ShadingPath::Exact : shadingPathNamed(o.shading);
   ro.referenceSamples = o.samples;
   if (o.viewGrid > 0) ro.viewGrid = o.viewGrid;
   if (o.simplify) {

@@ -22,7 +22,7 @@ struct RenderCommandOptions {
   std::string mask;            ///< empty: from the scene
   int budget = 0;              ///< 0: from the scene
   int threads = 0;
-  bool exact = false;          ///< exact shading instead of the maps
+  std::string shading = "closed";  ///< --shading closed|maps|exact (wf::ShadingPath)
   bool reference = false;      ///< brute-force reference instead of the A-buffer
   bool measureError = false;   ///< also render the reference and report the measured error
   int samples = 16;            ///< reference samples per side
@@ -39,6 +39,10 @@ int runRender(const RenderCommandOptions& options);
 
 /// Loads INPUT as the contract says (scene, mesh file, or built-in when empty).
 SceneFile loadInput(const std::string& input, const std::string& style, const SceneOverrides& overrides = {});
+
+/// The shading path of --shading's name (closed, maps, exact), and the name of a path.
+wf::ShadingPath shadingPathNamed(const std::string& name);
+const char* shadingPathName(wf::ShadingPath path);
 
 /// Render options from a scene file's settings.
 wf::RenderOptions renderOptionsFor(const SceneFile& sf);

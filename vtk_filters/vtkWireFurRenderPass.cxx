@@ -355,15 +355,19 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
       options.threads = this->Threads;
       options.opaqueDepth = &in.ViewDepth;
       options.shadingCache = in.Tables;
+      options.shading = this->Shading == 1 ? wf::ShadingPath::Maps
+        : this->Shading == 2               ? wf::ShadingPath::Exact
+                                           : wf::ShadingPath::Closed;
       try
       {
         const wf::RenderResult r = wf::render(in.Scene, options);
         this->LastCoreSeconds = r.stats.total;
         this->LastErrorEstimate =
-          std::max({ r.stats.mapError, r.stats.sphereError, r.stats.orthographicError });
+          std::max({ r.stats.mapError, r.stats.sphereError, r.stats.orthographicError, r.stats.lobeError });
         this->LastCoverageError = r.stats.coverageQuantisation;
         this->LastFragments = vtkTypeInt64(r.stats.abuffer.fragments);
-        this->LastTablesBuilt = r.stats.pseudoReflectanceMaps + r.stats.reflectanceSpheres;
+        this->LastTablesBuilt =
+          r.stats.pseudoReflectanceMaps + r.stats.reflectanceSpheres + r.stats.lobeTables;
         this->LastTablesReused = int(r.stats.tablesReused);
         in.Composite(r.image, w, h);
         in.WriteBack(renWin, x, y, w, h);
@@ -413,6 +417,7 @@ void vtkWireFurRenderPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Mask: " << this->MaskWidth << "x" << this->MaskHeight << "\n";
   os << indent << "Budget: " << this->Budget << "\n";
   os << indent << "Threads: " << this->Threads << "\n";
+  os << indent << "Shading: " << (this->Shading == 1 ? "maps" : this->Shading == 2 ? "exact" : "closed") << "\n";
   os << indent << "Ambient: (" << this->Ambient[0] << ", " << this->Ambient[1] << ", " << this->Ambient[2] << ")\n";
   os << indent << "LastRenderSeconds: " << this->LastRenderSeconds << "\n";
   os << indent << "LastCoreSeconds: " << this->LastCoreSeconds << "\n";

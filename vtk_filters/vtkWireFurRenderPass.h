@@ -105,6 +105,18 @@ public:
   ///@}
 
   ///@{
+  /// How the core shades wires, hairs, grain and surfaces (wf::ShadingPath): 0, closed (the
+  /// default): at every fragment's own view vector, exact in perspective but for a table of one
+  /// variable per exponent (error ~1e-9); 1, maps: the paper's pseudo-reflectance maps and
+  /// reflectance spheres (orthographic view assumption); 2, exact: the reference.
+  vtkSetClampMacro(Shading, int, 0, 2);
+  vtkGetMacro(Shading, int);
+  void SetShadingToClosed() { this->SetShading(0); }
+  void SetShadingToMaps() { this->SetShading(1); }
+  void SetShadingToExact() { this->SetShading(2); }
+  ///@}
+
+  ///@{
   /// Ambient radiance of the core's light rig (linear RGB). Default (0, 0, 0).
   vtkSetVector3Macro(Ambient, double);
   vtkGetVector3Macro(Ambient, double);
@@ -114,8 +126,9 @@ public:
   vtkGetMacro(LastRenderSeconds, double);
   /// Seconds of the last core A-buffer render alone (0 when no prop was marked).
   vtkGetMacro(LastCoreSeconds, double);
-  /// The largest shading error bound of the last core render (radiance, linear; the maps,
-  /// reflectance spheres and the orthographic-view approximation, whichever is worst).
+  /// The shading error bound of the last core render (radiance, linear): on the closed path
+  /// the lobe tables' bound; on the map path the maps, reflectance spheres and the
+  /// orthographic-view approximation, whichever is worst; 0 on the exact path.
   vtkGetMacro(LastErrorEstimate, double);
   /// Coverage quantisation of the last core render: 1 / subpixels of the mask.
   vtkGetMacro(LastCoverageError, double);
@@ -123,8 +136,9 @@ public:
   vtkGetMacro(LastFragments, vtkTypeInt64);
   /// Marked actors drawn by the last Render.
   vtkGetMacro(LastMarkedProps, int);
-  /// Shading tables (maps, spheres) the last Render built, and those it took from the frame
-  /// before (they are rebuilt only when a material, the lights in eye space or the view change).
+  /// Shading tables (lobe tables; maps, spheres) the last Render built, and those it took from the
+  /// frame before (lobe tables are kept while used; maps and spheres are rebuilt only when a
+  /// material, the lights in eye space or the view change).
   vtkGetMacro(LastTablesBuilt, int);
   vtkGetMacro(LastTablesReused, int);
 
@@ -137,6 +151,7 @@ protected:
   int MaskHeight = 4;
   int Budget = 64;
   int Threads = 0;
+  int Shading = 0;
   double Ambient[3] = { 0.0, 0.0, 0.0 };
   double LastRenderSeconds = 0.0;
   double LastCoreSeconds = 0.0;

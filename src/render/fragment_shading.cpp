@@ -3,7 +3,7 @@
 // (perspective-correct) and shadeSurfaceFragment (surface_shading.cpp).
 #include "render/pipeline.h"
 
-#include "shading/cylinder_shading.h"
+#include "shading/cylinder_lobe.h"
 
 #include <algorithm>
 #include <cmath>
@@ -183,8 +183,9 @@ glm::vec3 shadeFragment(const PreparedScene& ps, std::uint32_t i, double x, doub
     default: {
       const glm::dvec3 T = glm::mix(glm::dvec3(sh.t0), glm::dvec3(sh.t1), s);
       if (ps.path == ShadingPath::Maps && slot.wireTables) return slot.wireTables->lookup(T, x, y) * c;
+      // Closed and exact paths: the cylinder integral at this fragment's own view vector.
       const glm::dvec3 P = ps.view.eyePoint(x, y, depth);
-      return glm::vec3(cylinderRadianceExact(T, ps.view.viewVector(P), slot.phong, ps.eyeLights, 1e-8)) * c;
+      return glm::vec3(cylinderRadianceClosed(T, ps.view.viewVector(P), slot.phong, ps.eyeLights, slot.lobe.get())) * c;
     }
   }
 }

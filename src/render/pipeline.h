@@ -30,6 +30,7 @@
 #include "abuffer/screen_polygon.h"
 #include "core/hash.h"
 #include "render/renderer.h"
+#include "shading/cylinder_lobe.h"
 #include "shading/pseudo_reflectance_map.h"
 #include "shading/reflectance_sphere.h"
 #include "render/view_tables.h"
@@ -167,6 +168,8 @@ struct ShaderSlot {
   bool split = false;
   std::shared_ptr<WireTables> wireSpecular;
   std::shared_ptr<SurfaceTables> surfaceSpecular;
+  /// Shaded wire and burnished surfaces, closed path: the lobe table of the material's exponent.
+  std::shared_ptr<const CylinderLobeTable> lobe;
   /// Surfaces: the material (textures, bumps, grooves, grain) and what its fragments need.
   const Material* material = nullptr;
   bool needsUv = false;          ///< colour map, bump map, grooves along u or v, grain along u or v
@@ -183,7 +186,7 @@ struct PreparedScene {
   const Scene* scene = nullptr;
   ViewTransform view;
   LightRig eyeLights;  ///< canonical, eye space
-  ShadingPath path = ShadingPath::Maps;
+  ShadingPath path = ShadingPath::Closed;
   WireDepth wireDepth = WireDepth::Round;
   std::unique_ptr<ViewGrid> grid;  ///< view directions of the tables (held by pointer: tables refer to it)
   std::vector<ShaderSlot> shaders;

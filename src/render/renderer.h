@@ -21,8 +21,12 @@
 namespace wf {
 
 enum class ShadingPath {
+  /// At the true view vector of every fragment (perspective-exact): Phong and chrome directly,
+  /// wires, hairs and burnish grain by the cylinder integral in closed form with its one
+  /// non-elementary factor read from a table per exponent (shading/cylinder_lobe.h; error ~1e-9).
+  Closed,
   Maps,   ///< pseudo-reflectance maps and reflectance spheres (the paper; orthographic view)
-  Exact,  ///< cylinder integral and Phong at the true view vector of every fragment
+  Exact,  ///< as Closed, with the factor computed exactly: the reference
 };
 
 /// The depth of a wire across its width (what decides, subpixel by subpixel, which of two
@@ -66,7 +70,7 @@ struct RenderOptions {
   double occlusionEpsilon = 1e-4;
   int tileSize = 32;
   int threads = 0;          ///< 0: all cores
-  ShadingPath shading = ShadingPath::Maps;
+  ShadingPath shading = ShadingPath::Closed;
   WireDepth wireDepth = WireDepth::Round;
   SimplifyOptions simplify{};
   PseudoReflectanceMapOptions map{};
@@ -138,6 +142,10 @@ struct RenderStats {
   double coverageQuantisation = 0;  ///< 1/N: one subpixel, where masks decide hiding
   double mapError = 0;              ///< max |map - exact| (orthographic) over a test set
   double sphereError = 0;           ///< max |sphere - Phong| over a test set
+  /// Closed path: the lobe tables' measured error (CylinderLobeTable::measuredError) times the
+  /// largest specular colour and the lights' summed intensity: a bound on |closed - exact|.
+  double lobeError = 0;
+  int lobeTables = 0;               ///< closed path: lobe tables built (one per exponent)
   double orthographicError = 0;     ///< tables with the view-direction approximation vs exact, where worst
   double budgetTailShare = 0;       ///< share of fragments blended into tails
   double occlusionEpsilon = 0;      ///< bound of the error of occlusion culling per pixel

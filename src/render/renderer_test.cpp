@@ -483,6 +483,7 @@ TEST(Render, NonFiniteVerticesAreSkippedWithAWarning) {
 TEST(Render, BuildsOnlyTheMapsTheSceneNeeds) {
   const int W = 32, H = 32;
   RenderOptions o = smallOptions(W, H);
+  o.shading = ShadingPath::Maps;
   auto wire = [&](WireStyle style, int material) {
     SceneWire w = plainWire({{{4, 4}, {28, 20}}}, 2.0, 10.0, W, H);
     w.style = style;
@@ -520,6 +521,38 @@ TEST(Render, BuildsOnlyTheMapsTheSceneNeeds) {
     const RenderResult r = render(s, o);
     EXPECT_EQ(r.stats.pseudoReflectanceMaps, 0);
     EXPECT_EQ(r.stats.reflectanceSpheres, 1);
+  }
+  // The closed path (the default): one lobe table per exponent of a shaded wire or burnished
+  // surface, nothing for plain wires or Phong surfaces, no maps or spheres at all.
+  RenderOptions oc = o;
+  oc.shading = ShadingPath::Closed;
+  {
+    Scene s = base;
+    s.wires = {wire(WireStyle::Plain, 0), wire(WireStyle::Plain, 1)};
+    s.surfaces = {screenRect(2, 2, 10, 10, 10, W, H, glm::vec3(1), 0)};
+    const RenderResult r = render(s, oc);
+    EXPECT_EQ(r.stats.lobeTables, 0);
+    EXPECT_EQ(r.stats.pseudoReflectanceMaps + r.stats.reflectanceSpheres, 0);
+    EXPECT_EQ(r.stats.lobeError, 0.0);
+  }
+  {
+    Scene s = base;  // exponents 20 and 7, three shaded wires: two tables
+    s.wires = {wire(WireStyle::Shaded, 0), wire(WireStyle::Shaded, 1), wire(WireStyle::Shaded, 0)};
+    const RenderResult r = render(s, oc);
+    EXPECT_EQ(r.stats.lobeTables, 2);
+    EXPECT_EQ(r.stats.pseudoReflectanceMaps + r.stats.reflectanceSpheres, 0);
+    EXPECT_EQ(r.stats.lobeError, 0.0);  // ambient light only: no specular to get wrong
+    s.lights.lights = {DirectionalLight{glm::dvec3(0, 0, 1), glm::dvec3(1.0)}};
+    s.materials[1].phong.specular = glm::dvec3(0.5);
+    const RenderResult lit = render(s, oc);
+    EXPECT_GT(lit.stats.lobeError, 0.0);
+    EXPECT_LT(lit.stats.lobeError, 1e-8);
+  }
+  {
+    Scene s = base;  // the same exponent in two materials: one table
+    s.materials[1].phong.exponent = s.materials[0].phong.exponent;
+    s.wires = {wire(WireStyle::Shaded, 0), wire(WireStyle::Shaded, 1)};
+    EXPECT_EQ(render(s, oc).stats.lobeTables, 1);
   }
 }
 
@@ -652,6 +685,7 @@ TEST(Render, MapShadingOfWiresIsWithinItsStatedErrorOfExactShading) {
     RenderOptions o;
     o.width = W;
     o.height = H;
+    o.shading = ShadingPath::Maps;
     const RenderResult maps = render(scene, o);
     o.shading = ShadingPath::Exact;
     const RenderResult exact = render(scene, o);

@@ -71,19 +71,35 @@ std::shared_ptr<SurfaceTables> ShadingCache::chrome(const ViewGrid& grid, int re
   return e.surface;
 }
 
+std::shared_ptr<const CylinderLobeTable> ShadingCache::lobe(double exponent, bool& built) {
+  const double n = sanitizedExponent(exponent);
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (LobeEntry& e : lobes_)
+    if (e.table->exponent() == n) {
+      e.used = true;
+      built = false;
+      return e.table;
+    }
+  lobes_.push_back({std::make_shared<const CylinderLobeTable>(n), true});
+  built = true;
+  return lobes_.back().table;
+}
+
 void ShadingCache::beginFrame() {
   std::lock_guard<std::mutex> lock(mutex_);
   for (Entry& e : entries_) e.used = false;
+  for (LobeEntry& e : lobes_) e.used = false;
 }
 
 void ShadingCache::endFrame() {
   std::lock_guard<std::mutex> lock(mutex_);
   entries_.erase(std::remove_if(entries_.begin(), entries_.end(), [](const Entry& e) { return !e.used; }), entries_.end());
+  lobes_.erase(std::remove_if(lobes_.begin(), lobes_.end(), [](const LobeEntry& e) { return !e.used; }), lobes_.end());
 }
 
 size_t ShadingCache::size() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return entries_.size();
+  return entries_.size() + lobes_.size();
 }
 
 }  // namespace wf

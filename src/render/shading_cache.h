@@ -1,4 +1,6 @@
-// Shading tables kept from one frame to the next. The pseudo-reflectance maps and reflectance
+// Shading tables kept from one frame to the next: the lobe tables of the closed path (one per
+// exponent, render/renderer.h) as long as frames use them, and the map path's tables as follows.
+// The pseudo-reflectance maps and reflectance
 // spheres depend on the material, the lights in eye space, the table options and the view grid
 // (render/view_tables.h), not on the geometry: when a viewer or a render pass draws frame after
 // frame and none of those changed (a camera turning with lights fixed to it, or a still camera),
@@ -11,6 +13,7 @@
 #pragma once
 
 #include "render/view_tables.h"
+#include "shading/cylinder_lobe.h"
 
 #include <memory>
 #include <mutex>
@@ -29,6 +32,9 @@ class ShadingCache {
   /// The cache holds `env` (so its address, the key, cannot be reused by another map).
   std::shared_ptr<SurfaceTables> chrome(const ViewGrid& grid, int resolution, std::shared_ptr<const EnvironmentMap> env,
                                         const glm::dvec3& reflectance, bool& built);
+  /// The closed path's lobe table of an exponent (independent of lights and view: kept for as
+  /// long as frames use it).
+  std::shared_ptr<const CylinderLobeTable> lobe(double exponent, bool& built);
   /// A frame starts: every table counts as unused until asked for.
   void beginFrame();
   /// A frame ends: tables it did not ask for are dropped.
@@ -56,6 +62,11 @@ class ShadingCache {
   std::shared_ptr<const ViewGrid> gridCopy(const ViewGrid& grid);
   mutable std::mutex mutex_;
   std::vector<Entry> entries_;
+  struct LobeEntry {
+    std::shared_ptr<const CylinderLobeTable> table;
+    bool used = true;
+  };
+  std::vector<LobeEntry> lobes_;
 };
 
 }  // namespace wf

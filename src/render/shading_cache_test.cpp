@@ -50,6 +50,7 @@ RenderOptions options() {
   RenderOptions o;
   o.width = 96;
   o.height = 72;
+  o.shading = ShadingPath::Maps;  // the cache holds the map path's tables
   return o;
 }
 

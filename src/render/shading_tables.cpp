@@ -4,7 +4,7 @@
 #include "render/pipeline.h"
 
 #include "render/shading_cache.h"
-#include "shading/cylinder_shading.h"
+#include "shading/cylinder_lobe.h"
 
 #include <algorithm>
 #include <chrono>
@@ -42,6 +42,21 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
                     RenderStats& st) {
   const auto t0 = std::chrono::steady_clock::now();
   const bool maps = o.shading == ShadingPath::Maps;
+  const bool closed = o.shading == ShadingPath::Closed;
+  // Closed path: one lobe table per exponent, shared by every wire and burnished material that
+  // has it (they are independent of colours, lights and view).
+  std::map<double, std::shared_ptr<const CylinderLobeTable>> lobeOf;
+  auto lobeTable = [&](const PhongMaterial& m) {
+    auto& t = lobeOf[m.exponent];
+    if (!t) {
+      bool built = true;
+      if (o.shadingCache) t = o.shadingCache->lobe(m.exponent, built);
+      else t = std::make_shared<const CylinderLobeTable>(m.exponent);
+      if (built) ++st.lobeTables;
+      else ++st.tablesReused;
+    }
+    return t;
+  };
   ps.grid = std::make_unique<ViewGrid>(ps.view, o.viewGrid);
   const ViewGrid& grid = *ps.grid;
   // Tables from the cache of the last frame where they match (RenderOptions::shadingCache), else
@@ -115,6 +130,7 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
       PhongMaterial diffusePart = slot.phong, specularPart = slot.phong;
       diffusePart.specular = glm::dvec3(0.0);
       specularPart.diffuse = glm::dvec3(0.0);
+      if (closed && burnished) slot.lobe = lobeTable(slot.phong);
       if (maps && burnished) {
         // The burnished surface's cylinders share the pseudo-reflectance map of wires of the
         // same material (unless split into parts by a colour map).
@@ -169,6 +185,7 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
     slot.kind = w.style == WireStyle::Shaded  ? ShaderSlot::Kind::WireShaded
                 : w.style == WireStyle::Plain ? ShaderSlot::Kind::WirePlain
                                               : ShaderSlot::Kind::WireDepthCued;
+    if (closed && slot.kind == ShaderSlot::Kind::WireShaded && w.lines.points.size() >= 2) slot.lobe = lobeTable(slot.phong);
     if (maps && slot.kind == ShaderSlot::Kind::WireShaded && w.lines.points.size() >= 2) {
       auto it = wireTablesOf.find(mi);
       if (it == wireTablesOf.end()) {
@@ -183,6 +200,17 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
   }
   st.maps = secondsSince(t0);
   st.viewGrid = grid.size();
+
+  // Closed path: the only approximation is the lobe table's factor G (at most 1, times c^2 A^n
+  // <= 1 per light), so |closed - exact| <= its measured error x ks x the lights' sum.
+  if (closed) {
+    double lightSum = 0.0;
+    for (const DirectionalLight& l : ps.eyeLights.lights) lightSum += std::max({l.intensity.x, l.intensity.y, l.intensity.z});
+    for (const ShaderSlot& slot : ps.shaders)
+      if (slot.lobe)
+        st.lobeError = std::max(st.lobeError, slot.lobe->measuredError() * lightSum *
+                                                  std::max({slot.phong.specular.x, slot.phong.specular.y, slot.phong.specular.z}));
+  }
 
   // Error estimates against the exact path at the true view vector: the tables alone at a node
   // (where a table is exact in direction), and the tables with the view-direction approximation
@@ -201,12 +229,12 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
   for (const auto& [tables, m] : wireChecks) {
     for (size_t i = 0; i < dirs.size(); ++i) {
       st.mapError = std::max(st.mapError, maxComponentDiff(glm::dvec3(tables->lookup(dirs[i], nodeX, nodeY)),
-                                                           cylinderRadianceExact(dirs[i], vNode, m, ps.eyeLights, 1e-8)));
+                                                           cylinderRadianceClosed(dirs[i], vNode, m, ps.eyeLights)));
       if (perspective && i % 3 == 0)
         for (const auto& w : worstPoints)
           st.orthographicError = std::max(
               st.orthographicError, maxComponentDiff(glm::dvec3(tables->lookup(dirs[i], w[0], w[1])),
-                                                     cylinderRadianceExact(dirs[i], viewAt(w[0], w[1]), m, ps.eyeLights, 1e-8)));
+                                                     cylinderRadianceClosed(dirs[i], viewAt(w[0], w[1]), m, ps.eyeLights)));
     }
   }
   for (const SurfaceCheck& check : surfaceChecks) {

@@ -14,7 +14,7 @@
 // renderer point-samples instead and averages its sub-samples.
 #include "render/pipeline.h"
 
-#include "shading/cylinder_shading.h"
+#include "shading/cylinder_lobe.h"
 #include "texture/bump.h"
 #include "texture/grooves.h"
 
@@ -218,7 +218,7 @@ glm::vec3 shadeSurfaceFragment(const PreparedScene& ps, std::uint32_t triangle, 
       D = glm::dvec3(slot.wireTables->lookup(T, x, y));
       if (slot.split && slot.wireSpecular) S = glm::dvec3(slot.wireSpecular->lookup(T, x, y));
     } else {
-      exactParts(slot, [&](const PhongMaterial& m) { return cylinderRadianceExact(T, V, m, ps.eyeLights, 1e-8); }, D, S);
+      exactParts(slot, [&](const PhongMaterial& m) { return cylinderRadianceClosed(T, V, m, ps.eyeLights, slot.lobe.get()); }, D, S);
     }
   } else if (slot.kind == ShaderSlot::Kind::SurfaceChrome) {
     if (maps && slot.surfaceTables) {

@@ -73,8 +73,14 @@ TEST(SurfaceShading, BurnishedGrainAlongUIsTheCylinderModelAtDsDu) {
     const glm::dvec3 expect = cylinderRadianceExact(T, {0, 0, 1}, m.phong, testLights().canonical(), 1e-10);
     for (auto [px, py] : {std::pair{5, 5}, {24, 16}, {40, 30}})
       for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.image.at(px, py)[c], expect[c], 2e-5) << angle << " " << px << "," << py;
-    // The map path agrees within the map's own error estimate.
+    // The closed path (the default) agrees with exact to its lobe table's error; the map path
+    // within the map's own error estimate.
+    const RenderResult rc = render(s, test::smallOptions(W, H));
+    EXPECT_EQ(rc.stats.lobeTables, 1);
+    for (auto [px, py] : {std::pair{5, 5}, {24, 16}, {40, 30}})
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(rc.image.at(px, py)[c], r.image.at(px, py)[c], 1e-6) << angle;
     RenderOptions o = test::smallOptions(W, H);
+    o.shading = ShadingPath::Maps;
     o.map.resolution = 128;
     o.map.samples = 64;
     const RenderResult rm = render(s, o);
@@ -168,7 +174,9 @@ TEST(SurfaceShading, ColourMapMultipliesTheDiffusePartOnly) {
   const glm::dvec3 D = phongRadiance({0, 0, 1}, {0, 0, 1}, d, rig), S = phongRadiance({0, 0, 1}, {0, 0, 1}, sp, rig);
   ASSERT_GT(S.x, 0.01);  // a highlight to keep
   const RenderResult r = render(s, exactOptions());
-  const RenderResult rm = render(s, test::smallOptions(W, H));
+  RenderOptions om = test::smallOptions(W, H);
+  om.shading = ShadingPath::Maps;
+  const RenderResult rm = render(s, om);
   EXPECT_EQ(rm.stats.reflectanceSpheres, 2);  // diffuse and specular parts
   for (int c = 0; c < 3; ++c) {
     EXPECT_NEAR(r.image.at(20, 20)[c], k[c] * D[c] + S[c], 1e-5) << c;

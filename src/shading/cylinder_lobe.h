@@ -19,7 +19,7 @@
 //
 // So the one non-elementary factor is G_n, a function of one variable per exponent, independent
 // of the light, the camera and the frame. CylinderLobeTable tabulates it once per exponent
-// (256 nodes, cubic Hermite in a warped coordinate: error ~1e-9); lobeIntegral computes F_n to
+// (256 nodes, cubic Hermite in a warped coordinate: error ~1e-9); lobeFactorExact computes G_n to
 // ~1e-13 for the exact path. Both are checked against the quadrature over theta
 // (cylinderSpecularQuadrature) in the tests.
 #pragma once

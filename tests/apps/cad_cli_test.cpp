@@ -69,7 +69,8 @@ TEST(CadCli, ThreeStylesDrawWhatTheySay) {
   const json steel = renderStats(kCad + "mould.step", "--style burnished", "steel");
   EXPECT_EQ(steel["segments"], 0);  // surfaces only
   EXPECT_EQ(steel["triangles"], wos["triangles"]);
-  EXPECT_EQ(steel["left_out"]["pseudo_reflectance_maps_built"].get<long>() > 0, true);  // grain shades through the map
+  EXPECT_GT(steel["left_out"]["lobe_tables_built"].get<long>(), 0);  // grain shades as cylinders, closed form
+  EXPECT_LT(steel["error_estimate"]["shading_bound"].get<double>(), 2e-3);
 }
 
 // A coarser relative deflection gives fewer triangles, and the stats report the value asked for.

@@ -47,16 +47,20 @@ TEST(RenderCli, BuiltInSceneWritesPngAndTheContractsStatsKeys) {
   for (const char* k : {"total", "setup", "maps", "binning", "raster_resolve"}) EXPECT_TRUE(s["seconds"].contains(k)) << k;
   EXPECT_GT(s["segments"].get<int>(), 1000);   // the cage: 23 isolines of 96 segments
   EXPECT_GT(s["triangles"].get<int>(), 1000);  // the torus: 96 x 48 x 2
-  // One material drawn as shaded wire: one pseudo-reflectance map per node of the view grid.
-  const int grid = s["options"]["view_grid"].get<int>();
-  EXPECT_EQ(grid, 1);  // the default: the paper's one orthographic table
-  EXPECT_EQ(s["left_out"]["pseudo_reflectance_maps_built"].get<int>(), grid * grid);
+  // The default closed path: one material drawn as shaded wire, one lobe table; no maps, no
+  // spheres; shading exact at every fragment's view vector but for the table's ~1e-9.
+  EXPECT_EQ(s["options"]["shading"].get<std::string>(), "closed");
+  EXPECT_EQ(s["left_out"]["lobe_tables_built"].get<int>(), 1);
+  EXPECT_EQ(s["left_out"]["pseudo_reflectance_maps_built"].get<int>(), 0);
+  EXPECT_EQ(s["left_out"]["reflectance_spheres_built"].get<int>(), 0);
+  EXPECT_GT(s["error_estimate"]["shading_bound"].get<double>(), 0.0);
+  EXPECT_LT(s["error_estimate"]["shading_bound"].get<double>(), 1e-7);
   EXPECT_DOUBLE_EQ(s["error_estimate"]["coverage_quantisation"].get<double>(), 1.0 / 32);  // 8x4 default
 }
 
 TEST(RenderCli, ViewGridBuildsOneMapPerNode) {
   const fs::path stats = dir() / "grid.json";
-  const Result r = run("render -o '" + (dir() / "grid.png").string() + "' --size 160x120 --view-grid 3 --stats '" +
+  const Result r = run("render -o '" + (dir() / "grid.png").string() + "' --size 160x120 --shading maps --view-grid 3 --stats '" +
                        stats.string() + "'");
   ASSERT_EQ(r.status, 0) << r.err;
   const json s = json::parse(slurp(stats));

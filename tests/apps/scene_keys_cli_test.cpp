@@ -772,45 +772,59 @@ TEST(SceneKeysCli, ScalesAddFourTrianglesPerCell) {
   EXPECT_EQ(scaly.value("segments", -1), 0);
 }
 
-// docs/design.md "leave out what a scene does not need": a burnished surface is shaded through the
-// pseudo-reflectance map (one per view-grid node), a plain Phong surface needs none, and a
-// colour-textured one needs its tables in two parts (two reflectance spheres, not one).
+// docs/design.md "leave out what a scene does not need". The map path (--shading maps): a burnished
+// surface is shaded through the pseudo-reflectance map (one per view-grid node), a plain Phong
+// surface through a reflectance sphere, and a colour-textured one needs its tables in two parts
+// (two reflectance spheres, not one). The closed path (the default): no maps and no spheres, one
+// lobe table for the burnished surface's exponent, none for Phong.
 TEST(SceneKeysCli, MapsAndSpheresAreBuiltOnlyWhereNeeded) {
   const fs::path d = testDir();
-  const json plain = renderStats(d, write(d, "plain.json", withMaterial(R"({"diffuse": 0.5})")), "plain");
+  const std::string plainScene = write(d, "plain.json", withMaterial(R"({"diffuse": 0.5})"));
+  const json plain = renderStats(d, plainScene, "plain", "--shading maps");
   EXPECT_EQ(plain["left_out"].value("pseudo_reflectance_maps_built", -1), 0);
   EXPECT_EQ(plain["left_out"].value("reflectance_spheres_built", -1), 1);
+  const json plainClosed = renderStats(d, plainScene, "plain_closed");
+  EXPECT_EQ(plainClosed["options"].value("shading", ""), "closed");
+  EXPECT_EQ(plainClosed["left_out"].value("reflectance_spheres_built", -1), 0);
+  EXPECT_EQ(plainClosed["left_out"].value("lobe_tables_built", -1), 0);
+  EXPECT_EQ(plainClosed["error_estimate"].value("shading_bound", -1.0), 0.0);  // Phong at every fragment: exact
   for (const std::string grain : {"u", "v", "radial", "circular"}) {
     SCOPED_TRACE(grain);
-    const json b = renderStats(
-        d, write(d, "burnish_" + grain + ".json",
-                 withMaterial(R"({"specular": 2, "burnish": {"grain": ")" + grain + R"(", "grooves": {"count": 30}}})")),
-        "burnish_" + grain);
+    const std::string scene = write(
+        d, "burnish_" + grain + ".json",
+        withMaterial(R"({"specular": 2, "burnish": {"grain": ")" + grain + R"(", "grooves": {"count": 30}}})"));
+    const json b = renderStats(d, scene, "burnish_" + grain, "--shading maps");
     EXPECT_EQ(b["left_out"].value("pseudo_reflectance_maps_built", -1), 1);
     EXPECT_EQ(b["left_out"].value("reflectance_spheres_built", -1), 0);
     EXPECT_GT(b["error_estimate"].value("map_max", -1.0), 0.0);
+    const json c = renderStats(d, scene, "burnish_closed_" + grain);
+    EXPECT_EQ(c["left_out"].value("pseudo_reflectance_maps_built", -1), 0);
+    EXPECT_EQ(c["left_out"].value("lobe_tables_built", -1), 1);
+    EXPECT_GT(c["error_estimate"].value("lobe_max", -1.0), 0.0);
+    EXPECT_LT(c["error_estimate"].value("shading_bound", 1.0), 1e-7);
   }
   const json chequer = renderStats(
-      d, write(d, "chequer.json", withMaterial(R"({"texture": {"type": "chequer", "squares": [6, 3]}})")), "chequer");
+      d, write(d, "chequer.json", withMaterial(R"({"texture": {"type": "chequer", "squares": [6, 3]}})")), "chequer",
+      "--shading maps");
   EXPECT_EQ(chequer["left_out"].value("reflectance_spheres_built", -1), 2);
   EXPECT_EQ(chequer["left_out"].value("pseudo_reflectance_maps_built", -1), 0);
   const json noise = renderStats(
       d, write(d, "noise.json",
                withMaterial(R"({"texture": {"type": "noise", "ramp": [[-0.5, [0.2, 0.1, 0]], [0, 0.5], [0.5, [1, 1, 0.8]]]},
                                 "bump": {"type": "noise", "scale": 0.02}})")),
-      "noise");
+      "noise", "--shading maps");
   EXPECT_EQ(noise["left_out"].value("reflectance_spheres_built", -1), 2);
 }
 
-// image.view_grid n: n x n tables, reported in the stats; --view-grid overrides it.
+// image.view_grid n: n x n tables on the map path, reported in the stats; --view-grid overrides it.
 TEST(SceneKeysCli, ViewGridFromTheSceneIsUsedAndReported) {
   const fs::path d = testDir();
   const std::string scene = write(
       d, "grid.json", R"({"image": {"size": [48, 36], "view_grid": 3}, "objects": [{"source": {"type": "torus"}}]})");
-  const json s = renderStats(d, scene, "grid3");
+  const json s = renderStats(d, scene, "grid3", "--shading maps");
   EXPECT_EQ(s["options"].value("view_grid", -1), 3);
   EXPECT_EQ(s["left_out"].value("reflectance_spheres_built", -1), 9);
-  const json o = renderStats(d, scene, "grid2", "--view-grid 2");
+  const json o = renderStats(d, scene, "grid2", "--shading maps --view-grid 2");
   EXPECT_EQ(o["options"].value("view_grid", -1), 2);
   EXPECT_EQ(o["left_out"].value("reflectance_spheres_built", -1), 4);
 }

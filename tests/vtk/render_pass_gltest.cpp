@@ -375,13 +375,24 @@ TEST(RenderPass, UnmarkingReturnsThePropToTheDelegate)
 
 }  // namespace
 
-// The shading tables are rebuilt only when the camera moves relative to the lights (the paper's
-// rule, §2.2): a second frame of an unchanged view builds none; a turned camera with a scene
-// light (fixed in the world) builds the wire's map again; with a headlight (fixed to the camera)
-// turning rebuilds nothing.
+// The map path's tables are rebuilt only when the camera moves relative to the lights (the
+// paper's rule, §2.2): a second frame of an unchanged view builds none; a turned camera with a
+// scene light (fixed in the world) builds the wire's map again; with a headlight (fixed to the
+// camera) turning rebuilds nothing. The closed path's lobe table depends on neither: built once.
 TEST(RenderPass, TablesAreRebuiltOnlyWhenTheCameraMovesRelativeToTheLights)
 {
+  {
+    Window closed;
+    closed.AddWire(true);
+    closed.Render();
+    EXPECT_EQ(closed.pass->GetLastTablesBuilt(), 1);
+    closed.renderer->GetActiveCamera()->Azimuth(25);
+    closed.Render();
+    EXPECT_EQ(closed.pass->GetLastTablesBuilt(), 0);
+    EXPECT_EQ(closed.pass->GetLastTablesReused(), 1);
+  }
   Window win;
+  win.pass->SetShadingToMaps();
   win.AddWire(true);
   win.Render();
   EXPECT_GT(win.pass->GetLastTablesBuilt(), 0);
@@ -397,6 +408,7 @@ TEST(RenderPass, TablesAreRebuiltOnlyWhenTheCameraMovesRelativeToTheLights)
   vtkNew<vtkLight> headlight;
   headlight->SetLightTypeToHeadlight();
   head.renderer->AddLight(headlight);
+  head.pass->SetShadingToMaps();
   head.AddWire(true);
   head.Render();
   head.renderer->GetActiveCamera()->Azimuth(25);

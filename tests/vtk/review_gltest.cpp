@@ -385,6 +385,7 @@ TEST(ReviewRenderPassGL, MarkedAndUnmarkedInterleavedInDepth)
 TEST(ReviewRenderPassGL, PropertyColourChangeBetweenFrames)
 {
   Scene s;
+  s.pass->SetShadingToMaps();  // the map path's reflectance sphere must follow the property
   const double red[3] = { 1, 0, 0 };
   vtkActor* a = s.AddQuad(true, 0.0, 0.6, 0.4, red);
   Image im = s.Render();
