@@ -4,6 +4,7 @@
 #include "plot.h"
 #include "accuracy_abuffer.h"
 #include "accuracy_cad.h"
+#include "accuracy_shading.h"
 #include "accuracy_textures.h"
 
 #include "shading/cylinder_shading.h"
@@ -439,6 +440,8 @@ int runAccuracy(const AccuracyOptions& opt) {
   doc["tessellation"] = tessellationStudy(opt.quick, progress, abufferPlots);
   std::printf("\nCAD tessellation (chordal deflection) against deflection 2e-5 of the model (exact shading):\n");
   doc["cad_tessellation"] = cadTessellationStudy(opt.quick, progress, abufferPlots);
+  std::printf("\nShading paths: the closed form (the default), the paper's maps and the exact path:\n");
+  doc["shading_paths"] = shadingPathsStudy(opt.quick, progress, abufferPlots);
 
   if (!opt.plotsDir.empty()) {
     progress.say("plots into " + opt.plotsDir);

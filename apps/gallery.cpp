@@ -159,11 +159,17 @@ int runGallery(const GalleryOptions& opt) {
     st["generated"] = {{"hairs", sf.hairsGrown}, {"scales", sf.scalesGrown}};
     sceneStats[stem] = st;
     const auto& e = st["error_estimate"];
+    const std::string shading =
+        ro.shading == wf::ShadingPath::Maps
+            ? "shading by the paper's tables within " + sci(e["shading_bound"].get<double>()) + " (tables " +
+                  sci(e["map_max"].get<double>() + e["sphere_max"].get<double>()) + ", orthographic view " +
+                  sci(e["orthographic_max"].get<double>()) + "), " + std::to_string(r.stats.pseudoReflectanceMaps) +
+                  " maps built"
+            : "shading at every fragment's own view vector within " + sci(e["shading_bound"].get<double>()) +
+                  " of exact (" + std::to_string(r.stats.lobeTables) + " lobe tables built)";
     std::string err = "coverage exact per fragment (hiding by " + ro.mask.name() + " masks, 1/" +
-                      std::to_string(ro.mask.samples()) + "); shading tables max " +
-                      sci(e["map_max"].get<double>() + e["sphere_max"].get<double>()) + ", orthographic view " +
-                      sci(e["orthographic_max"].get<double>()) + "; " + std::to_string(r.stats.abuffer.fragments) +
-                      " fragments, " + std::to_string(r.stats.pseudoReflectanceMaps) + " maps built";
+                      std::to_string(ro.mask.samples()) + "); " + shading + "; " +
+                      std::to_string(r.stats.abuffer.fragments) + " fragments";
     if (sf.hairsGrown + sf.scalesGrown > 0)
       err += "; grew " + std::to_string(sf.hairsGrown) + " hairs and " + std::to_string(sf.scalesGrown) + " scales in " +
              std::to_string(int(std::lround(sf.generateSeconds * 1e3))) + " ms (not in the render time)";

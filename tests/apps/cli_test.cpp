@@ -149,12 +149,21 @@ TEST(Cli, GalleryWritesEveryPictureWithTimeAndError) {
   std::ifstream h(dir / "index.html");
   std::stringstream html;
   html << h.rdbuf();
+  int renders = 0;
   for (const json& e : doc) {
     const std::string file = e.at("file");
     EXPECT_TRUE(isPng(dir / file)) << file;
     EXPECT_NE(html.str().find(file), std::string::npos) << file;
     EXPECT_FALSE(e.at("error_estimate").get<std::string>().empty()) << file;
     EXPECT_GE(e.at("seconds").get<double>(), 0.0);
+    // Every scene's render: shading within 2e-3 of exact per-fragment shading at each
+    // fragment's own view vector (the default closed path: the lobe tables' ~1e-9).
+    if (e.contains("stats")) {
+      ++renders;
+      EXPECT_EQ(e["stats"]["options"]["shading"], "closed") << file;
+      EXPECT_LE(e["stats"]["error_estimate"]["shading_bound"].get<double>(), 2e-3) << file;
+    }
   }
+  EXPECT_GE(renders, 20);
   fs::remove_all(dir);
 }
