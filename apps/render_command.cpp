@@ -92,7 +92,8 @@ json statsJson(const wf::RenderStats& st, const wf::RenderOptions& o, bool refer
       "image corner for one orthographic table, the corner cell's centre for a grid of them). "
       "lobe_max: closed path (the default), where shading is exact at each fragment's own view "
       "vector but for the tabulated factor of the cylinder integral: its measured error times the "
-      "specular colour and the lights' sum. Radiance units.";
+      "specular colour and the lights' sum (for unit wire and vertex colours; the image is float, "
+      "so closed and exact can also differ by its rounding, ~6e-8). Radiance units.";
   j["error_estimate"] = e;
   j["options"] = {{"size", {o.width, o.height}},
                   {"wire_depth", o.wireDepth == wf::WireDepth::Round ? "round" : "flat"},
@@ -179,6 +180,9 @@ int runRender(const RenderCommandOptions& o) {
   if (o.budget > 0) ro.budget = o.budget;
   ro.threads = o.threads;
   ro.shading = o.reference ? wf::ShadingPath::Exact : shadingPathNamed(o.shading);
+  if (ro.viewGrid > 1 && ro.shading != wf::ShadingPath::Maps)
+    std::cerr << "wirefur: warning: the view grid (" << ro.viewGrid << ") belongs to --shading maps; the "
+              << shadingPathName(ro.shading) << " path shades at every fragment's own view vector\n";
   ro.referenceSamples = o.samples;
   if (o.viewGrid > 0) ro.viewGrid = o.viewGrid;
   if (o.simplify) {

@@ -20,6 +20,7 @@
 #include "shading/cylinder_shading.h"
 #include "shading/light.h"
 #include "shading/phong.h"
+#include "shading/cylinder_lobe.h"
 #include "shading/pseudo_reflectance_map.h"
 
 #include <tbb/blocked_range.h>
@@ -86,6 +87,7 @@ class vtkWireFurTangentShading::vtkInternals
 public:
   wf::PseudoReflectanceMap Map;
   double MapError = 0.0; // measured at the map's last build
+  std::shared_ptr<const wf::CylinderLobeTable> Lobe; // closed path: rebuilt when the exponent changes
 };
 
 vtkStandardNewMacro(vtkWireFurTangentShading);
@@ -321,9 +323,25 @@ int vtkWireFurTangentShading::RequestData(
 
   // ---- the map (only when it is used, and only when something it depends on changed) --------
   wf::PseudoReflectanceMap& map = this->Internals->Map;
-  if (this->ExactShading)
+  const int path = this->ExactShading ? 2 : this->Shading; // 0 closed, 1 maps, 2 exact
+  std::shared_ptr<const wf::CylinderLobeTable>& lobe = this->Internals->Lobe;
+  if (path == 2)
   {
     this->ErrorEstimate = 0.0;
+  }
+  else if (path == 0)
+  {
+    if (!lobe || lobe->exponent() != material.exponent)
+    {
+      lobe = std::make_shared<const wf::CylinderLobeTable>(material.exponent);
+    }
+    double lightSum = 0.0;
+    for (const wf::DirectionalLight& l : eyeLights.lights)
+    {
+      lightSum += std::max({ l.intensity.x, l.intensity.y, l.intensity.z });
+    }
+    this->ErrorEstimate = lobe->measuredError() * lightSum *
+      std::max({ material.specular.x, material.specular.y, material.specular.z });
   }
   else
   {
@@ -338,7 +356,7 @@ int vtkWireFurTangentShading::RequestData(
         for (vtkIdType i = begin; i < end; ++i)
         {
           const glm::dvec3 d = glm::abs(glm::dvec3(map.lookup(dirs[i])) -
-            wf::cylinderRadianceExact(dirs[i], glm::dvec3(0.0, 0.0, 1.0), material, eyeLights, 1e-8));
+            wf::cylinderRadianceClosed(dirs[i], glm::dvec3(0.0, 0.0, 1.0), material, eyeLights));
           diff[i] = std::max({ d.x, d.y, d.z });
         }
       });
@@ -464,8 +482,7 @@ int vtkWireFurTangentShading::RequestData(
   // ---- per point: tangents and shading (independent: parallel, deterministic) ----------------
   std::vector<unsigned char> degenerate(n, 0);
   const wf::PhongMaterial& mat = material;
-  const bool exact = this->ExactShading;
-  const double tolerance = this->ExactTolerance;
+  const wf::CylinderLobeTable* table = path == 0 ? lobe.get() : nullptr;
   auto shade = [&](vtkIdType begin, vtkIdType end) {
     for (vtkIdType i = begin; i < end; ++i)
     {
@@ -479,12 +496,12 @@ int vtkWireFurTangentShading::RequestData(
         }
         degenerate[i] = t == glm::dvec3(0.0);
         te = unitOrZero(eyeFromWorld * t);
-        if (exact)
+        if (path != 1)
         {
           const glm::dvec3 p = eyeFromWorld * (position[i] - eye);
           const glm::dvec3 v = perspective ? unitOrZero(-p) : glm::dvec3(0.0, 0.0, 1.0);
-          rad = wf::cylinderRadianceExact(
-            te, v == glm::dvec3(0.0) ? glm::dvec3(0.0, 0.0, 1.0) : v, mat, eyeLights, tolerance);
+          rad = wf::cylinderRadianceClosed(
+            te, v == glm::dvec3(0.0) ? glm::dvec3(0.0, 0.0, 1.0) : v, mat, eyeLights, table);
         }
         else
         {
@@ -517,9 +534,9 @@ int vtkWireFurTangentShading::RequestData(
   this->UpdateProgress(1.0);
   // The error of this very output: at up to 256 evenly spaced finite points, the map's radiance
   // against the exact cylinder model at that point's true view vector (which includes the
-  // perspective the map leaves out). 0 with ExactShading.
+  // perspective the map leaves out). 0 on the exact path.
   this->MeasuredError = 0.0;
-  if (!exact)
+  if (path != 2)
   {
     const vtkIdType step = std::max<vtkIdType>(1, n / 256);
     for (vtkIdType i = 0; i < n; i += step)
@@ -537,7 +554,7 @@ int vtkWireFurTangentShading::RequestData(
       {
         v = glm::dvec3(0.0, 0.0, 1.0);
       }
-      const glm::dvec3 ex = wf::cylinderRadianceExact(glm::dvec3(te[0], te[1], te[2]), v, mat, eyeLights, 1e-8);
+      const glm::dvec3 ex = wf::cylinderRadianceClosed(glm::dvec3(te[0], te[1], te[2]), v, mat, eyeLights);
       const glm::dvec3 d = glm::abs(ex - glm::dvec3(r[0], r[1], r[2]));
       this->MeasuredError = std::max({ this->MeasuredError, d.x, d.y, d.z });
     }
@@ -564,6 +581,7 @@ void vtkWireFurTangentShading::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Exponent: " << this->Exponent << "\n";
   os << indent << "Ambient: " << this->Ambient[0] << " " << this->Ambient[1] << " " << this->Ambient[2] << "\n";
   os << indent << "LightCount: " << this->LightCount << "\n";
+  os << indent << "Shading: " << (this->Shading == 1 ? "maps" : this->Shading == 2 ? "exact" : "closed") << "\n";
   os << indent << "ExactShading: " << (this->ExactShading ? "On" : "Off") << "\n";
   os << indent << "ExactTolerance: " << this->ExactTolerance << "\n";
   os << indent << "MapResolution: " << this->MapResolution << "\n";

@@ -41,19 +41,24 @@
  *     colour are ignored. A renderer with no lights at all and AutomaticLightCreation on gets the
  *     white headlight of intensity 1 that VTK would create when it renders.
  *
- * Shading: by default one lookup per point in a PseudoReflectanceMap (the paper's orthographic
+ * Shading (SetShading): by default (closed) every point is shaded at its own view vector by the
+ * cylinder integral in closed form (shading/cylinder_lobe.h), exact in perspective but for a
+ * table of one variable per exponent (a member, rebuilt only when the exponent changes);
+ * ErrorEstimate is that table's measured error times the largest specular colour and the
+ * lights' summed intensity (~1e-9). SetShadingToMaps(): one lookup per point in a
+ * PseudoReflectanceMap (the paper's orthographic
  * assumption: view vector (0, 0, 1) in eye space). The map is a member, rebuilt only when the
  * material, the eye-space lights or the map options change (paper: "recomputed if the camera
  * rotates or moves relative to the lights"): a camera moving with its lights (studio rig, headlight,
  * camera lights) or a camera only translated among scene lights reuses it. MapBuilds counts the
  * builds. At each build ErrorEstimate is set to the largest difference (any RGB component) between
  * the map and the exact cylinder integral (view (0, 0, 1)) over 192 tangents spread evenly over
- * the sphere. With ExactShading on, every point is shaded by the exact integral
- * (cylinderRadianceExact, relative tolerance ExactTolerance) at its true view vector (perspective
- * correct), no map is built, and ErrorEstimate is 0. Empty input gives an empty output and no error.
+ * the sphere. SetShadingToExact() (or ExactShading on): every point is shaded by the closed form
+ * with its factor computed exactly (the reference, to ~1e-15) at its true view vector, no table
+ * is built, and ErrorEstimate is 0. Empty input gives an empty output and no error.
  *
  * Defaults: Camera = none, Renderer = none, Diffuse = (0.55, 0.1, 0.06), Specular = (1, 1, 1),
- * Exponent = 20, Ambient = (0.05, 0.05, 0.05), LightCount = 3, ExactShading = off,
+ * Exponent = 20, Ambient = (0.05, 0.05, 0.05), LightCount = 3, Shading = closed, ExactShading = off,
  * ExactTolerance = 1e-8, MapResolution = 128, MapSamples = 64.
  *
  * The Renderer is held by a weak reference (it usually owns the actor that shows this output).
@@ -113,15 +118,26 @@ public:
   ///@}
 
   ///@{
-  /// Shade every point by the exact cylinder integral at its true view vector instead of the
-  /// map. Default off.
+  /// 0, closed (default): the closed form with a lobe table at every point's own view vector;
+  /// 1, maps: the paper's pseudo-reflectance map (orthographic view); 2, exact.
+  vtkSetClampMacro(Shading, int, 0, 2);
+  vtkGetMacro(Shading, int);
+  void SetShadingToClosed() { this->SetShading(0); }
+  void SetShadingToMaps() { this->SetShading(1); }
+  void SetShadingToExact() { this->SetShading(2); }
+  ///@}
+
+  ///@{
+  /// On: shade every point by the exact path whatever Shading says (kept from before Shading).
+  /// Default off.
   vtkSetMacro(ExactShading, vtkTypeBool);
   vtkGetMacro(ExactShading, vtkTypeBool);
   vtkBooleanMacro(ExactShading, vtkTypeBool);
   ///@}
 
   ///@{
-  /// Relative tolerance of the exact path's specular quadrature (1e-14 ... 1e-2). Default 1e-8.
+  /// Relative tolerance of the quadrature the exact path used before it became the closed form
+  /// (1e-14 ... 1e-2, default 1e-8). Kept for existing pipelines; no longer used.
   vtkSetClampMacro(ExactTolerance, double, 1e-14, 1e-2);
   vtkGetMacro(ExactTolerance, double);
   ///@}
@@ -142,11 +158,12 @@ public:
   int GetMapBuilds();
   /// Seconds the last map build took (0 before the first).
   double GetMapSeconds();
-  /// Largest map-versus-exact difference measured at the last map build (0 with ExactShading).
+  /// The shading error bound: closed, the lobe table's (see above); maps, the largest
+  /// map-versus-exact difference measured at the last map build; exact, 0.
   vtkGetMacro(ErrorEstimate, double);
-  /// The last output's own error: at up to 256 evenly spaced points, the map's radiance against
-  /// the exact cylinder model at the point's true view vector, so it includes the perspective
-  /// that the map (built for the view axis) leaves out. 0 with ExactShading.
+  /// The last output's own error: at up to 256 evenly spaced points, its radiance against the
+  /// exact cylinder model at the point's true view vector (for the map, that includes the
+  /// perspective it leaves out). 0 on the exact path.
   vtkGetMacro(MeasuredError, double);
   /// Points of the last execution with a NaN or Inf coordinate.
   vtkGetMacro(NonFinitePoints, vtkIdType);
@@ -181,6 +198,7 @@ protected:
   int MapResolution = 128;
   int MapSamples = 64;
   double ErrorEstimate = 0.0;
+  int Shading = 0;
   vtkIdType NonFinitePoints = 0;
   vtkTypeBool SkipNonFinitePoints = 0;
   double MeasuredError = 0.0;

@@ -57,7 +57,7 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
     }
     return t;
   };
-  ps.grid = std::make_unique<ViewGrid>(ps.view, o.viewGrid);
+  ps.grid = std::make_unique<ViewGrid>(ps.view, maps ? o.viewGrid : 1);  // the grid is the map path's
   const ViewGrid& grid = *ps.grid;
   // Tables from the cache of the last frame where they match (RenderOptions::shadingCache), else
   // built here; the counts say which.

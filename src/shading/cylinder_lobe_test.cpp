@@ -58,7 +58,7 @@ TEST(CylinderLobe, FactorMatchesClosedForms) {
     EXPECT_NEAR(lobeIntegral(2.0, 0.0, y) / y, lobeFactorExact(2.0, y), 1e-13);
   }
   // Above 32, the exact factor's fixed Gauss-Legendre rules against the adaptive quadrature.
-  for (double n : {32.0, 33.0, 40.5, 100.0, 257.0, 1000.0, 7777.7, 1e5, 1e6})
+  for (double n : {32.5, 33.0, 40.5, 100.0, 257.0, 1000.0, 7777.7, 1e5, 1e6})
     for (int i = 0; i <= 200; ++i) {
       const double y = std::pow(10.0, -5.0 + 5.0 * i / 200.0);
       const double ref = lobeIntegral(n, 0.0, y) / y;
@@ -81,18 +81,21 @@ TEST(CylinderLobe, FactorMatchesClosedForms) {
 }
 
 // The table against the exact factor on a fine grid of y (not only where it measured itself),
-// for exponents 0 ... 1e6: within 2e-9, and its own measured error says so.
+// densest just below y = 1 where non-integer exponents below 4 have a weak singularity, for
+// exponents 0 ... 1e6 on both node layouts: within 4e-9, and its measured error bounds it.
 TEST(CylinderLobe, TableMatchesTheExactFactorEverywhere) {
-  for (double n : {0.0, 1.0, 3.7, 20.0, 128.0, 1000.0, 1e5, 1e6}) {
+  for (double n : {0.0, 1e-300, 0.01, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.7, 3.999, 4.0, 4.5, 20.0, 128.0, 1000.0, 1e5, 1e6}) {
     const CylinderLobeTable t(n);
-    EXPECT_LT(t.measuredError(), 2e-9) << n;
+    EXPECT_LT(t.measuredError(), 4e-9) << n;
     double worst = 0.0;
     for (int i = 0; i <= 4000; ++i) {
       const double y = std::pow(10.0, -6.0 + 6.5 * i / 4000.0);  // 1e-6 ... 3.2
       worst = std::max(worst, std::abs(t.factor(y) - lobeFactorExact(n, y)));
+      const double below = 1.0 - std::pow(10.0, -9.0 + 8.0 * i / 4000.0);  // 1 - 1e-9 ... 0.9
+      worst = std::max(worst, std::abs(t.factor(below) - lobeFactorExact(n, below)));
     }
-    EXPECT_LT(worst, 2e-9) << n;
-    EXPECT_LE(worst, 1.5 * t.measuredError() + 1e-15) << n;
+    EXPECT_LT(worst, 4e-9) << n;
+    EXPECT_LE(worst, t.measuredError() + 1e-15) << n;
     EXPECT_EQ(t.factor(0.0), 1.0);
     EXPECT_EQ(t.factor(NAN), 1.0);
     EXPECT_EQ(t.factor(INFINITY), 0.0);

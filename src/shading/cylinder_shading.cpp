@@ -284,10 +284,12 @@ glm::dvec3 cylinderRadianceClosed(const glm::dvec3& T, const glm::dvec3& V, cons
   const glm::dvec3 t = glm::normalize(T);
   const double w = glm::dot(t, glm::normalize(V));
   glm::dvec3 out = m.diffuse * rig.ambient;
+  const bool specular = m.specular != glm::dvec3(0.0);  // not for the diffuse part of a split material
   for (const DirectionalLight& l : rig.lights) {
     const double a = glm::dot(fr.e1, l.direction), b = glm::dot(fr.e2, l.direction);
     if (!(a * a + b * b > kAxisLightSin * kAxisLightSin)) continue;  // light along the axis lights no normal
-    const double spec = cylinderSpecularClosedForm(a, b, glm::dot(t, l.direction), w, fr.v, m.exponent, table);
+    const double spec =
+        specular ? cylinderSpecularClosedForm(a, b, glm::dot(t, l.direction), w, fr.v, m.exponent, table) : 0.0;
     out += l.intensity * (m.diffuse * cylinderDiffuseClosedForm(a, b) + m.specular * spec);
   }
   return out;

@@ -248,6 +248,7 @@ TEST(VtkTangentShading, RadianceIsTheCoresMapLookup)
   obliqueCamera(camera);
   const std::vector<glm::dvec3> pts = helix(60);
   vtkNew<vtkWireFurTangentShading> filter;
+  filter->SetShadingToMaps();  // the map path
   filter->SetInputData(makePolyline(pts, false));
   filter->SetCamera(camera);
   filter->SetDiffuse(0.3, 0.5, 0.7);
@@ -340,6 +341,7 @@ TEST(VtkTangentShading, ErrorEstimateMeasuresTheMap)
   obliqueCamera(camera);
   const std::vector<glm::dvec3> pts = helix(80);
   vtkNew<vtkWireFurTangentShading> filter;
+  filter->SetShadingToMaps();  // the map path
   filter->SetInputData(makePolyline(pts, false));
   filter->SetCamera(camera);
   filter->Update();
@@ -400,6 +402,7 @@ TEST(VtkTangentShading, SceneLightsRebuildTheMapOnlyWhenTheCameraRotates)
 
   const std::vector<glm::dvec3> pts = helix(30);
   vtkNew<vtkWireFurTangentShading> filter;
+  filter->SetShadingToMaps();  // the map path
   filter->SetInputData(makePolyline(pts, false));
   filter->SetRenderer(renderer); // no SetCamera: the renderer's active camera
   filter->Update();
@@ -468,6 +471,7 @@ TEST(VtkTangentShading, LightsFixedToTheCameraNeverRebuildTheMap)
     renderer->AddLight(light);
     const std::vector<glm::dvec3> pts = helix(30);
     vtkNew<vtkWireFurTangentShading> filter;
+    filter->SetShadingToMaps();  // the map path
     filter->SetInputData(makePolyline(pts, false));
     filter->SetCamera(camera);
     filter->SetRenderer(renderer);
@@ -503,6 +507,7 @@ TEST(VtkTangentShading, RendererWithoutLights)
   vtkNew<vtkRenderer> renderer;
   const std::vector<glm::dvec3> pts = helix(20);
   vtkNew<vtkWireFurTangentShading> filter;
+  filter->SetShadingToMaps();  // the map path
   filter->SetInputData(makePolyline(pts, false));
   filter->SetCamera(camera);
   filter->SetRenderer(renderer);
@@ -781,6 +786,7 @@ TEST(VtkTangentShading, MeasuredErrorIncludesThePerspective)
     camera->SetViewAngle(80);
     camera->SetParallelProjection(parallel);
     vtkNew<vtkWireFurTangentShading> filter;
+    filter->SetShadingToMaps();  // the map path
     filter->SetInputData(line);
     filter->SetCamera(camera);
     filter->SetExponent(40);
