@@ -345,7 +345,8 @@ int runView(const std::vector<std::string>& args) {
     s.precision(1);
     s << "frame " << 1000.0 * pass->GetLastRenderSeconds() << " ms (A-buffer " << 1000.0 * pass->GetLastCoreSeconds()
       << " ms)   ";
-    s.precision(4);
+    s.unsetf(std::ios::fixed);
+    s.precision(2);  // the shading bound is ~1e-9 on the default path: significant digits, not decimals
     s << "error <= " << pass->GetLastErrorEstimate() << " (shading), " << pass->GetLastCoverageError() << " (coverage)   mask "
       << pass->GetMaskWidth() << "x" << pass->GetMaskHeight() << (plainWires ? "   plain wire" : "   shaded wire")
       << "\nkeys: w plain/shaded wire  f fur  s scales  m mask  a surfaces through the A-buffer  q quit";
