@@ -180,11 +180,12 @@ int runRender(const RenderCommandOptions& o) {
   if (o.budget > 0) ro.budget = o.budget;
   ro.threads = o.threads;
   ro.shading = o.reference ? wf::ShadingPath::Exact : shadingPathNamed(o.shading);
-  if (ro.viewGrid > 1 && ro.shading != wf::ShadingPath::Maps)
-    std::cerr << "wirefur: warning: the view grid (" << ro.viewGrid << ") belongs to --shading maps; the "
-              << shadingPathName(ro.shading) << " path shades at every fragment's own view vector\n";
   ro.referenceSamples = o.samples;
   if (o.viewGrid > 0) ro.viewGrid = o.viewGrid;
+  if (ro.viewGrid > 1 && ro.shading != wf::ShadingPath::Maps)
+    std::cerr << "wirefur: warning: the view grid (" << ro.viewGrid << ") belongs to --shading maps; "
+              << (o.reference ? std::string("the reference") : std::string("the ") + shadingPathName(ro.shading) + " path")
+              << " shades at every fragment's own view vector\n";
   if (o.simplify) {
     ro.simplify.enabled = true;
     ro.simplify.targetWidth = *o.simplify;

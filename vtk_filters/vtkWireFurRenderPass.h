@@ -6,7 +6,8 @@
  * vtkRenderStepsPass, VTK's ordinary steps: camera, lights, opaque, translucent, volumes,
  * overlay) draws every prop that is NOT marked, with OpenGL. The marked vtkActors are then
  * rendered by the core's A-buffer renderer (Miller 1988, section 3: exact coverage, resolved
- * in depth order, wires shaded through the pseudo-reflectance map) and composited, antialiased,
+ * in depth order, wires shaded as cylinders at every fragment's own view vector, or through the
+ * paper's pseudo-reflectance map with SetShadingToMaps) and composited, antialiased,
  * over the delegate's colour, hidden where the delegate's depth buffer holds a nearer surface.
  *
  * Marking: `vtkWireFurRenderPass::Mark(prop)` sets the integer key WIREFUR() to 1 in the prop's
@@ -42,7 +43,7 @@
  * is used); marked props other than vtkActor with a vtkPolyData input are drawn by nobody.
  *
  * Defaults: MaskWidth x MaskHeight = 8 x 4, Budget = 64, Threads = 0 (all cores),
- * Ambient = (0, 0, 0), Delegate = a vtkRenderStepsPass.
+ * Ambient = (0, 0, 0), Shading = closed, Delegate = a vtkRenderStepsPass.
  */
 #ifndef vtkWireFurRenderPass_h
 #define vtkWireFurRenderPass_h

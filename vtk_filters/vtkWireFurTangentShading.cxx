@@ -173,6 +173,8 @@ int vtkWireFurTangentShading::RequestData(
   vtkPolyData* output = vtkPolyData::GetData(outputVector);
   this->NonFinitePoints = 0;
   this->DegeneratePoints = 0;
+  this->ErrorEstimate = 0.0; // set again below once the path is known; 0 for an early return
+  this->MeasuredError = 0.0;
   // Bad input is an error and an empty output (the generators and the command line do the same),
   // unless SkipNonFinitePoints asks for the rest to be shaded.
   if (!input || input->GetNumberOfPoints() == 0)
@@ -522,21 +524,23 @@ int vtkWireFurTangentShading::RequestData(
   // Chunks on this thread between parallel loops: progress and abort without touching the
   // pipeline from worker threads.
   const vtkIdType chunk = std::max<vtkIdType>(4096, n / 50);
+  bool aborted = false;
   for (vtkIdType begin = 0; begin < n; begin += chunk)
   {
     this->UpdateProgress(double(begin) / double(n));
     if (this->GetAbortExecute())
     {
+      aborted = true;
       break;
     }
     parallelFor(begin, std::min(n, begin + chunk), shade);
   }
   this->UpdateProgress(1.0);
-  // The error of this very output: at up to 256 evenly spaced finite points, the map's radiance
-  // against the exact cylinder model at that point's true view vector (which includes the
-  // perspective the map leaves out). 0 on the exact path.
+  // The error of this very output: at up to 256 evenly spaced finite points, its radiance
+  // against the exact cylinder model at that point's true view vector (for the map, that includes
+  // the perspective it leaves out). 0 on the exact path, and after an abort (points not shaded).
   this->MeasuredError = 0.0;
-  if (path != 2)
+  if (path != 2 && !aborted)
   {
     const vtkIdType step = std::max<vtkIdType>(1, n / 256);
     for (vtkIdType i = 0; i < n; i += step)
@@ -581,7 +585,9 @@ void vtkWireFurTangentShading::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Exponent: " << this->Exponent << "\n";
   os << indent << "Ambient: " << this->Ambient[0] << " " << this->Ambient[1] << " " << this->Ambient[2] << "\n";
   os << indent << "LightCount: " << this->LightCount << "\n";
-  os << indent << "Shading: " << (this->Shading == 1 ? "maps" : this->Shading == 2 ? "exact" : "closed") << "\n";
+  const int path = this->ExactShading ? 2 : this->Shading;
+  os << indent << "Shading: " << (this->Shading == 1 ? "maps" : this->Shading == 2 ? "exact" : "closed")
+     << " (used: " << (path == 1 ? "maps" : path == 2 ? "exact" : "closed") << ")\n";
   os << indent << "ExactShading: " << (this->ExactShading ? "On" : "Off") << "\n";
   os << indent << "ExactTolerance: " << this->ExactTolerance << "\n";
   os << indent << "MapResolution: " << this->MapResolution << "\n";

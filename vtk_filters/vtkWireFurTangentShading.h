@@ -1,6 +1,6 @@
 /**
  * @class   vtkWireFurTangentShading
- * @brief   eye-space tangents and pseudo-reflectance-map colours of polylines, for plain VTK mappers
+ * @brief   eye-space tangents and cylinder-shaded colours of polylines, for plain VTK mappers
  *
  * Input: vtkPolyData whose lines (VTK_LINE and VTK_POLY_LINE cells) are wires, fur or grain in
  * world space. Output: a shallow copy of the input with these point arrays added:

@@ -155,6 +155,31 @@ TEST(RenderCli, BadOptionsAreExitTwo) {
 // --simplify and --wire-depth: out of range, not a number, NaN, Inf, empty: one line naming the
 // option, exit 2, no PNG. In range: the stats say what was used, and how many hairs of how many
 // were drawn (error_estimate.simplification).
+// --shading: closed (default), maps, exact; anything else is one line and exit 2. --view-grid
+// belongs to the map path: with another one line of warning, the render still made.
+TEST(RenderCli, ShadingPathsAndTheViewGridWarning) {
+  const fs::path png = dir() / "paths.png", stats = dir() / "paths.json";
+  for (const char* bad : {"--shading bogus", "--shading ''", "--shading MAPS", "--shading"}) {
+    const Result r = run("render -o '" + png.string() + "' --size 64x48 " + bad);
+    EXPECT_EQ(r.status, 2) << bad << ": " << r.err;
+    EXPECT_EQ(lines(r.err), 1) << bad << ": " << r.err;
+    EXPECT_NE(r.err.find("--shading"), std::string::npos) << bad << ": " << r.err;
+  }
+  for (const std::string path : {"closed", "maps", "exact"}) {
+    const Result r = run("render -o '" + png.string() + "' --size 64x48 --shading " + path + " --stats '" + stats.string() + "'");
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    EXPECT_EQ(json::parse(slurp(stats))["options"]["shading"].get<std::string>(), path);
+  }
+  const Result warned = run("render -o '" + png.string() + "' --size 64x48 --view-grid 3");
+  EXPECT_EQ(warned.status, 0) << warned.err;
+  EXPECT_EQ(lines(warned.err), 1) << warned.err;
+  EXPECT_NE(warned.err.find("view grid (3) belongs to --shading maps"), std::string::npos) << warned.err;
+  const Result quiet = run("render -o '" + png.string() + "' --size 64x48 --shading maps --view-grid 3");
+  EXPECT_EQ(quiet.status, 0) << quiet.err;
+  EXPECT_EQ(quiet.err, "");
+}
+
 TEST(RenderCli, SimplifyAndWireDepthOptions) {
   const fs::path png = dir() / "simplify.png";
   const std::string scene = "'" + kScenes + "fur_torus.json'";

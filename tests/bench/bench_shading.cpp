@@ -12,6 +12,7 @@
 // single-threaded ones are measured the same way so that their ratios are like for like.
 //
 // Run: bench_shading --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+#include "shading/cylinder_lobe.h"
 #include "shading/cylinder_shading.h"
 #include "shading/light.h"
 #include "shading/phong.h"
@@ -156,6 +157,25 @@ void BM_ExactCylinder(benchmark::State& state) {
   state.SetLabel("7 lights, relTol 1e-10");
 }
 BENCHMARK(BM_ExactCylinder)->ArgName("n")->Arg(10)->Arg(100)->Arg(10000)->Arg(100000)->UseRealTime();
+
+// The closed form (shading/cylinder_lobe.h) at the same fragments: with the lobe table (the
+// renderer's default path) and with the factor computed exactly (its exact path, which replaced
+// the quadrature of BM_ExactCylinder).
+void BM_ClosedCylinder(benchmark::State& state) {
+  const wf::PhongMaterial m = material(double(state.range(0)));
+  const wf::LightRig rig = wf::LightRig::studioRig(7).canonical();
+  const std::vector<glm::dvec3>& ts = tangents();
+  const bool table = state.range(1) != 0;
+  const wf::CylinderLobeTable lobe(m.exponent);
+  for (auto _ : state) {
+    glm::dvec3 acc(0.0);
+    for (size_t i = 0; i < kExactCount; ++i) acc += wf::cylinderRadianceClosed(ts[i], kView, m, rig, table ? &lobe : nullptr);
+    benchmark::DoNotOptimize(acc);
+  }
+  reportPerItem(state, double(kExactCount));
+  state.SetLabel(table ? "7 lights, lobe table" : "7 lights, exact factor");
+}
+BENCHMARK(BM_ClosedCylinder)->ArgNames({"n", "table"})->ArgsProduct({{10, 100, 10000, 100000}, {1, 0}})->UseRealTime();
 
 // The paper's estimate per fragment through the public entry point (which builds its sample
 // table on every call) ...

@@ -346,6 +346,58 @@ TEST(VtkTangentShading, ExactShadingIsTheExactCylinderIntegral)
   }
 }
 
+// The three paths on one filter: switching re-executes and gives each path's own output (closed
+// and exact within 1e-6, the map visibly different under this perspective camera); going back to
+// maps reuses the map; SetShadingToExact and ExactShadingOn agree; a new exponent changes the
+// closed output as the exact path says.
+TEST(VtkTangentShading, ShadingPathsSwitchOnOneFilter)
+{
+  vtkNew<vtkCamera> camera;
+  obliqueCamera(camera);
+  vtkNew<vtkWireFurTangentShading> filter;
+  filter->SetInputData(makePolyline(helix(60), false));
+  filter->SetCamera(camera);
+  filter->SetExponent(50);
+  auto radiance = [&] {
+    filter->Update();
+    vtkDataArray* rad = filter->GetOutput()->GetPointData()->GetArray("ShadedRadiance");
+    std::vector<glm::dvec3> out;
+    for (vtkIdType i = 0; i < rad->GetNumberOfTuples(); ++i)
+      out.push_back(tuple3(rad, i));
+    return out;
+  };
+  auto worst = [](const std::vector<glm::dvec3>& a, const std::vector<glm::dvec3>& b) {
+    double w = 0.0;
+    for (size_t i = 0; i < a.size(); ++i)
+      w = std::max(w, maxAbs(a[i] - b[i]));
+    return w;
+  };
+  const std::vector<glm::dvec3> closed = radiance();
+  EXPECT_EQ(filter->GetMapBuilds(), 0);
+  filter->SetShadingToExact();
+  const std::vector<glm::dvec3> exact = radiance();
+  EXPECT_EQ(filter->GetErrorEstimate(), 0.0);
+  filter->SetShadingToMaps();
+  const std::vector<glm::dvec3> maps = radiance();
+  EXPECT_EQ(filter->GetMapBuilds(), 1);
+  EXPECT_LE(worst(closed, exact), 1e-6);
+  EXPECT_GT(worst(maps, exact), 1e-3);
+  filter->SetShadingToClosed();
+  EXPECT_LE(worst(radiance(), closed), 0.0);
+  filter->SetShadingToMaps();
+  EXPECT_LE(worst(radiance(), maps), 0.0);
+  EXPECT_EQ(filter->GetMapBuilds(), 1);  // the same map
+  filter->SetShadingToClosed();
+  filter->ExactShadingOn();
+  EXPECT_LE(worst(radiance(), exact), 0.0);
+  filter->ExactShadingOff();
+  filter->SetExponent(7.5);
+  const std::vector<glm::dvec3> closed75 = radiance();
+  filter->SetShadingToExact();
+  EXPECT_LE(worst(closed75, radiance()), 1e-6);
+  EXPECT_GT(worst(closed75, closed), 1e-3);
+}
+
 // The error estimate: positive, below the core's documented bound for the default map
 // (2e-3, pseudo_reflectance_map.h), larger for a coarse map, and representative: on tangents
 // other than its own test set the map's error stays within twice the estimate.
