@@ -43,10 +43,24 @@ struct GaussLegendre {
       w[size_t(i)] = 2.0 / ((1.0 - z * z) * dp * dp);
     }
   }
-  // int_a^b (1 - x^2)^n dx by this rule.
+  // int_a^b (1 - x^2)^n dx by this rule (integer n up to 1024 by binary powering, several
+  // times cheaper than exp and log and as accurate).
   double lobe(double n, double a, double b) const {
     const double c = 0.5 * (a + b), h = 0.5 * (b - a);
     double s = 0.0;
+    if (n <= 1024.0 && n == std::floor(n)) {
+      const unsigned e = unsigned(n);
+      for (size_t i = 0; i < x.size(); ++i) {
+        const double t = c + h * x[i];
+        double base = (1.0 - t) * (1.0 + t), r = 1.0;
+        for (unsigned k = e; k; k >>= 1) {
+          if (k & 1u) r *= base;
+          base *= base;
+        }
+        s += w[i] * r;
+      }
+      return s * h;
+    }
     for (size_t i = 0; i < x.size(); ++i) {
       const double t = c + h * x[i];
       s += w[i] * std::exp(n * std::log1p(-t * t));
