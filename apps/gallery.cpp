@@ -166,7 +166,8 @@ int runGallery(const GalleryOptions& opt) {
                   sci(e["orthographic_max"].get<double>()) + "), " + std::to_string(r.stats.pseudoReflectanceMaps) +
                   " maps built"
             : "shading at every fragment's own view vector within " + sci(e["shading_bound"].get<double>()) +
-                  " of exact (" + std::to_string(r.stats.lobeTables) + " lobe tables built)";
+                  " of exact (" + std::to_string(r.stats.lobeTables) +
+                  (r.stats.lobeTables == 1 ? " lobe table built)" : " lobe tables built)");
     std::string err = "coverage exact per fragment (hiding by " + ro.mask.name() + " masks, 1/" +
                       std::to_string(ro.mask.samples()) + "); " + shading + "; " +
                       std::to_string(r.stats.abuffer.fragments) + " fragments";
