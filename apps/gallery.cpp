@@ -165,6 +165,8 @@ int runGallery(const GalleryOptions& opt) {
                   sci(e["map_max"].get<double>() + e["sphere_max"].get<double>()) + ", orthographic view " +
                   sci(e["orthographic_max"].get<double>()) + "), " + std::to_string(r.stats.pseudoReflectanceMaps) +
                   " maps built"
+        : e["shading_bound"].get<double>() == 0.0
+            ? std::string("shading exact at every fragment's own view vector (no tables)")
             : "shading at every fragment's own view vector within " + sci(e["shading_bound"].get<double>()) +
                   " of exact (" + std::to_string(r.stats.lobeTables) +
                   (r.stats.lobeTables == 1 ? " lobe table built)" : " lobe tables built)");
