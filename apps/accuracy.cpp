@@ -45,11 +45,6 @@ std::vector<glm::dvec3> seededTangents(int count, double minDeg, double maxDeg, 
   return out;
 }
 
-double channelError(const glm::dvec3& a, const glm::dvec3& b) {
-  const glm::dvec3 d = glm::abs(a - b);
-  return std::max({d.x, d.y, d.z});
-}
-
 struct ShadingCase {
   int lights;
   double exponent;

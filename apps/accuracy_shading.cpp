@@ -33,8 +33,6 @@ using json = nlohmann::ordered_json;
 
 namespace {
 
-double maxComponent(const glm::dvec3& d) { return std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)}); }
-
 template <class F>
 double nsPerCall(size_t n, F&& f) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -90,7 +88,7 @@ json shadingPathsStudy(bool quick, const Progress& progress, std::vector<std::pa
   });
   auto errorOf = [&] {
     double e = 0.0;
-    for (size_t i = 0; i < count; ++i) e = std::max(e, maxComponent(got[i] - ref[i]));
+    for (size_t i = 0; i < count; ++i) e = std::max(e, channelError(got[i], ref[i]));
     return e;
   };
   wf::PseudoReflectanceMap map;

@@ -337,13 +337,7 @@ int vtkWireFurTangentShading::RequestData(
     {
       lobe = std::make_shared<const wf::CylinderLobeTable>(material.exponent);
     }
-    double lightSum = 0.0;
-    for (const wf::DirectionalLight& l : eyeLights.lights)
-    {
-      lightSum += std::max({ l.intensity.x, l.intensity.y, l.intensity.z });
-    }
-    this->ErrorEstimate = lobe->measuredError() * lightSum *
-      std::max({ material.specular.x, material.specular.y, material.specular.z });
+    this->ErrorEstimate = wf::lobeRadianceBound(*lobe, material, eyeLights);
   }
   else
   {

@@ -203,14 +203,9 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
 
   // Closed path: the only approximation is the lobe table's factor G (at most 1, times c^2 A^n
   // <= 1 per light), so |closed - exact| <= its measured error x ks x the lights' sum.
-  if (closed) {
-    double lightSum = 0.0;
-    for (const DirectionalLight& l : ps.eyeLights.lights) lightSum += std::max({l.intensity.x, l.intensity.y, l.intensity.z});
+  if (closed)
     for (const ShaderSlot& slot : ps.shaders)
-      if (slot.lobe)
-        st.lobeError = std::max(st.lobeError, slot.lobe->measuredError() * lightSum *
-                                                  std::max({slot.phong.specular.x, slot.phong.specular.y, slot.phong.specular.z}));
-  }
+      if (slot.lobe) st.lobeError = std::max(st.lobeError, lobeRadianceBound(*slot.lobe, slot.phong, ps.eyeLights));
 
   // Error estimates against the exact path at the true view vector: the tables alone at a node
   // (where a table is exact in direction), and the tables with the view-direction approximation

@@ -20,6 +20,15 @@ constexpr double kTailExponent = 745.0;
 // Integer exponents up to this use the recurrence in lobeFactorExact (cheaper than quadrature).
 constexpr double kRecurrenceMax = 32.0;
 
+// The lobe's profile (1 - x^2)^n for x in [0, 1]; 1 for n = 0 (the limit from inside, also at
+// x = 1). Integer n up to 1024 by the Phong lobe's binary powering; otherwise through log1p,
+// since pow of the rounded 1 - x^2 near x = 0 would lose n ulp (1e-12 at n = 1e4).
+double profile(double n, double x) {
+  if (n == 0.0) return 1.0;
+  if (n <= 1024.0 && n == std::floor(n)) return phongLobe((1.0 - x) * (1.0 + x), n);
+  return std::exp(n * std::log1p(-x * x));
+}
+
 // Gauss-Legendre nodes and weights on [-1, 1], by Newton's iteration on the Legendre polynomial.
 struct GaussLegendre {
   std::vector<double> x, w;
@@ -43,28 +52,11 @@ struct GaussLegendre {
       w[size_t(i)] = 2.0 / ((1.0 - z * z) * dp * dp);
     }
   }
-  // int_a^b (1 - x^2)^n dx by this rule (integer n up to 1024 by binary powering, several
-  // times cheaper than exp and log and as accurate).
+  // int_a^b (1 - x^2)^n dx by this rule.
   double lobe(double n, double a, double b) const {
     const double c = 0.5 * (a + b), h = 0.5 * (b - a);
     double s = 0.0;
-    if (n <= 1024.0 && n == std::floor(n)) {
-      const unsigned e = unsigned(n);
-      for (size_t i = 0; i < x.size(); ++i) {
-        const double t = c + h * x[i];
-        double base = (1.0 - t) * (1.0 + t), r = 1.0;
-        for (unsigned k = e; k; k >>= 1) {
-          if (k & 1u) r *= base;
-          base *= base;
-        }
-        s += w[i] * r;
-      }
-      return s * h;
-    }
-    for (size_t i = 0; i < x.size(); ++i) {
-      const double t = c + h * x[i];
-      s += w[i] * std::exp(n * std::log1p(-t * t));
-    }
+    for (size_t i = 0; i < x.size(); ++i) s += w[i] * profile(n, c + h * x[i]);
     return s * h;
   }
 };
@@ -96,7 +88,7 @@ double lobeIntegral(double n, double lo, double hi) {
   if (n == 0.0) return hi - lo;
   hi = std::min(hi, std::sqrt(kTailExponent / n));
   if (!(hi > lo)) return 0.0;
-  auto f = [n](double x) { return std::exp(n * std::log1p(-x * x)); };
+  auto f = [n](double x) { return profile(n, x); };
   // The integrand is ~exp(-n x^2): break at multiples of its width so that each piece is smooth
   // on its own scale.
   const double sigma = 1.0 / std::sqrt(2.0 * n);
@@ -168,7 +160,6 @@ CylinderLobeTable::CylinderLobeTable(double exponent, int nodes) {
     if (graded_) return 4.0 * (1.0 - tau) * (1.0 - tau) * (1.0 - tau);
     return 1.0 / (scale_ * (1.0 - tau) * (1.0 - tau));
   };
-  auto lobe = [&](double y) { return n_ == 0.0 ? 1.0 : std::exp(n_ * std::log1p(-y * y)); };
   // int (1 - x^2)^n dx between the points at tau = ta and tb. Graded: in tau itself, where with
   // q = (1 - tau)^4 = 1 - x the integrand (q (2 - q))^n 4 (1 - tau)^3 is smooth: one Gauss-Kronrod
   // panel. Otherwise the adaptive quadrature in x.
@@ -176,8 +167,7 @@ CylinderLobeTable::CylinderLobeTable(double exponent, int nodes) {
     if (!graded_) return lobeIntegral(n_, ya, yb);
     auto f = [&](double tau) {
       const double r = 1.0 - tau, q = r * r * r * r;
-      const double base = q * (2.0 - q);
-      return (n_ == 0.0 ? 1.0 : (base > 0.0 ? std::exp(n_ * std::log(base)) : 0.0)) * 4.0 * r * r * r;
+      return (n_ == 0.0 ? 1.0 : phongLobe(q * (2.0 - q), n_)) * 4.0 * r * r * r;  // q (2 - q) = 1 - x^2
     };
     double value = 0.0, err = 0.0;
     quadrature::gk15(f, ta, tb, value, err);
@@ -194,7 +184,7 @@ CylinderLobeTable::CylinderLobeTable(double exponent, int nodes) {
     prevTau = tau;
     ys[size_t(i)] = y, Fs[size_t(i)] = F;
     const double G = i == 0 ? 1.0 : F / y;
-    const double dGdy = i == 0 ? 0.0 : (lobe(y) - G) / y;
+    const double dGdy = i == 0 ? 0.0 : (profile(n_, y) - G) / y;
     value_[size_t(i)] = G;
     slope_[size_t(i)] = dGdy * dyDtau(tau) * step;  // per node spacing
   }
@@ -222,6 +212,12 @@ double CylinderLobeTable::factor(double y) const {
   const double t = std::min(x - i, 1.0), s = 1.0 - t;
   const double h00 = (1.0 + 2.0 * t) * s * s, h10 = t * s * s, h01 = t * t * (3.0 - 2.0 * t), h11 = -t * t * s;
   return h00 * value_[size_t(i)] + h10 * slope_[size_t(i)] + h01 * value_[size_t(i) + 1] + h11 * slope_[size_t(i) + 1];
+}
+
+double lobeRadianceBound(const CylinderLobeTable& table, const PhongMaterial& m, const LightRig& rig) {
+  double lightSum = 0.0;
+  for (const DirectionalLight& l : rig.lights) lightSum += std::max({l.intensity.x, l.intensity.y, l.intensity.z});
+  return table.measuredError() * lightSum * std::max({m.specular.x, m.specular.y, m.specular.z});
 }
 
 double cylinderSpecularClosedForm(double a, double b, double u, double w, double v, double exponent,

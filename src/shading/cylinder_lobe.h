@@ -74,6 +74,11 @@ class CylinderLobeTable {
   double buildSeconds_ = 0.0;
 };
 
+/// The bound on |closed - exact| of the cylinder radiance of `m` under `rig` with `table`: the
+/// table's error enters once per light (c^2 A^n <= 1), scaled by the light and the specular
+/// colour, largest components (the renderer's and the VTK filter's reported estimate).
+double lobeRadianceBound(const CylinderLobeTable& table, const PhongMaterial& m, const LightRig& rig);
+
 /// The specular factor S of one light (see the file comment), from the light in the cylinder's
 /// frame (a = e1.l, b = e2.l, v = frame.v: accurate near the axis, where 1 - u^2 and 1 - w^2
 /// are not) and u = T.l, w = T.V. `table` null, or built for another exponent: exact

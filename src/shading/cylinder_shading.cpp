@@ -71,11 +71,14 @@ CylinderFrame cylinderFrame(const glm::dvec3& T, const glm::dvec3& V) {
   const double lt = glm::length(T), lv = glm::length(V);
   if (!(lt > 1e-300) || !(lv > 1e-300) || !std::isfinite(lt) || !std::isfinite(lv)) return f;
   const glm::dvec3 t = T / lt, vv = V / lv;
-  const glm::dvec3 perp = vv - glm::dot(vv, t) * t;
+  const double w = glm::dot(vv, t);
+  const glm::dvec3 perp = vv - w * t;
   const double v = glm::length(perp);
   if (!(v > kEndOnSin)) return f;
   f.e1 = perp / v;
   f.e2 = glm::cross(t, f.e1);
+  f.t = t;
+  f.w = w;
   f.v = std::min(v, 1.0);
   f.endOn = false;
   return f;
@@ -281,15 +284,13 @@ glm::dvec3 cylinderRadianceClosed(const glm::dvec3& T, const glm::dvec3& V, cons
   const PhongMaterial m = material.sanitized();
   const CylinderFrame fr = cylinderFrame(T, V);
   if (fr.endOn) return endOnFallback(T, V, m, rig);
-  const glm::dvec3 t = glm::normalize(T);
-  const double w = glm::dot(t, glm::normalize(V));
   glm::dvec3 out = m.diffuse * rig.ambient;
   const bool specular = m.specular != glm::dvec3(0.0);  // not for the diffuse part of a split material
   for (const DirectionalLight& l : rig.lights) {
     const double a = glm::dot(fr.e1, l.direction), b = glm::dot(fr.e2, l.direction);
     if (!(a * a + b * b > kAxisLightSin * kAxisLightSin)) continue;  // light along the axis lights no normal
     const double spec =
-        specular ? cylinderSpecularClosedForm(a, b, glm::dot(t, l.direction), w, fr.v, m.exponent, table) : 0.0;
+        specular ? cylinderSpecularClosedForm(a, b, glm::dot(fr.t, l.direction), fr.w, fr.v, m.exponent, table) : 0.0;
     out += l.intensity * (m.diffuse * cylinderDiffuseClosedForm(a, b) + m.specular * spec);
   }
   return out;

@@ -33,6 +33,8 @@ namespace wf {
 /// The frame of a cylinder as seen from V (see the file comment).
 struct CylinderFrame {
   glm::dvec3 e1{0.0}, e2{0.0};
+  glm::dvec3 t{0.0};    ///< the unit axis T
+  double w = 0.0;       ///< V.T for unit V and T = cos(angle between T and V)
   double v = 0.0;       ///< |V - (V.T)T| = sin(angle between T and V)
   bool endOn = true;    ///< T (nearly) parallel to V, or T / V undefined (zero, NaN, Inf)
 };
@@ -48,6 +50,8 @@ inline CylinderFrame cylinderFrameOrthographic(const glm::dvec3& unitT) {
   if (!(v > 1e-9)) return f;
   f.e1 = glm::dvec3(-unitT.z * unitT.x, -unitT.z * unitT.y, v * v) / v;
   f.e2 = glm::cross(unitT, f.e1);
+  f.t = unitT;
+  f.w = unitT.z;
   f.v = std::min(v, 1.0);
   f.endOn = false;
   return f;
