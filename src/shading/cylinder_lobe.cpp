@@ -21,11 +21,11 @@ constexpr double kTailExponent = 745.0;
 constexpr double kRecurrenceMax = 32.0;
 
 // The lobe's profile (1 - x^2)^n for x in [0, 1]; 1 for n = 0 (the limit from inside, also at
-// x = 1). Integer n up to 1024 by the Phong lobe's binary powering; otherwise through log1p,
-// since pow of the rounded 1 - x^2 near x = 0 would lose n ulp (1e-12 at n = 1e4).
+// x = 1). Integer n up to 1024 by binary powering (as the Phong lobe); otherwise through
+// log1p, since pow of the rounded 1 - x^2 near x = 0 would lose n ulp (1e-12 at n = 1e4).
 double profile(double n, double x) {
   if (n == 0.0) return 1.0;
-  if (n <= 1024.0 && n == std::floor(n)) return phongLobe((1.0 - x) * (1.0 + x), n);
+  if (n <= 1024.0 && n == std::floor(n)) return powInteger((1.0 - x) * (1.0 + x), unsigned(n));
   return std::exp(n * std::log1p(-x * x));
 }
 

@@ -33,16 +33,7 @@ double phongLobe(double x, double n) {
   x = std::min(x, 1.0);
   // Integer exponents up to 1024 (the common case, and the paper's) by binary powering:
   // several times cheaper than pow() and exact to a few ulp.
-  if (n <= 1024.0 && n == std::floor(n)) {
-    unsigned e = unsigned(n);
-    double r = 1.0;
-    while (e) {
-      if (e & 1u) r *= x;
-      x *= x;
-      e >>= 1;
-    }
-    return r;
-  }
+  if (n <= 1024.0 && n == std::floor(n)) return powInteger(x, unsigned(n));
   return std::pow(x, n);
 }
 

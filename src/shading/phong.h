@@ -34,6 +34,17 @@ glm::dvec3 phongRadiance(const glm::dvec3& N, const glm::dvec3& V, const PhongMa
 /// The exponent every entry point uses: NaN -> 1, clamped to [0, kMaxPhongExponent].
 double sanitizedExponent(double n);
 
+/// x^e by binary powering: several times cheaper than pow() and exact to a few ulp (the Phong
+/// lobe's integer exponents, and the cylinder lobe's profile, shading/cylinder_lobe.cpp).
+inline double powInteger(double x, unsigned e) {
+  double r = 1.0;
+  for (; e; e >>= 1) {
+    if (e & 1u) r *= x;
+    x *= x;
+  }
+  return r;
+}
+
 /// max(0, x)^n with the convention that 0^0 is the indicator [x > 0]; defined for all x, n >= 0.
 double phongLobe(double x, double n);
 
