@@ -164,6 +164,11 @@ int main(int argc, char** argv) {
       j["fragments_emitted"] = r.stats.work.emitted;
       j["max_fragments_per_pixel"] = r.stats.abuffer.maxFragmentsPerPixel;
       j["pixels_with_list"] = r.stats.abuffer.pixelsWithList;
+      const wf::RenderStats::RasterWork& w = r.stats.work;
+      j["raster_work"] = {{"items", w.items},   {"rows", w.rows},
+                          {"rows_culled", w.rowsCulled}, {"pixels", w.pixels},
+                          {"pixels_culled", w.pixelsCulled}, {"masks_hidden", w.masksHidden},
+                          {"emitted", w.emitted}};
       j["tail_fragments"] = r.stats.abuffer.tail;
       j["renderer_peak_bytes"] = r.stats.peakBytes;
       j["seconds_setup"] = r.stats.setup;

@@ -1,0 +1,40 @@
+// Styles as data (docs/scenes.md, "Styles"): what `--style` asks of a bare mesh, polyline or CAD
+// file, written into a scene description (scene/scene_description.h) that buildScene makes. The
+// same style gives the same materials, widths and growth on a mesh and on a CAD file of the same
+// shape; only what the input has (CAD faces with exact surfaces, a mesh's texture coordinates)
+// changes where hairs and scales root.
+#pragma once
+
+#include "scene/scene_description.h"
+
+#include <memory>
+#include <string>
+
+namespace wf {
+
+enum class Style { Wire, WireOverSurface, Burnished, Fur, Scales };
+
+/// "wire", "wire-over-surface", "burnished", "fur", "scales"; false for anything else.
+bool parseStyle(const std::string& name, Style& style);
+const char* styleName(Style style);
+/// The names, for messages: "wire, wire-over-surface, burnished, fur or scales".
+const char* styleNames();
+
+/// The size of a model (its bounding box diagonal), that the presets' lengths are relative to.
+double modelSize(const GeometryData& geometry);
+
+/// A scene of one file's geometry in a style, framed from its bounds under the studio rig:
+///   wire               the edges (a CAD model's B-rep edges, a mesh's triangle edges) or the
+///                      file's lines, copper, 1.5 px
+///   wire-over-surface  the same at 2 px over the shaded part (a CAD model's colours kept)
+///   burnished          brushed steel, grain along u (a CAD face's, a mesh's texture u, else the
+///                      up axis projected onto the surface)
+///   fur                hairs grown on the surface: about 60,000, area-correct, length 3% of the
+///                      model's size, a little droop
+///   scales             two scales per cell of about 2.5% of the model's size, over the surface
+/// A file of polylines only (hair, streamlines) draws them as hair-like shaded strands in every
+/// style that draws lines. Throws SceneError("--style", ...) where the style means nothing for
+/// the input (burnished, fur or scales without polygons).
+SceneDescription describeStyled(std::shared_ptr<const GeometryData> geometry, Style style);
+
+}  // namespace wf
