@@ -448,154 +448,26 @@ int runCadWorker(const std::vector<std::string>& a) {
   return out ? status : 1;
 }
 
-namespace {
-
-// Fur on the exact faces (paper §4.2 and its future work): area-correct roots over each face's
-// own surface, only where the face is (its trimming as the density map), curved hairs with a
-// little droop, lengths and thickness relative to the model's size, about 60,000 hairs in all.
-void growCadFur(const CadGeometry& cad, SceneFile& sf) {
-  const wf::TriangleMesh& m = cad.geometry.mesh;
-  double area = 0.0;
-  for (const glm::uvec3& t : m.triangles)
-    area += 0.5 * glm::length(glm::cross(m.positions[t.y] - m.positions[t.x], m.positions[t.z] - m.positions[t.x]));
-  const double size = cad.info.value("model_size", 1.0);
-  if (!(area > 0) || !std::isfinite(area) || cad.faces.empty()) return;
-  wf::Material hair;
-  hair.name = "fur";
-  hair.phong = {glm::dvec3(0.55, 0.42, 0.3), glm::dvec3(0.25), 12.0};
-  sf.scene.materials.push_back(hair);
-  const int material = int(sf.scene.materials.size()) - 1;
-  wf::FurParams p;
-  p.placement = wf::FurParams::Placement::AreaCorrect;
-  p.density = 60000.0 / area;
-  p.cellsU = p.cellsV = 32;
-  p.lengthMode = wf::FurParams::LengthMode::Fixed;
-  p.length = 0.03 * size;
-  p.lengthVariation = 0.3;
-  p.unitTangents = true;
-  p.orientation = glm::dvec3(0.25, 0.0, 1.0);
-  p.segments = 3;
-  p.gravity = 0.35;
-  p.thickness = 0.0012 * size;
-  p.rootColour = glm::vec3(0.28f, 0.18f, 0.1f);
-  p.tipColour = glm::vec3(0.75f, 0.6f, 0.42f);
-  p.seed = 7;
-  double pointsLeft = 8388608.0;
-  const auto t0 = std::chrono::steady_clock::now();
-  for (const WireFurCadFace& f : cad.faces) {
-    wf::FurParams q = p;
-    q.densityMap = f.inside;
-    q.maxPoints = std::max(0.0, pointsLeft);
-    wf::Fur fur = wf::growFur(*f.surface, q, std::uint32_t(f.faceId));
-    pointsLeft -= double(fur.hairs.points.size());
-    sf.hairsGrown += fur.hairs.polylineCount();
-    if (fur.hairs.points.empty()) continue;
-    wf::SceneWire w;
-    w.name = "fur of face " + std::to_string(f.faceId);
-    w.lines = std::move(fur.hairs);
-    w.restsOnSurface = false;  // hairs grow out of the face
-    w.aggregate = true;
-    w.thickness = p.thickness;
-    w.material = material;
-    sf.scene.wires.push_back(std::move(w));
-  }
-  sf.generateSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+std::shared_ptr<wf::GeometryData> cadGeometryData(CadGeometry&& cad) {
+  auto g = std::make_shared<wf::GeometryData>();
+  g->cad = true;
+  g->mesh = std::move(cad.geometry.mesh);
+  g->lines = std::move(cad.geometry.lines);
+  g->isoLines = std::move(cad.isoLines);
+  g->partNames = std::move(cad.partNames);
+  g->trianglePart = std::move(cad.trianglePart);
+  for (const WireFurCadFace& f : cad.faces) g->faces.push_back({f.surface, f.inside, f.faceId, f.part});
+  return g;
 }
 
-}  // namespace
-
 SceneFile sceneForCadFile(const std::string& path, const std::string& style, const CadOptions& options) {
-  if (style != "wire" && style != "wire-over-surface" && style != "burnished" && style != "fur")
-    throw UsageError("--style " + style + ": for CAD input expected wire, wire-over-surface, burnished or fur (scales are not offered: they would grow over the trimmed-away parts of faces)");
-  CadGeometry cad = readCad(path, options, style == "fur");
+  wf::Style s;
+  if (!wf::parseStyle(style, s)) throw UsageError("--style " + style + ": expected " + wf::styleNames());
+  CadGeometry cad = readCad(path, options, s == wf::Style::Fur || s == wf::Style::Scales);
   if (!cad.warning.empty()) std::cerr << "wirefur: warning: " << cad.warning << "\n";
   SceneFile sf;
-  sf.title = std::filesystem::path(path).stem().string();
-  sf.caption = path + " as " + style;
   sf.inputStats = cad.info;
-  wf::Scene& s = sf.scene;
-  s.lights = wf::LightRig::studioRig(3);
-  s.lightsFollowCamera = true;
-  // 0 default, 1 the parts (their own colours multiply it), 2 the wire, 3 brushed steel, 4 iso lines.
-  wf::Material part;
-  part.name = "part";
-  part.phong = {glm::dvec3(0.8), glm::dvec3(0.25), 30.0};
-  wf::Material wire;
-  wire.name = "wire";
-  wire.phong = {glm::dvec3(0.6, 0.3, 0.1), glm::dvec3(0.9), 40.0};  // copper: it stands out from grey parts
-  wf::Material steel;
-  steel.name = "brushed steel";
-  steel.phong = {glm::dvec3(0.18), glm::dvec3(5.0), 30.0};
-  steel.burnish.grain = wf::Burnish::Grain::U;
-  wf::Material iso = wire;
-  iso.name = "iso lines";
-  iso.phong.diffuse = glm::dvec3(0.3, 0.32, 0.36);
-  s.materials = {wf::Material{}, part, wire, steel, iso};
-
-  const bool surfaces = style != "wire";
-  if (surfaces && !cad.geometry.mesh.triangles.empty()) {
-    // One surface per part, named after it.
-    wf::TriangleMesh& all = cad.geometry.mesh;
-    if (style == "burnished") all.colours.clear();  // steel: the file's colours would paint it
-    const size_t parts = std::max<size_t>(1, cad.partNames.size());
-    std::vector<wf::TriangleMesh> meshes(parts);
-    std::vector<std::vector<std::uint32_t>> remap(parts);
-    for (size_t t = 0; t < all.triangles.size(); ++t) {
-      const size_t p = std::min(parts - 1, size_t(std::max(0, cad.trianglePart[t])));
-      wf::TriangleMesh& m = meshes[p];
-      std::vector<std::uint32_t>& r = remap[p];
-      if (r.empty()) r.assign(all.positions.size(), ~0u);
-      glm::uvec3 tri;
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t v = all.triangles[t][k];
-        if (r[v] == ~0u) {
-          r[v] = std::uint32_t(m.positions.size());
-          m.positions.push_back(all.positions[v]);
-          m.normals.push_back(all.normals[v]);
-          m.derivU.push_back(all.derivU[v]);
-          m.derivV.push_back(all.derivV[v]);
-          m.uvs.push_back(all.uvs[v]);
-          if (!all.colours.empty()) m.colours.push_back(all.colours[v]);
-        }
-        tri[k] = r[v];
-      }
-      m.triangles.push_back(tri);
-    }
-    for (size_t p = 0; p < parts; ++p) {
-      if (meshes[p].triangles.empty()) continue;
-      const std::string name = p < cad.partNames.size() ? cad.partNames[p] : "part";
-      s.surfaces.push_back({name, std::move(meshes[p]), style == "burnished" ? 3 : 1});
-    }
-  }
-  if (style == "fur") growCadFur(cad, sf);
-  if (style != "burnished" && style != "fur") {
-    if (!cad.geometry.lines.points.empty()) {
-      wf::SceneWire w;
-      w.name = "edges";
-      w.material = 2;
-      w.lines = std::move(cad.geometry.lines);
-      w.thickness = style == "wire" ? 1.5 : 2.0;
-      w.thicknessInPixels = true;
-      s.wires.push_back(std::move(w));
-    }
-  }
-  if (!cad.isoLines.points.empty()) {
-    wf::SceneWire w;
-    w.name = "iso lines";
-    w.material = 4;
-    w.lines = std::move(cad.isoLines);
-    w.thickness = 0.9;
-    w.thicknessInPixels = true;
-    s.wires.push_back(std::move(w));
-  }
-  if (s.surfaces.empty() && s.wires.empty())
-    throw UsageError(path + ": nothing to draw as " + style + (style == "burnished" ? " (no faces)" : " (no faces and no edges)"));
-  // Framed from the bounds like a scene without an eye (refitted by reframe() for --size).
-  sf.framed = true;
-  glm::dvec3 centre(0.0);
-  double radius = 1.0;
-  if (!s.boundingSphere(centre, radius)) centre = glm::dvec3(0.0), radius = 1.0;
-  s.camera = wf::frameSphere(centre, radius, double(sf.width) / sf.height, wf::Camera::Projection::Perspective, sf.frameDirection);
+  buildStyled(sf, path, cadGeometryData(std::move(cad)), s);
   return sf;
 }
 

@@ -44,6 +44,10 @@ struct CadGeometry {
 /// UsageError("FILE: entity: problem"); CAD support missing from this build: std::runtime_error.
 CadGeometry readCad(const std::string& path, const CadOptions& options, bool withSurfaces = false);
 
+/// The CAD model as the core's scene geometry (scene/scene_description.h): its tessellation,
+/// edges, iso lines, parts and exact faces.
+std::shared_ptr<wf::GeometryData> cadGeometryData(CadGeometry&& cad);
+
 /// A scene around one CAD file in one of the contract's styles: "wire" (the edges as shaded
 /// wire), "wire-over-surface" (shaded wire over the shaded parts, in the file's colours: the
 /// paper's image 11 from a real file), "burnished" (brushed steel, grain along each face's u),

@@ -843,7 +843,15 @@ LoadedGeometry readGeometry(const std::string& path) {
     vtkDataArray* n = t->GetPointData()->GetNormals();
     vtkUnsignedCharArray* trgb = vtkUnsignedCharArray::SafeDownCast(t->GetPointData()->GetScalars());
     const bool tcol = trgb && trgb->GetNumberOfComponents() >= 3;
+    // Texture coordinates (OBJ vt, PLY u v / s t, VTK TCoords): the mesh's own (u, v) for colour
+    // maps and for growing fur and scales (surface/mesh_surface.h). Dropped whole when one is
+    // not finite.
+    vtkDataArray* tc = t->GetPointData()->GetTCoords();
+    if (tc && tc->GetNumberOfComponents() < 2) tc = nullptr;
+    for (vtkIdType i = 0; tc && i < t->GetNumberOfPoints(); ++i)
+      if (!std::isfinite(tc->GetComponent(i, 0)) || !std::isfinite(tc->GetComponent(i, 1))) tc = nullptr;
     for (vtkIdType i = 0; i < t->GetNumberOfPoints(); ++i) {
+      if (tc) g.mesh.uvs.emplace_back(tc->GetComponent(i, 0), tc->GetComponent(i, 1));
       double p[3];
       t->GetPoint(i, p);
       g.mesh.positions.emplace_back(p[0], p[1], p[2]);

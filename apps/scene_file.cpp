@@ -10,7 +10,6 @@
 #include "scene_reader.h"
 
 #include "geometry/parametric_sources.h"
-#include "surface/transformed_surface.h"
 
 #include <nlohmann/json.hpp>
 
@@ -280,16 +279,15 @@ int materialRef(const Reader& r, const json& j, const std::string& ptr, const st
   return it->second;
 }
 
-struct WireSpec {
-  std::string from;  // isolines, edges, lines
-  int linesU = 16, linesV = 8;
-  wf::SceneWire wire;
-};
-
-WireSpec readWire(const Reader& r, const json& j, const std::string& ptr, const std::map<std::string, int>& materials) {
+wf::WireDescription readWire(const Reader& r, const json& j, const std::string& ptr, const std::map<std::string, int>& materials) {
   r.keys(j, ptr, {"from", "lines", "style", "material", "thickness", "units", "colour", "opacity", "ends"});
-  WireSpec w;
-  if (j.contains("from")) w.from = r.choice(j["from"], Reader::at(ptr, "from"), {"isolines", "edges", "lines"});
+  wf::WireDescription w;
+  w.where = ptr;
+  if (j.contains("from")) {
+    const std::string from = r.choice(j["from"], Reader::at(ptr, "from"), {"isolines", "edges", "lines"});
+    using F = wf::WireDescription::From;
+    w.from = from == "isolines" ? F::Isolines : from == "edges" ? F::Edges : F::Lines;
+  }
   if (j.contains("lines")) {
     const std::string lp = Reader::at(ptr, "lines");
     if (!j["lines"].is_array() || j["lines"].size() != 2) r.fail(lp, "expected [lines along u, lines along v]");
@@ -310,34 +308,28 @@ WireSpec readWire(const Reader& r, const json& j, const std::string& ptr, const 
   return w;
 }
 
-void readObject(const Reader& r, const json& j, const std::string& ptr, const std::string& folder,
-                const std::map<std::string, int>& materials, std::uint32_t index, const SceneOverrides& overrides,
-                SceneBudget& budget, wf::Scene& scene) {
+// One object of the scene file: its description, with its file's geometry read (the I/O this
+// layer does); buildScene makes it.
+wf::ObjectDescription readObject(const Reader& r, const json& j, const std::string& ptr, const std::string& folder,
+                                 const std::map<std::string, int>& materials, const SceneOverrides& overrides,
+                                 SceneBudget& budget, nlohmann::ordered_json& inputStats) {
   r.keys(j, ptr, {"name", "source", "file", "cad", "transform", "surface", "wire", "fur", "scales"});
-  const std::string name = j.contains("name") ? r.string(j["name"], Reader::at(ptr, "name")) : ptr;
+  wf::ObjectDescription o;
+  o.where = ptr;
+  o.name = j.contains("name") ? r.string(j["name"], Reader::at(ptr, "name")) : ptr;
+  o.sourceWhere = Reader::at(ptr, "source");
+  o.fileWhere = Reader::at(ptr, "file");
+  o.surfaceWhere = Reader::at(ptr, "surface");
   if (j.contains("source") == j.contains("file")) r.fail(ptr, "an object needs exactly one of source and file");
-  glm::dmat4 M(1.0);
-  if (j.contains("transform")) M = readTransform(r, j["transform"], Reader::at(ptr, "transform"));
-
-  wf::TriangleMesh mesh;
-  wf::PolylineSet fileLines;
-  wf::ParametricSource source;
-  const bool isSource = j.contains("source");
-  bool isCad = false;  // a CAD file: its edges are the file's lines, not the tessellation's
-  if (isSource) {
-    source = readSource(r, j["source"], Reader::at(ptr, "source"));
-    // Tessellated only when something draws the polygons: a surface, or a wire of its edges
-    // (fur and isolines work on the surface itself).
-    const bool noSurface = j.contains("surface") && j["surface"].is_boolean() && !j["surface"].get<bool>();
-    const bool edges = j.contains("wire") && j["wire"].is_object() && j["wire"].contains("from") && j["wire"]["from"] == "edges";
-    if (!noSurface || edges) {
-      budget.addPrimitives(r, Reader::at(ptr, "source"), 2.0 * source.resolutionU * source.resolutionV, "this tessellation");
-      mesh = wf::tessellate(source);
-    }
+  if (j.contains("transform")) o.transform = readTransform(r, j["transform"], Reader::at(ptr, "transform"));
+  const bool grows = j.contains("fur") || j.contains("scales");
+  if (j.contains("source")) {
+    o.source = readSource(r, j["source"], o.sourceWhere);
   } else {
-    std::string f = r.string(j["file"], Reader::at(ptr, "file"));
+    std::string f = r.string(j["file"], o.fileWhere);
     std::filesystem::path p(f);
     if (p.is_relative()) p = std::filesystem::path(folder) / p;
+    std::shared_ptr<wf::GeometryData> g = std::make_shared<wf::GeometryData>();
     if (isCadFile(p.string())) {
       // A CAD file: faces with exact surface data, its edges as the object's lines.
       CadOptions co = overrides.cad;
@@ -353,98 +345,50 @@ void readObject(const Reader& r, const json& j, const std::string& ptr, const st
         if (c.contains("isos")) co.isos = int(r.number(c["isos"], Reader::at(cp, "isos"), 0, 1000));
       }
       try {
-        CadGeometry c = readCad(p.string(), co);
+        CadGeometry c = readCad(p.string(), co, grows);
         if (!c.warning.empty()) std::cerr << "wirefur: warning: " << c.warning << "\n";
-        mesh = std::move(c.geometry.mesh);
-        fileLines = std::move(c.geometry.lines);
-        for (size_t k = 0; k < c.isoLines.polylineCount(); ++k)
-          fileLines.add(std::vector<glm::dvec3>(c.isoLines.points.begin() + c.isoLines.starts[k],
-                                                c.isoLines.points.begin() + c.isoLines.starts[k + 1]));
-        isCad = true;
+        if (inputStats.empty()) inputStats = c.info;
+        g = cadGeometryData(std::move(c));
       } catch (const UsageError& e) {
-        r.fail(Reader::at(ptr, "file"), e.what());
+        r.fail(o.fileWhere, e.what());
       }
-      budget.addPrimitives(r, Reader::at(ptr, "file"), double(mesh.triangles.size()), "this CAD tessellation");
     } else {
       if (j.contains("cad")) r.fail(Reader::at(ptr, "cad"), "only for CAD files (.step .stp .iges .igs .brep .FCStd)");
       try {
-        LoadedGeometry g = readGeometry(p.string());
-        mesh = std::move(g.mesh);
-        fileLines = std::move(g.lines);
+        LoadedGeometry lg = readGeometry(p.string());
+        g->mesh = std::move(lg.mesh);
+        g->lines = std::move(lg.lines);
       } catch (const UsageError& e) {
-        r.fail(Reader::at(ptr, "file"), e.what());
+        r.fail(o.fileWhere, e.what());
       }
     }
+    o.geometry = std::move(g);
   }
   // Surface: drawn unless "surface": false; a material by name, or the default.
-  bool drawSurface = !mesh.triangles.empty();
-  int surfaceMaterial = 0;
   if (j.contains("surface")) {
     const json& s = j["surface"];
-    const std::string sp = Reader::at(ptr, "surface");
+    o.surfaceExplicit = true;
     if (s.is_boolean()) {
-      drawSurface = s.get<bool>();
+      o.drawSurface = s.get<bool>();
     } else {
-      r.keys(s, sp, {"material"});
-      if (s.contains("material")) surfaceMaterial = materialRef(r, s["material"], Reader::at(sp, "material"), materials);
+      r.keys(s, o.surfaceWhere, {"material"});
+      if (s.contains("material")) o.surfaceMaterial = materialRef(r, s["material"], Reader::at(o.surfaceWhere, "material"), materials);
     }
-    if (drawSurface && mesh.triangles.empty()) r.fail(sp, "this object has no polygons to draw as a surface");
   }
-  if (j.contains("wire")) {
-    WireSpec w = readWire(r, j["wire"], Reader::at(ptr, "wire"), materials);
-    const std::string wp = Reader::at(ptr, "wire");
-    std::string from = w.from;
-    if (from.empty()) from = isSource ? "isolines" : (fileLines.points.empty() ? "edges" : "lines");
-    // A wire's segments count against the scene's budget as hair segments do (fuzzing found
-    // 433 bytes of scene making 12 million edge segments, 9 GB in the command). Edges are
-    // counted before they are made (a closed mesh has 1.5 per triangle), the rest once made.
-    bool counted = false;
-    if (from == "isolines") {
-      if (!isSource) r.fail(Reader::at(wp, "from"), "isolines need a parametric source (use edges or lines for files)");
-      w.wire.lines = wf::isolines(source, w.linesU, w.linesV);
-    } else if (from == "edges" && isCad) {
-      if (fileLines.points.empty()) r.fail(Reader::at(wp, "from"), "this CAD file has no edges");
-      w.wire.lines = fileLines;
-    } else if (from == "edges") {
-      if (mesh.triangles.empty()) r.fail(Reader::at(wp, "from"), "this object has no polygons, so no edges");
-      budget.addPrimitives(r, wp, 1.5 * double(mesh.triangles.size()), "this wire's edges");
-      counted = true;
-      w.wire.lines = wf::meshEdges(mesh);
-    } else {
-      if (fileLines.points.empty()) r.fail(Reader::at(wp, "from"), "this object has no line cells");
-      w.wire.lines = fileLines;
-    }
-    if (!counted)
-      budget.addPrimitives(r, wp, double(w.wire.lines.points.size() - w.wire.lines.polylineCount()), "this wire");
-    wf::transformPolylines(w.wire.lines, M);
-    w.wire.name = name;
-    scene.wires.push_back(std::move(w.wire));
-  }
-  if (drawSurface) {
-    wf::transformMesh(mesh, M);
-    scene.surfaces.push_back({name, std::move(mesh), surfaceMaterial});
-  }
-  // Fur and scales grow on the placed surface (world units, normals right under any transform).
+  if (j.contains("wire")) o.wire = readWire(r, j["wire"], Reader::at(ptr, "wire"), materials);
   GrowthContext growth;
-  if (isSource && (j.contains("fur") || j.contains("scales"))) {
-    std::shared_ptr<const wf::Surface> base(wf::makeSurface(source));
-    if (!base) r.fail(Reader::at(ptr, "source"), "a box is not one parametric patch: fur and scales need another source");
-    growth.surface = std::make_shared<wf::TransformedSurface>(base, M);
-  }
-  growth.patch = index;
-  growth.time = overrides.time;
   growth.budget = &budget;
   growth.folder = folder;
-  growth.name = name;
   growth.material = [&](const json& m, const std::string& mp) { return materialRef(r, m, mp, materials); };
-  readGrowth(r, j, ptr, growth, scene);
-  if (!drawSurface && !j.contains("wire") && !j.contains("fur") && !j.contains("scales"))
-    r.fail(ptr, "this object draws nothing (no polygons for a surface, no wire, fur or scales)");
+  readGrowth(r, j, ptr, growth, o);
+  return o;
 }
 
-void readCamera(const Reader& r, const json& j, const std::string& ptr, SceneFile& sf) {
+wf::CameraDescription readCamera(const Reader& r, const json& j, const std::string& ptr) {
   r.keys(j, ptr, {"projection", "eye", "target", "up", "fov", "height", "near", "far", "direction"});
-  wf::Camera c;
+  wf::CameraDescription cd;
+  cd.where = ptr.empty() ? "/" : ptr;
+  wf::Camera& c = cd.camera;
   if (j.contains("projection"))
     c.projection = r.choice(j["projection"], Reader::at(ptr, "projection"), {"perspective", "orthographic"}) == "orthographic"
                        ? wf::Camera::Projection::Orthographic
@@ -458,18 +402,11 @@ void readCamera(const Reader& r, const json& j, const std::string& ptr, SceneFil
     if (!(glm::length(dir) > 0)) r.fail(Reader::at(ptr, "direction"), "direction must not be zero");
     for (const char* k : {"target", "up", "height"})
       if (j.contains(k)) r.fail(Reader::at(ptr, k), "only with an eye (without one the camera frames the scene)");
-    sf.framed = true;
-    sf.frameDirection = dir;
-    glm::dvec3 centre(0.0);
-    double radius = 1.0;
-    if (!sf.scene.boundingSphere(centre, radius)) centre = glm::dvec3(0.0), radius = 1.0;
-    const wf::Camera framed = wf::frameSphere(centre, radius, double(sf.width) / sf.height, c.projection, dir, c.fovYDegrees);
-    c.eye = framed.eye;
-    c.target = framed.target;
-    c.up = framed.up;
-    c.orthoHeight = framed.orthoHeight;
+    cd.framed = true;
+    cd.frameDirection = dir;
   } else {
     if (j.contains("direction")) r.fail(Reader::at(ptr, "direction"), "only without an eye (it says where to frame from)");
+    cd.framed = false;
     c.eye = r.vec3(j["eye"], Reader::at(ptr, "eye"));
     c.target = j.contains("target") ? r.vec3(j["target"], Reader::at(ptr, "target")) : glm::dvec3(0.0);
     c.up = j.contains("up") ? r.vec3(j["up"], Reader::at(ptr, "up")) : glm::dvec3(0, 0, 1);
@@ -477,12 +414,25 @@ void readCamera(const Reader& r, const json& j, const std::string& ptr, SceneFil
   if (j.contains("height")) c.orthoHeight = r.number(j["height"], Reader::at(ptr, "height"), 1e-12, 1e12);
   if (j.contains("near")) c.nearPlane = r.number(j["near"], Reader::at(ptr, "near"), 0, 1e15);
   if (j.contains("far")) c.farPlane = r.number(j["far"], Reader::at(ptr, "far"), 0, 1e15);
-  const std::string problem = c.problem();
-  if (!problem.empty()) r.fail(ptr, problem);
-  sf.scene.camera = c;
+  return cd;
 }
 
 }  // namespace
+
+static void build(SceneFile& sf, const wf::SceneDescription& d, const std::string& file) {
+  wf::BuiltScene b;
+  try {
+    b = wf::buildScene(d);
+  } catch (const wf::SceneError& e) {
+    throw UsageError(file + ": " + (e.where.empty() ? std::string("/") : e.where) + ": " + e.what());
+  }
+  sf.scene = std::move(b.scene);
+  sf.generateSeconds = b.generateSeconds;
+  sf.hairsGrown = b.hairsGrown;
+  sf.scalesGrown = b.scalesGrown;
+  sf.framed = b.framed;
+  sf.camera = d.camera;
+}
 
 SceneFile parseScene(const std::string& path, const std::string& text, const std::string& folder,
                      const SceneOverrides& overrides) {
@@ -490,6 +440,9 @@ SceneFile parseScene(const std::string& path, const std::string& text, const std
   const json doc = parse(path, text);
   r.keys(doc, "", {"title", "caption", "paper_image", "image", "camera", "lights", "materials", "environment", "objects"});
   SceneFile sf;
+  wf::SceneDescription d;
+  d.maxPrimitives = SceneBudget::kMaxPrimitives;
+  d.time = overrides.time;
   if (doc.contains("title")) sf.title = r.string(doc["title"], "/title");
   if (doc.contains("caption")) sf.caption = r.string(doc["caption"], "/caption");
   if (doc.contains("paper_image")) sf.paperImage = r.string(doc["paper_image"], "/paper_image");
@@ -509,42 +462,40 @@ SceneFile parseScene(const std::string& path, const std::string& text, const std
       const json& b = im["background"];
       if (b.is_array() && b.size() == 4) {
         const glm::dvec3 c = r.colour(json::array({b[0], b[1], b[2]}), "/image/background");
-        sf.scene.background = glm::vec4(glm::vec3(c), float(r.number(b[3], "/image/background/3", 0, 1)));
+        d.background = glm::vec4(glm::vec3(c), float(r.number(b[3], "/image/background/3", 0, 1)));
       } else {
-        sf.scene.background = glm::vec4(glm::vec3(r.colour(b, "/image/background")), 1.0f);
+        d.background = glm::vec4(glm::vec3(r.colour(b, "/image/background")), 1.0f);
       }
     }
   }
-  if (doc.contains("lights")) readLights(r, doc["lights"], "/lights", sf.scene);
-  else sf.scene.lights = wf::LightRig::studioRig(3), sf.scene.lightsFollowCamera = true;
+  d.width = sf.width, d.height = sf.height;
+  wf::Scene lit;  // the lights as the reader fills them
+  if (doc.contains("lights")) readLights(r, doc["lights"], "/lights", lit);
+  else lit.lights = wf::LightRig::studioRig(3), lit.lightsFollowCamera = true;
+  d.lights = lit.lights;
+  d.lightsFollowCamera = lit.lightsFollowCamera;
   if (doc.contains("environment")) r.choice(doc["environment"], "/environment", {"mountains"});
   std::map<std::string, int> materials{{"default", 0}};
   SceneBudget budget;
-  if (doc.contains("materials")) readMaterials(r, doc["materials"], "/materials", folder, budget, sf.scene, materials);
+  if (doc.contains("materials")) readMaterials(r, doc["materials"], "/materials", folder, budget, lit, materials);
+  d.materials = lit.materials;
   if (!doc.contains("objects") || !doc["objects"].is_array() || doc["objects"].empty())
     r.fail("/objects", "expected a non-empty list of objects");
   for (size_t i = 0; i < doc["objects"].size(); ++i)
-    readObject(r, doc["objects"][i], Reader::at("/objects", i), folder, materials, std::uint32_t(i), overrides, budget,
-               sf.scene);
-  sf.generateSeconds = budget.generateSeconds;
-  sf.hairsGrown = budget.hairs;
-  sf.scalesGrown = budget.scales;
-  readCamera(r, doc.contains("camera") ? doc["camera"] : json::object(), "/camera", sf);
+    d.objects.push_back(readObject(r, doc["objects"][i], Reader::at("/objects", i), folder, materials, overrides, budget,
+                                   sf.inputStats));
+  d.camera = readCamera(r, doc.contains("camera") ? doc["camera"] : json::object(), "/camera");
+  build(sf, d, path);
   if (sf.title.empty()) sf.title = std::filesystem::path(path).stem().string();
   return sf;
 }
 
 void reframe(SceneFile& sf, int width, int height) {
-  if (!sf.framed || !sf.scene.camera) return;
-  wf::Camera& c = *sf.scene.camera;
-  glm::dvec3 centre(0.0);
-  double radius = 1.0;
-  if (!sf.scene.boundingSphere(centre, radius)) centre = glm::dvec3(0.0), radius = 1.0;
-  const wf::Camera f = wf::frameSphere(centre, radius, double(width) / height, c.projection, sf.frameDirection, c.fovYDegrees);
-  c.eye = f.eye;
-  c.target = f.target;
-  c.up = f.up;
-  c.orthoHeight = f.orthoHeight;
+  if (!sf.framed) return;
+  wf::BuiltScene b;
+  b.scene = std::move(sf.scene);
+  wf::frameCamera(b, sf.camera, width, height);
+  sf.scene = std::move(b.scene);
 }
 
 SceneFile loadSceneFile(const std::string& path, const SceneOverrides& overrides) {
@@ -558,31 +509,29 @@ SceneFile defaultScene() {
   return parseScene("built-in scene (data/scenes/cage_shaded.json)", kBuiltInSceneJson, ".");
 }
 
-SceneFile sceneForGeometryFile(const std::string& path, const std::string& style) {
-  if (style != "wire" && style != "wire-over-surface")
-    throw UsageError("--style " + style + ": not in this version yet (wire and wire-over-surface are; burnished, fur and scales come with the surface generators)");
-  LoadedGeometry g = readGeometry(path);
-  SceneFile sf;
+void buildStyled(SceneFile& sf, const std::string& path, std::shared_ptr<const wf::GeometryData> geometry, wf::Style style) {
   sf.title = std::filesystem::path(path).stem().string();
-  sf.caption = path + " as " + style;
-  wf::Scene& s = sf.scene;
-  s.lights = wf::LightRig::studioRig(3);
-  s.lightsFollowCamera = true;
-  wf::Material part;
-  part.name = "part";
-  part.phong = {glm::dvec3(0.45, 0.47, 0.5), glm::dvec3(0.3), 25.0};
-  wf::Material steel;
-  steel.name = "wire";
-  steel.phong = {glm::dvec3(0.5, 0.5, 0.52), glm::dvec3(0.7), 50.0};
-  s.materials = {wf::Material{}, part, steel};
-  wf::SceneWire w;
-  w.name = "wire";
-  w.material = 2;
-  w.lines = g.lines.points.empty() ? wf::meshEdges(g.mesh) : g.lines;
-  w.thickness = 1.6;
-  w.thicknessInPixels = true;
-  s.wires.push_back(std::move(w));
-  if (style == "wire-over-surface" && !g.mesh.triangles.empty()) s.surfaces.push_back({"part", std::move(g.mesh), 1});
+  sf.caption = path + " as " + wf::styleName(style);
+  wf::SceneDescription d;
+  try {
+    d = wf::describeStyled(std::move(geometry), style);
+  } catch (const wf::SceneError& e) {
+    throw UsageError(path + ": " + e.where + " " + wf::styleName(style) + ": " + e.what());
+  }
+  d.width = sf.width, d.height = sf.height;
+  d.maxPrimitives = SceneBudget::kMaxPrimitives;
+  build(sf, d, path);
+}
+
+SceneFile sceneForGeometryFile(const std::string& path, const std::string& style) {
+  wf::Style s;
+  if (!wf::parseStyle(style, s)) throw UsageError("--style " + style + ": expected " + wf::styleNames());
+  LoadedGeometry lg = readGeometry(path);
+  auto g = std::make_shared<wf::GeometryData>();
+  g->mesh = std::move(lg.mesh);
+  g->lines = std::move(lg.lines);
+  SceneFile sf;
+  buildStyled(sf, path, std::move(g), s);
   return sf;
 }
 

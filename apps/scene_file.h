@@ -6,6 +6,8 @@
 
 #include "abuffer/coverage_mask.h"
 #include "render/scene.h"
+#include "scene/scene_description.h"
+#include "scene/style_presets.h"
 
 #include <nlohmann/json.hpp>
 
@@ -26,7 +28,7 @@ struct SceneFile {
   std::size_t hairsGrown = 0, scalesGrown = 0;
   /// The camera was framed from the bounds (no eye given): reframe() fits it to another size.
   bool framed = false;
-  glm::dvec3 frameDirection{0.55, -0.75, 0.45};
+  wf::CameraDescription camera;  ///< as described (framing direction, projection, field of view)
   /// What reading the input found, for --stats ("input"): for CAD files the counts, the
   /// deflection and the seconds spent reading and meshing; empty otherwise.
   nlohmann::ordered_json inputStats;
@@ -70,5 +72,9 @@ SceneFile defaultScene();
 /// "wire" (its edges or lines as shaded wire), "wire-over-surface" (shaded wire over the
 /// shaded surface). Throws UsageError for styles this version cannot draw.
 SceneFile sceneForGeometryFile(const std::string& path, const std::string& style);
+
+/// Builds one file's geometry in a style preset (scene/style_presets.h) into sf: title, caption,
+/// scene, framed camera. Bad combinations: UsageError naming the file and the style.
+void buildStyled(SceneFile& sf, const std::string& path, std::shared_ptr<const wf::GeometryData> geometry, wf::Style style);
 
 }  // namespace wfapp

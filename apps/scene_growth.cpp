@@ -9,7 +9,6 @@
 #include "texture/textures.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <exception>
 #include <memory>
@@ -152,66 +151,27 @@ wf::ScaleParams readScaleParams(const Reader& r, const json& j, const std::strin
 
 }  // namespace
 
-void readGrowth(const Reader& r, const json& obj, const std::string& ptr, const GrowthContext& ctx, wf::Scene& scene) {
-  for (const char* key : {"fur", "scales"}) {
-    if (!obj.contains(key)) continue;
-    if (!ctx.surface) r.fail(Reader::at(ptr, key), std::string(key) + " grows on a parametric source (this object has none)");
-  }
+void readGrowth(const Reader& r, const json& obj, const std::string& ptr, const GrowthContext& ctx, wf::ObjectDescription& object) {
   if (obj.contains("fur")) {
     const std::string fp = Reader::at(ptr, "fur");
     const json& j = obj["fur"];
-    wf::FurParams params = readFurParams(r, j, fp, ctx);
-    const int material = j.contains("material") ? ctx.material(j["material"], Reader::at(fp, "material")) : 0;
-    const float opacity = j.contains("opacity") ? float(r.number(j["opacity"], Reader::at(fp, "opacity"), 0, 1)) : 1.0f;
-    if (ctx.time) params.time = *ctx.time;
-    if (const std::string p = params.problem(); !p.empty()) r.fail(fp, p);
-    // The scene's remaining budget of primitives bounds this fur: the core counts the hairs'
-    // points exactly before it allocates and refuses past the bound (a clear error here).
-    const double segmentsLeft = SceneBudget::kMaxPrimitives - ctx.budget->primitives;
-    params.maxPoints = std::max(0.0, std::floor(segmentsLeft / params.segments)) * (params.segments + 1);
-    wf::Fur fur;
-    const auto t0 = std::chrono::steady_clock::now();
-    try {
-      fur = wf::growFur(*ctx.surface, params, ctx.patch);
-    } catch (const std::exception& e) {
-      r.fail(fp, e.what());
-    }
-    ctx.budget->generateSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    ctx.budget->hairs += fur.hairs.polylineCount();
-    ctx.budget->addPrimitives(r, fp, double(fur.hairs.polylineCount()) * params.segments, "this fur");
-    wf::SceneWire w;
-    w.name = ctx.name + " fur";
-    w.lines = std::move(fur.hairs);
-    w.thickness = params.thickness;
-    w.style = wf::WireStyle::Shaded;
-    w.material = material;
-    w.opacity = opacity;
-    w.restsOnSurface = false;  // a hair's polyline is its axis: it grows out of the skin
-    w.aggregate = true;        // many similar strands: may be simplified (RenderOptions::simplify)
-    if (j.contains("ends")) w.roundEnds = r.choice(j["ends"], Reader::at(fp, "ends"), {"square", "round"}) == "round";
-    scene.wires.push_back(std::move(w));
+    wf::FurDescription f;
+    f.where = fp;
+    f.params = readFurParams(r, j, fp, ctx);
+    if (j.contains("material")) f.material = ctx.material(j["material"], Reader::at(fp, "material"));
+    if (j.contains("opacity")) f.opacity = float(r.number(j["opacity"], Reader::at(fp, "opacity"), 0, 1));
+    if (j.contains("ends")) f.roundEnds = r.choice(j["ends"], Reader::at(fp, "ends"), {"square", "round"}) == "round";
+    object.fur = std::move(f);
   }
   if (obj.contains("scales")) {
     const std::string sp = Reader::at(ptr, "scales");
     const json& j = obj["scales"];
-    wf::ScaleParams params = readScaleParams(r, j, sp);
-    if (const std::string p = params.problem(); !p.empty()) r.fail(sp, p);
-    wf::SceneSurface s;
-    s.name = ctx.name + " scales";
+    wf::ScalesDescription s;
+    s.where = sp;
+    s.cellsWhere = Reader::at(sp, "cells");
+    s.params = readScaleParams(r, j, sp);
     if (j.contains("material")) s.material = ctx.material(j["material"], Reader::at(sp, "material"));
-    // Two scales per cell, two triangles each, within the scene's remaining budget (checked by
-    // the core before it allocates, as for fur).
-    params.maxTriangles = std::max(0.0, SceneBudget::kMaxPrimitives - ctx.budget->primitives);
-    const auto t0 = std::chrono::steady_clock::now();
-    try {
-      s.mesh = wf::growScales(*ctx.surface, params, ctx.patch);
-    } catch (const std::exception& e) {
-      r.fail(Reader::at(sp, "cells"), e.what());
-    }
-    ctx.budget->addPrimitives(r, Reader::at(sp, "cells"), double(s.mesh.triangles.size()), "these scales");
-    ctx.budget->generateSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    ctx.budget->scales += s.mesh.triangles.size() / 2;
-    scene.surfaces.push_back(std::move(s));
+    object.scales = std::move(s);
   }
 }
 

@@ -1,10 +1,9 @@
-// Scene-file object keys "fur" and "scales": grown on the object's placed parametric surface.
+// Scene-file object keys "fur" and "scales": what grows on the object's placed surface.
 #pragma once
 
 #include "scene_reader.h"
 
-#include "render/scene.h"
-#include "surface/surface.h"
+#include "scene/scene_description.h"
 
 #include <cstdint>
 #include <functional>
@@ -15,18 +14,14 @@
 namespace wfapp {
 
 struct GrowthContext {
-  std::shared_ptr<const wf::Surface> surface;  ///< placed (world space); null for file objects
-  std::uint32_t patch = 0;                     ///< the object's index: part of every hair's identity
-  std::string name;
-  std::optional<double> time;                  ///< overrides every fur's wind time (`--time`)
-  SceneBudget* budget = nullptr;               ///< the scene's budget (required)
+  SceneBudget* budget = nullptr;               ///< the scene's budget of texels (required)
   std::string folder = ".";                    ///< where the scene's relative file names start
   /// Resolves a material name at a JSON pointer (fails the read when unknown).
   std::function<int(const json&, const std::string&)> material;
 };
 
-/// Reads `fur` and `scales` of object `obj` at `ptr` (if present) and adds the hairs (shaded
-/// wires) and scales (a surface) to the scene.
-void readGrowth(const Reader& r, const json& obj, const std::string& ptr, const GrowthContext& ctx, wf::Scene& scene);
+/// Reads `fur` and `scales` of object `obj` at `ptr` (if present) into the object's description;
+/// buildScene (scene/scene_description.h) grows them.
+void readGrowth(const Reader& r, const json& obj, const std::string& ptr, const GrowthContext& ctx, wf::ObjectDescription& object);
 
 }  // namespace wfapp

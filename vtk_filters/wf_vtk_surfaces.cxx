@@ -261,157 +261,38 @@ MeshSurface::MeshSurface(vtkPolyData* mesh, int gridCells) {
     problem_ = "the mesh has more than 2^32 points";
     return;
   }
-  positions_.resize(size_t(np));
-  uvs_.resize(size_t(np));
+  std::vector<glm::dvec3> positions(static_cast<size_t>(np));
+  std::vector<glm::dvec2> uvs(static_cast<size_t>(np));
   for (vtkIdType i = 0; i < np; ++i) {
     double p[3];
     mesh->GetPoint(i, p);
-    positions_[size_t(i)] = {p[0], p[1], p[2]};
-    uvs_[size_t(i)] = {tc->GetComponent(i, 0), tc->GetComponent(i, 1)};
-    if (!finite3(positions_[size_t(i)])) {
-      problem_ = "point " + std::to_string(i) + " is not finite";
-      return;
-    }
-    if (!(std::isfinite(uvs_[size_t(i)].x) && std::isfinite(uvs_[size_t(i)].y))) {
-      problem_ = "texture coordinate " + std::to_string(i) + " is not finite";
-      return;
-    }
+    positions[size_t(i)] = {p[0], p[1], p[2]};
+    uvs[size_t(i)] = {tc->GetComponent(i, 0), tc->GetComponent(i, 1)};
   }
-  // Which triangles carry the texture map (see the header): non-zero area in uv and in space, and
-  // the uv winding of the majority (by uv area). The others are left out of the lookup: a seam
-  // that wraps back across the layout (vtkParametricFunctionSource joins its last column to its
-  // first, s = 1 to s = 0: a zero-area sliver in space spanning the whole row backwards in uv) or
-  // the mirrored half of an overlapping layout.
-  const std::vector<glm::uvec3> all = triangulate(mesh);
-  // Zero area in space is measured against the whole mesh (its bounding box), not the triangle's
-  // own edges: the joined corner of a closed layout is three copies of one point, all its edges
-  // rounding noise, and yet it spans half the uv square. 1e-12 L^2 is above the area of a triangle
-  // made of float-rounded copies of one point ((1e-7 L)^2) and far below any real triangle.
-  double diagonal2 = 0.0;
-  {
-    double b[6];
-    mesh->GetBounds(b);
-    diagonal2 = (b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) + (b[5] - b[4]) * (b[5] - b[4]);
-  }
-  std::vector<double> dets(all.size(), 0.0);
-  double positiveArea = 0.0, negativeArea = 0.0;
-  for (size_t k = 0; k < all.size(); ++k) {
-    const glm::uvec3& t = all[k];
-    const glm::dvec2 d1 = uvs_[t.y] - uvs_[t.x], d2 = uvs_[t.z] - uvs_[t.x];
-    const double det = d1.x * d2.y - d2.x * d1.y;
-    const double scale = std::max({std::abs(d1.x), std::abs(d1.y), std::abs(d2.x), std::abs(d2.y)});
-    const glm::dvec3 e1 = positions_[t.y] - positions_[t.x], e2 = positions_[t.z] - positions_[t.x];
-    const double area2 = glm::length(glm::cross(e1, e2));
-    const double edge2 = std::max(glm::dot(e1, e1), glm::dot(e2, e2));
-    if (!(std::abs(det) > 1e-14 * scale * scale) || !(area2 > 1e-12 * std::max(edge2, diagonal2))) continue;
-    dets[k] = det;
-    (det > 0 ? positiveArea : negativeArea) += std::abs(det);
-  }
-  const double winding = positiveArea >= negativeArea ? 1.0 : -1.0;
-  glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-  for (size_t k = 0; k < all.size(); ++k) {
-    if (!(dets[k] * winding > 0)) continue;
-    const glm::uvec3& t = all[k];
-    Triangle tri;
-    tri.v[0] = t.x, tri.v[1] = t.y, tri.v[2] = t.z;
-    const glm::dvec2 a = uvs_[t.x], b = uvs_[t.y], c = uvs_[t.z];
-    const glm::dvec2 d1 = b - a, d2 = c - a;
-    const double det = dets[k];
-    const glm::dvec3 e1 = positions_[t.y] - positions_[t.x], e2 = positions_[t.z] - positions_[t.x];
-    // [e1 e2] = [Su Sv] [d1 d2]  =>  [Su Sv] = [e1 e2] [d1 d2]^-1
-    tri.Su = (e1 * d2.y - e2 * d1.y) / det;
-    tri.Sv = (e2 * d1.x - e1 * d2.x) / det;
-    // (b1, b2) with uv - a = b1 d1 + b2 d2.
-    tri.toBary = glm::inverse(glm::dmat2(d1, d2));
-    tri.lo = glm::min(a, glm::min(b, c));
-    tri.hi = glm::max(a, glm::max(b, c));
-    lo = glm::min(lo, tri.lo);
-    hi = glm::max(hi, tri.hi);
-    triangles_.push_back(tri);
-  }
-  if (triangles_.empty()) {
-    problem_ = "the mesh has no triangle with a non-zero area in texture space";
-    return;
-  }
-  if (triangles_.size() > std::numeric_limits<std::uint32_t>::max()) {
-    problem_ = "the mesh has more than 2^32 triangles";
-    return;
-  }
-  domain_.u0 = lo.x, domain_.u1 = hi.x, domain_.v0 = lo.y, domain_.v1 = hi.y;
-  // Uniform grid: about one cell per triangle (or gridCells), shaped like the uv bounding box.
-  const double target = gridCells > 0 ? double(gridCells) : double(triangles_.size());
-  const double aspect = domain_.du() / domain_.dv();
-  nx_ = std::clamp(int(std::lround(std::sqrt(target * aspect))), 1, 4096);
-  ny_ = std::clamp(int(std::lround(std::sqrt(target / aspect))), 1, 4096);
-  auto cellRange = [&](const Triangle& t, int& i0, int& i1, int& j0, int& j1) {
-    auto ix = [&](double u) { return std::clamp(int(std::floor((u - domain_.u0) / domain_.du() * nx_)), 0, nx_ - 1); };
-    auto iy = [&](double v) { return std::clamp(int(std::floor((v - domain_.v0) / domain_.dv() * ny_)), 0, ny_ - 1); };
-    i0 = ix(t.lo.x), i1 = ix(t.hi.x), j0 = iy(t.lo.y), j1 = iy(t.hi.y);
-  };
-  cellStart_.assign(size_t(nx_) * size_t(ny_) + 1, 0);
-  for (const Triangle& t : triangles_) {
-    int i0, i1, j0, j1;
-    cellRange(t, i0, i1, j0, j1);
-    for (int j = j0; j <= j1; ++j)
-      for (int i = i0; i <= i1; ++i) ++cellStart_[size_t(j) * nx_ + i + 1];
-  }
-  for (size_t c = 1; c < cellStart_.size(); ++c) cellStart_[c] += cellStart_[c - 1];
-  cellTriangles_.resize(cellStart_.back());
-  std::vector<std::uint32_t> fill(cellStart_.begin(), cellStart_.end() - 1);
-  for (std::uint32_t k = 0; k < triangles_.size(); ++k) {
-    int i0, i1, j0, j1;
-    cellRange(triangles_[k], i0, i1, j0, j1);
-    for (int j = j0; j <= j1; ++j)
-      for (int i = i0; i <= i1; ++i) cellTriangles_[fill[size_t(j) * nx_ + i]++] = k;
-  }
+  // The uv layout's rules (seams, mirrored halves, zero-area triangles) are the core's
+  // (surface/mesh_surface.h).
+  core_ = std::make_unique<wf::MeshSurface>(std::move(positions), std::move(uvs), triangulate(mesh), gridCells);
+  problem_ = core_->problem();
 }
+
+ParameterDomain MeshSurface::domain() const { return core_ ? core_->domain() : ParameterDomain{}; }
 
 bool MeshSurface::locate(double u, double v, std::size_t& triangle, glm::dvec3& barycentric) const {
-  if (!problem_.empty() || !std::isfinite(u) || !std::isfinite(v)) return false;
-  const int i = std::clamp(int(std::floor((u - domain_.u0) / domain_.du() * nx_)), 0, nx_ - 1);
-  const int j = std::clamp(int(std::floor((v - domain_.v0) / domain_.dv() * ny_)), 0, ny_ - 1);
-  const size_t c = size_t(j) * nx_ + i;
-  // Inside with a relative tolerance, so that a point on a shared edge is found by one of its two
-  // triangles despite rounding; the most interior candidate wins.
-  constexpr double kInside = -1e-9;
-  double best = -std::numeric_limits<double>::infinity();
-  for (std::uint32_t k = cellStart_[c]; k < cellStart_[c + 1]; ++k) {
-    const Triangle& t = triangles_[cellTriangles_[k]];
-    const glm::dvec2 b = t.toBary * (glm::dvec2(u, v) - uvs_[t.v[0]]);
-    const double b0 = 1.0 - b.x - b.y;
-    const double m = std::min({b0, b.x, b.y});
-    if (m > best) {
-      best = m;
-      triangle = cellTriangles_[k];
-      barycentric = {b0, b.x, b.y};
-    }
-  }
-  return best >= kInside;
+  return problem_.empty() && core_->locate(u, v, triangle, barycentric);
 }
 
+std::size_t MeshSurface::triangleCount() const { return core_ ? core_->triangleCount() : 0; }
+
 SurfacePoint MeshSurface::evaluate(double u, double v) const {
-  SurfacePoint sp;
-  u = std::clamp(u, domain_.u0, domain_.u1);
-  v = std::clamp(v, domain_.v0, domain_.v1);
-  std::size_t k = 0;
-  glm::dvec3 b(0.0);
-  if (!locate(u, v, k, b)) {
+  if (!problem_.empty()) {
+    SurfacePoint sp;
     sp.P = glm::dvec3(kNaN);
     return sp;
   }
-  const Triangle& t = triangles_[k];
-  sp.P = b.x * positions_[t.v[0]] + b.y * positions_[t.v[1]] + b.z * positions_[t.v[2]];
-  sp.Su = t.Su;
-  sp.Sv = t.Sv;
-  return sp;
+  return core_->evaluate(u, v);
 }
 
-std::string MeshSurface::describe() const {
-  std::ostringstream o;
-  o << "mesh of " << triangles_.size() << " uv triangles over [" << domain_.u0 << ", " << domain_.u1 << "] x ["
-    << domain_.v0 << ", " << domain_.v1 << "]";
-  return o.str();
-}
+std::string MeshSurface::describe() const { return core_ ? core_->describe() : "mesh (" + problem_ + ")"; }
 
 // --- choosing the surface -----------------------------------------------------------------------
 

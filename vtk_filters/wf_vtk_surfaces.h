@@ -14,6 +14,7 @@
 // Neither adapter may outlive a change of its VTK object: build a new one per RequestData.
 #pragma once
 
+#include "surface/mesh_surface.h"
 #include "surface/surface.h"
 
 #include <glm/glm.hpp>
@@ -77,26 +78,12 @@ class WIREFURFILTERS_EXPORT ParametricFunctionSurface final : public Surface {
   mutable std::mutex mutex_;
 };
 
-/// A triangle mesh with texture coordinates as a wf::Surface over texture space: (u, v) are the
-/// mesh's texture coordinates, the domain their bounding box (not periodic). evaluate(u, v) finds
-/// the triangle holding (u, v) in texture space (a uniform grid over the uv triangles, about one
-/// triangle per cell), P by barycentric interpolation, and Su = dP/du, Sv = dP/dv from that
-/// triangle's affine map (constant per triangle). On a shared edge the triangle with the largest
-/// smallest barycentric coordinate wins (then the lower index): deterministic.
-///
-/// Where (u, v) lies in no triangle (a hole in the uv layout, the corner of the bounding box outside
-/// a round chart) the point is NaN and Su = Sv = 0: the generators skip such roots (fur counts them
-/// in FurCounts::skippedDegenerate, scales leave them out). Where the layout overlaps itself (a
-/// mirrored or repeated chart) one of the overlapping triangles is used.
-///
-/// Polygons are fanned from their first vertex (convex polygons: vtkPlaneSource, vtkDiskSource
-/// quads), strips split. Left out of the lookup: triangles of zero area in uv or in space (below
-/// 1e-12 of the squared bounding-box diagonal: the joined corner of a closed layout), and
-/// triangles wound in uv against the majority (by uv area) — a seam that wraps back across the
-/// layout (vtkParametricFunctionSource with JoinU joins s = 1 to s = 0: without this rule those
-/// slivers cover the whole row in uv and put the roots on the seam) or the mirrored half of an
-/// overlapping layout (vtkCylinderSource's u runs 1 -> 0 -> 1); a fold-over of a distorted uv map
-/// becomes a hole.
+/// A vtkPolyData with texture coordinates as a wf::Surface over texture space: the core's
+/// wf::MeshSurface (surface/mesh_surface.h: the lookup, the seams, mirrored halves and holes of
+/// the layout) over the mesh's points, its polygons fanned from their first vertex (convex
+/// polygons: vtkPlaneSource, vtkDiskSource quads) and strips split. Where (u, v) lies in no
+/// triangle the point is NaN: the generators skip such roots (fur counts them in
+/// FurCounts::skippedDegenerate, scales leave them out).
 class WIREFURFILTERS_EXPORT MeshSurface final : public Surface {
  public:
   /// Texture coordinates: the active TCoords, else a point array named "TCoords" or
@@ -106,27 +93,16 @@ class WIREFURFILTERS_EXPORT MeshSurface final : public Surface {
   /// Empty when usable; else one line (no texture coordinates, a NaN point or texture coordinate,
   /// no triangle with a non-zero uv area).
   const std::string& problem() const { return problem_; }
-  ParameterDomain domain() const override { return domain_; }
+  ParameterDomain domain() const override;
   SurfacePoint evaluate(double u, double v) const override;
   std::string describe() const override;
 
-  std::size_t triangleCount() const { return triangles_.size(); }
+  std::size_t triangleCount() const;
   /// The triangle holding (u, v) and its barycentric coordinates; false when none does.
   bool locate(double u, double v, std::size_t& triangle, glm::dvec3& barycentric) const;
 
  private:
-  struct Triangle {
-    std::uint32_t v[3];
-    glm::dvec3 Su, Sv;       ///< dP/du, dP/dv of the triangle's affine map
-    glm::dmat2 toBary;       ///< (u, v) - uv[v0] -> (b1, b2)
-    glm::dvec2 lo, hi;       ///< uv bounding box
-  };
-  std::vector<glm::dvec3> positions_;
-  std::vector<glm::dvec2> uvs_;
-  std::vector<Triangle> triangles_;
-  ParameterDomain domain_;
-  int nx_ = 1, ny_ = 1;
-  std::vector<std::uint32_t> cellStart_, cellTriangles_;  ///< CSR: triangles overlapping each cell
+  std::unique_ptr<wf::MeshSurface> core_;  ///< the mesh as the core's surface/mesh_surface.h
   std::string problem_;
 };
 

@@ -121,12 +121,14 @@ TriangleMesh growScales(const Surface& surface, const ScaleParams& params,
     for (int j = rows.begin(); j != rows.end(); ++j)
       for (int i = 0; i < nu; ++i) {
         const size_t c = size_t(j) * size_t(nu) + size_t(i);
-        const glm::dvec2 corner = d.fromUnit(double(i) / nu, double(j) / nv);
-        const glm::dvec2 centre = d.fromUnit((i + 0.5) / nu, (j + 0.5) / nv);
-        slots[2 * c] = growScale(surface, params, corner.x, corner.y, cellDu, cellDv, patchIndex,
-                                 2 * c);
-        slots[2 * c + 1] = growScale(surface, params, centre.x, centre.y, cellDu, cellDv,
-                                     patchIndex, 2 * c + 1);
+        const glm::dvec2 cornerSt(double(i) / nu, double(j) / nv), centreSt((i + 0.5) / nu, (j + 0.5) / nv);
+        const glm::dvec2 corner = d.fromUnit(cornerSt.x, cornerSt.y);
+        const glm::dvec2 centre = d.fromUnit(centreSt.x, centreSt.y);
+        auto inside = [&](const glm::dvec2& st) { return !params.mask || params.mask->value(st) >= 0.5; };
+        if (inside(cornerSt))
+          slots[2 * c] = growScale(surface, params, corner.x, corner.y, cellDu, cellDv, patchIndex, 2 * c);
+        if (inside(centreSt))
+          slots[2 * c + 1] = growScale(surface, params, centre.x, centre.y, cellDu, cellDv, patchIndex, 2 * c + 1);
       }
   });
 

@@ -7,10 +7,12 @@
 
 #include "render/scene.h"
 #include "surface/surface.h"
+#include "texture/texture.h"
 
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <memory>
 #include <string>
 
 namespace wf {
@@ -38,6 +40,9 @@ struct ScaleParams {
   /// Base colour (linear, >= 0); each vertex colour is colour * the scale's intensity.
   glm::vec3 colour{1.0f};
   std::uint64_t seed = 1;
+  /// Where scales grow, over the unit square (s, t) of the domain (like FurParams::densityMap):
+  /// a scale whose root has mask < 0.5 is left out (a CAD face's trimming). Optional.
+  std::shared_ptr<const ScalarTexture> mask;
   /// The most triangles the scales may make (4 per cell), checked before anything is allocated:
   /// growScales throws std::length_error past it. Callers with a memory budget pass less.
   double maxTriangles = 67108864.0;

@@ -137,10 +137,7 @@ TEST(CadCli, BadInputIsOneLineExitTwoAndNothingWritten) {
     }
     EXPECT_FALSE(fs::exists(png)) << c.file;
   }
-  // A style the CAD path does not draw, and a cad block on a mesh object.
-  const Result scales = run("render '" + kCad + "product.step' -o '" + (dir() / "f.png").string() + "' --style scales");
-  EXPECT_EQ(scales.status, 2);
-  EXPECT_EQ(wf::test::lineCount(scales.err), 1) << scales.err;
+  // A cad block on a mesh object.
   write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   const std::string scene = write("cadkey.json", R"({"objects": [{"file": "tri.obj", "cad": {"isos": 2}}]})");
   const Result key = run("render '" + scene + "' -o '" + (dir() / "k.png").string() + "'");

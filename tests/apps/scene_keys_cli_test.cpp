@@ -501,18 +501,34 @@ TEST(SceneKeysCli, ScalesKeysAreValidated) {
 }
 
 // Fur and scales grow on one parametric patch: not on a mesh file, not on a box.
-TEST(SceneKeysCli, FurAndScalesNeedAParametricPatch) {
+// Fur and scales grow on a mesh file's triangles too (surface/mesh_surface.h: its texture
+// coordinates, else an automatic flat layout); a box is several patches and still refuses them.
+TEST(SceneKeysCli, FurAndScalesGrowOnMeshFilesNotOnABox) {
   const fs::path d = testDir();
+  write(d, "quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n");
   write(d, "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
-  auto onFile = [](const std::string& key) {
-    return "{" + kImage + R"(, "objects": [{"file": "tri.obj", ")" + key + R"(": {}}]})";
+  auto onFile = [](const std::string& file, const std::string& key, const std::string& value) {
+    return "{" + kImage + R"(, "objects": [{"file": ")" + file + R"(", ")" + key + R"(": )" + value + "}]}";
   };
+  for (const std::string file : {"quad.obj", "tri.obj"}) {
+    SCOPED_TRACE(file);
+    // 8 x 8 roots on the grid over the uv square: all on the quad, about half on the triangle's
+    // layout (the triangle fills half of its bounding box in uv).
+    const json fur = renderStats(d, write(d, "fur_" + file + ".json", onFile(file, "fur", R"({"grid": [8, 8], "length": 0.2, "length_mode": "fixed", "thickness": 0.01})")), "fur_" + file);
+    const double hairs = fur.value("/generated/hairs"_json_pointer, 0.0);
+    if (file == "quad.obj") EXPECT_EQ(hairs, 64.0);
+    else EXPECT_NEAR(hairs, 32.0, 10.0);
+    const json scales = renderStats(d, write(d, "scales_" + file + ".json", onFile(file, "scales", R"({"cells": [6, 6]})")), "scales_" + file);
+    const double grown = scales.value("/generated/scales"_json_pointer, 0.0);
+    // Two per cell on the quad; on the triangle (0,0) (1,0) (0,1), laid flat as it is, the
+    // corners (i, j) / 6 with i + j <= 6 (26) and the centres with i + j <= 5 (21).
+    if (file == "quad.obj") EXPECT_EQ(grown, 72.0);
+    else EXPECT_EQ(grown, 47.0);
+  }
   auto onBox = [](const std::string& key) {
     return "{" + kImage + R"(, "objects": [{"source": {"type": "box", "size": [1, 1, 1]}, ")" + key + R"(": {}}]})";
   };
-  for (const BadCase& c : std::vector<BadCase>{{"fur_on_file.json", onFile("fur"), "/objects/0/fur"},
-                                               {"scales_on_file.json", onFile("scales"), "/objects/0/scales"},
-                                               {"fur_on_box.json", onBox("fur"), "/objects/0/"},
+  for (const BadCase& c : std::vector<BadCase>{{"fur_on_box.json", onBox("fur"), "/objects/0/"},
                                                {"scales_on_box.json", onBox("scales"), "/objects/0/"}})
     expectRefused(d, c);
 }
