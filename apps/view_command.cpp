@@ -8,6 +8,7 @@
 #include "render_command.h"
 #include "scene_file.h"
 
+#include "core/srgb.h"
 #include "vtkWireFurRenderPass.h"
 
 #include <vtkActor.h>
@@ -64,124 +65,7 @@ struct ViewOptions {
   CadOptions cad;         ///< --deflection, --angular-deflection, --isos (CAD input)
 };
 
-unsigned char srgbByte(float linear) {
-  float v = linear;
-  if (!(v > 0.0f)) v = 0.0f;
-  if (v >= 1.0f) v = 1.0f;
-  v = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-  return static_cast<unsigned char>(std::lround(255.0f * v));
-}
-
-// Vertex colours as the pass reads them: 8-bit, sRGB-encoded.
-vtkSmartPointer<vtkUnsignedCharArray> colourArray(const std::vector<glm::vec3>& colours) {
-  auto a = vtkSmartPointer<vtkUnsignedCharArray>::New();
-  a->SetName("Colours");
-  a->SetNumberOfComponents(3);
-  a->SetNumberOfTuples(vtkIdType(colours.size()));
-  for (size_t i = 0; i < colours.size(); ++i)
-    for (int k = 0; k < 3; ++k) a->SetValue(vtkIdType(i * 3 + k), srgbByte(colours[i][k]));
-  return a;
-}
-
-// A Phong material as a vtkProperty (the pass reads it back: colour x coefficient).
-void setMaterial(vtkProperty* p, const wf::Material& m) {
-  auto set = [](const glm::dvec3& c, auto setColour, auto setCoefficient) {
-    const double s = std::max({c.x, c.y, c.z, 1e-12});
-    setColour(c / s);
-    setCoefficient(std::max({c.x, c.y, c.z}) > 0 ? s : 0.0);
-  };
-  set(m.phong.diffuse, [&](const glm::dvec3& c) { p->SetDiffuseColor(c.x, c.y, c.z); },
-      [&](double k) { p->SetDiffuse(k); });
-  set(m.phong.specular, [&](const glm::dvec3& c) { p->SetSpecularColor(c.x, c.y, c.z); },
-      [&](double k) { p->SetSpecular(k); });
-  p->SetSpecularPower(std::min(m.phong.exponent, 128.0 * 1000));
-  p->SetAmbient(0.0);
-  p->SetOpacity(m.opacity);
-}
-
-vtkSmartPointer<vtkActor> surfaceActor(const wf::SceneSurface& s, const wf::Scene& scene) {
-  const wf::TriangleMesh& mesh = s.mesh;
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  points->SetNumberOfPoints(vtkIdType(mesh.positions.size()));
-  for (size_t i = 0; i < mesh.positions.size(); ++i)
-    points->SetPoint(vtkIdType(i), mesh.positions[i].x, mesh.positions[i].y, mesh.positions[i].z);
-  vtkNew<vtkCellArray> tris;
-  for (const glm::uvec3& t : mesh.triangles) {
-    const vtkIdType ids[3] = {vtkIdType(t.x), vtkIdType(t.y), vtkIdType(t.z)};
-    tris->InsertNextCell(3, ids);
-  }
-  vtkNew<vtkPolyData> pd;
-  pd->SetPoints(points);
-  pd->SetPolys(tris);
-  if (mesh.normals.size() == mesh.positions.size()) {
-    vtkNew<vtkFloatArray> n;
-    n->SetName("Normals");
-    n->SetNumberOfComponents(3);
-    n->SetNumberOfTuples(vtkIdType(mesh.normals.size()));
-    for (size_t i = 0; i < mesh.normals.size(); ++i)
-      n->SetTuple3(vtkIdType(i), mesh.normals[i].x, mesh.normals[i].y, mesh.normals[i].z);
-    pd->GetPointData()->SetNormals(n);
-  }
-  if (mesh.uvs.size() == mesh.positions.size()) {
-    vtkNew<vtkFloatArray> uv;
-    uv->SetName("TCoords");
-    uv->SetNumberOfComponents(2);
-    uv->SetNumberOfTuples(vtkIdType(mesh.uvs.size()));
-    for (size_t i = 0; i < mesh.uvs.size(); ++i) uv->SetTuple2(vtkIdType(i), mesh.uvs[i].x, mesh.uvs[i].y);
-    pd->GetPointData()->SetTCoords(uv);
-  }
-  vtkNew<vtkPolyDataMapper> mapper;
-  mapper->SetInputData(pd);
-  mapper->ScalarVisibilityOff();
-  if (mesh.colours.size() == mesh.positions.size()) {
-    pd->GetPointData()->SetScalars(colourArray(mesh.colours));
-    mapper->ScalarVisibilityOn();
-    mapper->SetColorModeToDirectScalars();
-  }
-  auto actor = vtkSmartPointer<vtkActor>::New();
-  actor->SetMapper(mapper);
-  setMaterial(actor->GetProperty(), scene.materials[size_t(std::clamp(s.material, 0, int(scene.materials.size()) - 1))]);
-  return actor;
-}
-
-vtkSmartPointer<vtkActor> wireActor(const wf::SceneWire& w, const wf::Scene& scene) {
-  const wf::PolylineSet& l = w.lines;
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  points->SetNumberOfPoints(vtkIdType(l.points.size()));
-  for (size_t i = 0; i < l.points.size(); ++i) points->SetPoint(vtkIdType(i), l.points[i].x, l.points[i].y, l.points[i].z);
-  vtkNew<vtkCellArray> lines;
-  for (size_t k = 0; k < l.polylineCount(); ++k) {
-    lines->InsertNextCell(vtkIdType(l.starts[k + 1] - l.starts[k]));
-    for (std::uint32_t i = l.starts[k]; i < l.starts[k + 1]; ++i) lines->InsertCellPoint(vtkIdType(i));
-  }
-  vtkNew<vtkPolyData> pd;
-  pd->SetPoints(points);
-  pd->SetLines(lines);
-  vtkNew<vtkPolyDataMapper> mapper;
-  mapper->SetInputData(pd);
-  mapper->ScalarVisibilityOff();
-  if (l.colours.size() == l.points.size()) {
-    pd->GetPointData()->SetScalars(colourArray(l.colours));
-    mapper->ScalarVisibilityOn();
-    mapper->SetColorModeToDirectScalars();
-  }
-  auto actor = vtkSmartPointer<vtkActor>::New();
-  actor->SetMapper(mapper);
-  wf::Material m = scene.materials[size_t(std::clamp(w.material, 0, int(scene.materials.size()) - 1))];
-  m.opacity *= w.opacity;
-  setMaterial(actor->GetProperty(), m);
-  if (w.style != wf::WireStyle::Shaded)  // plain and depth-cued wires keep their own colour
-    actor->GetProperty()->SetDiffuseColor(w.colour.x, w.colour.y, w.colour.z);
-  vtkWireFurRenderPass::Mark(actor);
-  vtkInformation* keys = actor->GetPropertyKeys();
-  if (w.thicknessInPixels) actor->GetProperty()->SetLineWidth(float(w.thickness));
-  else keys->Set(vtkWireFurRenderPass::WIREFUR_WIRE_THICKNESS(), w.thickness);
-  keys->Set(vtkWireFurRenderPass::WIREFUR_WIRE_STYLE(),
-            w.style == wf::WireStyle::Plain ? 1 : w.style == wf::WireStyle::DepthCued ? 2 : 0);
-  return actor;
-}
+unsigned char srgbByte(float linear) { return wf::srgb8(std::clamp(linear, 0.0f, 1.0f)); }
 
 bool endsWith(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
@@ -287,34 +171,28 @@ int runView(const std::vector<std::string>& args) {
   pass->SetAmbient(scene.lights.ambient.x, scene.lights.ambient.y, scene.lights.ambient.z);
   renderer->SetPass(pass);
 
-  // Geometry: wires (and fur) marked for the A-buffer; surfaces (and scales) drawn by OpenGL
-  // through the pass's delegate, unless 'a' sends them through the A-buffer too.
-  std::vector<vtkSmartPointer<vtkActor>> wires, fur, surfaces, scales;
-  for (const wf::SceneSurface& s : scene.surfaces) {
-    auto a = surfaceActor(s, scene);
-    renderer->AddActor(a);
-    (endsWith(s.name, " scales") ? scales : surfaces).push_back(a);
-  }
-  for (const wf::SceneWire& w : scene.wires) {
-    auto a = wireActor(w, scene);
-    renderer->AddActor(a);
-    (endsWith(w.name, " fur") ? fur : wires).push_back(a);
-  }
-
-  // Lights: the scene's directional lights, fixed to the camera or to the world.
-  renderer->AutomaticLightCreationOff();
-  for (const wf::DirectionalLight& l : scene.lights.canonical().lights) {
-    vtkNew<vtkLight> light;
-    if (scene.lightsFollowCamera) light->SetLightTypeToCameraLight();
-    else light->SetLightTypeToSceneLight();
-    light->SetPositional(false);
-    light->SetFocalPoint(0, 0, 0);
-    light->SetPosition(l.direction.x, l.direction.y, l.direction.z);
-    const double m = std::max({l.intensity.x, l.intensity.y, l.intensity.z, 1e-12});
-    light->SetColor(l.intensity.x / m, l.intensity.y / m, l.intensity.z / m);
-    light->SetIntensity(m);
-    renderer->AddLight(light);
-  }
+  // The scene as `wirefur render` draws it: every surface, wire, hair and scale through the
+  // A-buffer with the scene's own materials and lights (the pass's SetScene); OpenGL only shows
+  // the result. The keys below hand the pass a changed copy.
+  bool plainWires = false, showFur = true, showScales = true;
+  auto update = [&] {
+    auto shown = std::make_shared<wf::Scene>(scene);
+    shown->surfaces.clear();
+    shown->wires.clear();
+    for (const wf::SceneSurface& s : scene.surfaces)
+      if (showScales || !endsWith(s.name, " scales")) shown->surfaces.push_back(s);
+    for (const wf::SceneWire& w : scene.wires) {
+      if (!showFur && w.aggregate) continue;
+      shown->wires.push_back(w);
+      if (plainWires && shown->wires.back().style == wf::WireStyle::Shaded) {
+        wf::SceneWire& p = shown->wires.back();
+        p.style = wf::WireStyle::Plain;
+        p.colour = glm::vec3(scene.materials[size_t(std::clamp(p.material, 0, int(scene.materials.size()) - 1))].phong.diffuse);
+      }
+    }
+    pass->SetScene(shown);
+  };
+  update();
 
   vtkCamera* camera = renderer->GetActiveCamera();
   if (scene.camera) {
@@ -338,7 +216,6 @@ int runView(const std::vector<std::string>& args) {
   text->GetTextProperty()->SetColor(1.0, 1.0, 0.6);
   text->SetDisplayPosition(8, 8);
   renderer->AddViewProp(text);
-  bool plainWires = false;
   auto caption = [&] {
     std::ostringstream s;
     s.setf(std::ios::fixed);
@@ -349,7 +226,7 @@ int runView(const std::vector<std::string>& args) {
     s.precision(2);  // the shading bound is ~1e-9 on the default path: significant digits, not decimals
     s << "error <= " << pass->GetLastErrorEstimate() << " (shading), " << pass->GetLastCoverageError() << " (coverage)   mask "
       << pass->GetMaskWidth() << "x" << pass->GetMaskHeight() << (plainWires ? "   plain wire" : "   shaded wire")
-      << "\nkeys: w plain/shaded wire  f fur  s scales  m mask  a surfaces through the A-buffer  q quit";
+      << "\nkeys: w plain/shaded wire  f fur  s scales  m mask  q quit";
     text->SetInput(s.str().c_str());
   };
   vtkNew<vtkCallbackCommand> before;
@@ -375,10 +252,9 @@ int runView(const std::vector<std::string>& args) {
       error = std::max(error, pass->GetLastErrorEstimate());
     }
     std::printf("view: %s at %dx%d, %d frames: median frame %.1f ms (%.1f frames/s), median A-buffer %.1f ms, "
-                "shading error estimate %.4g, coverage %.4g, %d marked props\n",
+                "shading error estimate %.4g, coverage %.4g\n",
                 o.input.empty() ? "built-in scene" : o.input.c_str(), o.width, o.height, o.frames, 1000.0 * median(frame),
-                1.0 / std::max(1e-9, median(frame)), 1000.0 * median(core), error, pass->GetLastCoverageError(),
-                pass->GetLastMarkedProps());
+                1.0 / std::max(1e-9, median(frame)), 1000.0 * median(core), error, pass->GetLastCoverageError());
     if (!o.png.empty()) {
       vtkNew<vtkWindowToImageFilter> grab;
       grab->SetInput(window);
@@ -395,23 +271,20 @@ int runView(const std::vector<std::string>& args) {
 
   vtkNew<vtkRenderWindowInteractor> interactor;
   vtkNew<ViewerStyle> style;
-  bool surfacesMarked = false;
   int maskIndex = pass->GetMaskWidth() == 4 ? 0 : pass->GetMaskHeight() == 4 ? 1 : 2;
   style->onKey = [&](char key) {
     switch (key) {
       case 'w':
         plainWires = !plainWires;
-        for (auto* group : {&wires, &fur})
-          for (auto& a : *group) {
-            a->GetPropertyKeys()->Set(vtkWireFurRenderPass::WIREFUR_WIRE_STYLE(), plainWires ? 1 : 0);
-            a->Modified();
-          }
+        update();
         break;
       case 'f':
-        for (auto& a : fur) a->SetVisibility(!a->GetVisibility());
+        showFur = !showFur;
+        update();
         break;
       case 's':
-        for (auto& a : scales) a->SetVisibility(!a->GetVisibility());
+        showScales = !showScales;
+        update();
         break;
       case 'm': {
         static const int masks[3][2] = {{4, 4}, {8, 4}, {8, 8}};
@@ -419,11 +292,6 @@ int runView(const std::vector<std::string>& args) {
         pass->SetMaskSize(masks[maskIndex][0], masks[maskIndex][1]);
         break;
       }
-      case 'a':
-        surfacesMarked = !surfacesMarked;
-        for (auto* group : {&surfaces, &scales})
-          for (auto& a : *group) vtkWireFurRenderPass::Mark(a, surfacesMarked);
-        break;
       default:
         return false;
     }

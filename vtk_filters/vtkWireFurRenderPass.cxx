@@ -78,12 +78,17 @@ class vtkWireFurRenderPass::vtkInternals
 {
 public:
   std::vector<wfvtk::ActorPiece> Pieces;  ///< conversion cache, in marked-prop order
+  std::shared_ptr<const wf::Scene> Core;   ///< SetScene
+  bool CoreChanged = false;
   wf::Scene Scene;                        ///< the pieces assembled (camera and lights per frame)
   std::vector<vtkProp*> DelegateProps, OverlayProps;
   std::vector<vtkActor*> Marked;
   std::vector<float> WindowDepth, ViewDepth;
   std::vector<unsigned char> Colour;
   float SrgbToLinear[256];
+  /// Linear [0, 1] in steps of 1 / 65535 to 8-bit sRGB: within 0.05 of a step of the exact
+  /// encoding where it is steepest (12.92 x 255 / 65535 at 0), without a pow per channel.
+  std::vector<unsigned char> LinearToSrgb8;
   vtkSmartPointer<vtkTextureObject> Texture;
   vtkSmartPointer<vtkOpenGLFramebufferObject> Resolve;  ///< multisampled framebuffers resolve here
   std::unique_ptr<vtkOpenGLQuadHelper> Quad;
@@ -95,12 +100,17 @@ public:
   {
     for (int i = 0; i < 256; ++i)
       this->SrgbToLinear[i] = wfvtk::srgbToLinear(float(i) / 255.0f);
+    this->LinearToSrgb8.resize(65536);
+    for (int i = 0; i < 65536; ++i)
+      this->LinearToSrgb8[size_t(i)] =
+        static_cast<unsigned char>(std::lround(255.0f * wfvtk::linearToSrgb(float(i) / 65535.0f)));
   }
 
   /// Converts what changed; true when the assembled scene was rebuilt.
   bool UpdateScene()
   {
-    bool changed = this->Pieces.size() != this->Marked.size();
+    bool changed = this->Pieces.size() != this->Marked.size() || this->CoreChanged;
+    this->CoreChanged = false;
     this->Pieces.resize(this->Marked.size());
     for (size_t i = 0; i < this->Marked.size(); ++i)
     {
@@ -112,7 +122,7 @@ public:
       changed = true;
     }
     if (changed)
-      this->Scene = wfvtk::assembleScene(this->Pieces);
+      this->Scene = wfvtk::assembleScene(this->Pieces, this->Core.get());
     return changed;
   }
 
@@ -178,8 +188,8 @@ public:
         const float t = 1.0f - std::clamp(c.w, 0.0f, 1.0f);
         for (int k = 0; k < 3; ++k)
         {
-          const float lin = c[k] + t * this->SrgbToLinear[o[k]];
-          o[k] = static_cast<unsigned char>(std::lround(255.0f * wfvtk::linearToSrgb(lin)));
+          const float lin = std::clamp(c[k] + t * this->SrgbToLinear[o[k]], 0.0f, 1.0f);
+          o[k] = this->LinearToSrgb8[size_t(lin * 65535.0f + 0.5f)];
         }
         const float a = c.w + t * (float(o[3]) / 255.0f);
         o[3] = static_cast<unsigned char>(std::lround(255.0f * std::clamp(a, 0.0f, 1.0f)));
@@ -256,6 +266,20 @@ void vtkWireFurRenderPass::SetMaskSize(int width, int height)
   }
 }
 
+void vtkWireFurRenderPass::SetScene(std::shared_ptr<const wf::Scene> scene)
+{
+  if (this->Internals->Core == scene)
+    return;
+  this->Internals->Core = std::move(scene);
+  this->Internals->CoreChanged = true;
+  this->Modified();
+}
+
+std::shared_ptr<const wf::Scene> vtkWireFurRenderPass::GetScene() const
+{
+  return this->Internals->Core;
+}
+
 void vtkWireFurRenderPass::Mark(vtkProp* prop, bool marked)
 {
   if (!prop)
@@ -310,6 +334,8 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
   }
   this->LastMarkedProps = int(in.Marked.size());
   this->LastCoreSeconds = 0.0;
+  if (in.Core)
+    anyMarked = true;
 
   if (!anyMarked)  // nothing of ours: the delegate alone, with the renderer's own state
   {
@@ -337,7 +363,7 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
   vtkCamera* camera = ren->GetActiveCamera();
   int w = 0, h = 0, x = 0, y = 0;
   ren->GetTiledSizeAndOrigin(&w, &h, &x, &y);
-  if (renWin && camera && w > 0 && h > 0 && !in.Marked.empty())
+  if (renWin && camera && w > 0 && h > 0 && (!in.Marked.empty() || in.Core))
   {
     in.UpdateScene();
     if (in.ReadBack(renWin, x, y, w, h))
@@ -345,8 +371,18 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
       wfvtk::viewDepthFromWindowDepth(in.WindowDepth, w, h,
         camera->GetProjectionTransformMatrix(double(w) / double(h), -1, 1), in.ViewDepth);
       in.Scene.camera = wfvtk::convertCamera(camera, w, h);
-      in.Scene.lights = wfvtk::convertLights(ren, camera, this->Ambient);
-      in.Scene.lightsFollowCamera = false;
+      if (in.Core)
+      {
+        // The core scene's own look: its lights, near and far from the geometry's bounds.
+        in.Scene.lights = in.Core->lights;
+        in.Scene.lightsFollowCamera = in.Core->lightsFollowCamera;
+        in.Scene.camera->nearPlane = in.Scene.camera->farPlane = 0.0;
+      }
+      else
+      {
+        in.Scene.lights = wfvtk::convertLights(ren, camera, this->Ambient);
+        in.Scene.lightsFollowCamera = false;
+      }
       wf::RenderOptions options;
       options.width = w;
       options.height = h;

@@ -51,6 +51,13 @@
 #include "WireFurFiltersModule.h"
 #include "vtkRenderPass.h"
 
+#include <memory>
+
+namespace wf
+{
+struct Scene;
+}
+
 class vtkInformationDoubleKey;
 class vtkInformationIntegerKey;
 class vtkProp;
@@ -68,6 +75,18 @@ public:
   static vtkInformationDoubleKey* WIREFUR_WIRE_THICKNESS();
   /// Optional key: wire style, 0 shaded (default), 1 plain (diffuse colour), 2 depth-cued.
   static vtkInformationIntegerKey* WIREFUR_WIRE_STYLE();
+
+#ifndef __VTK_WRAP__
+  /// A scene of the core drawn through the A-buffer with the marked props, in the renderer's
+  /// camera: built by wf::buildScene (scene/scene_description.h) with its own materials (burnish
+  /// grain and grooves, chrome, colour and bump maps, fur, scales), so that it looks as
+  /// `wirefur render` draws it. While a scene is set, its lights (and lights-follow-camera, its
+  /// ambient, its environment) light the whole A-buffer render instead of the renderer's
+  /// vtkLights, and the A-buffer's near and far planes come from the geometry's bounds. Null
+  /// (the default) removes it. The pass keeps a reference; set a new scene to change it.
+  void SetScene(std::shared_ptr<const wf::Scene> scene);
+  std::shared_ptr<const wf::Scene> GetScene() const;
+#endif
 
   /// Marks (or unmarks) a prop for this pass (creates its PropertyKeys when it has none).
   static void Mark(vtkProp* prop, bool marked = true);

@@ -219,9 +219,15 @@ ActorPiece convertActor(vtkActor* actor) {
   return piece;
 }
 
-wf::Scene assembleScene(const std::vector<ActorPiece>& pieces) {
+wf::Scene assembleScene(const std::vector<ActorPiece>& pieces, const wf::Scene* core) {
   wf::Scene scene;
   scene.materials.clear();
+  if (core) {  // first, so that its material indices hold
+    scene.materials = core->materials;
+    scene.surfaces = core->surfaces;
+    scene.wires = core->wires;
+    scene.environment = core->environment;
+  }
   for (const ActorPiece& p : pieces) {
     if (p.surfaces.empty() && p.wires.empty()) continue;
     const int mi = int(scene.materials.size());

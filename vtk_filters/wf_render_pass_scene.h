@@ -38,8 +38,10 @@ vtkMTimeType actorSignature(vtkActor* actor);
 /// from the vtkProperty. Non-finite points pass through: the core rejects them itself.
 ActorPiece convertActor(vtkActor* actor);
 
-/// The pieces as one scene (materials renumbered in order); camera and lights left empty.
-wf::Scene assembleScene(const std::vector<ActorPiece>& pieces);
+/// The pieces as one scene (materials renumbered in order), after the surfaces, wires,
+/// materials and environment of `core` when given (vtkWireFurRenderPass::SetScene); camera and
+/// lights left empty.
+wf::Scene assembleScene(const std::vector<ActorPiece>& pieces, const wf::Scene* core = nullptr);
 
 /// The vtkCamera as the core's camera for a width x height viewport: position, focal point,
 /// view up, vertical view angle (a horizontal one converted) or 2 x parallel scale, clipping range.

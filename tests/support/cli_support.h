@@ -37,10 +37,10 @@ struct CliResult {
   std::string err;  ///< everything written to stderr
 };
 
-/// Runs `WIREFUR_EXE args` through the shell, stdout discarded.
-inline CliResult runWirefur(const std::string& args) {
+/// Runs a shell command line, stdout discarded.
+inline CliResult runCommand(const std::string& command) {
   const std::filesystem::path errFile = processScratchRoot() / "stderr.txt";
-  const std::string cmd = std::string("'") + WIREFUR_EXE + "' " + args + " >/dev/null 2>'" + errFile.string() + "'";
+  const std::string cmd = command + " >/dev/null 2>'" + errFile.string() + "'";
   const int raw = std::system(cmd.c_str());
   std::ifstream f(errFile);
   std::stringstream ss;
@@ -48,6 +48,9 @@ inline CliResult runWirefur(const std::string& args) {
   std::filesystem::remove(errFile);
   return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, ss.str()};
 }
+
+/// Runs `WIREFUR_EXE args` through the shell, stdout discarded.
+inline CliResult runWirefur(const std::string& args) { return runCommand(std::string("'") + WIREFUR_EXE + "' " + args); }
 
 /// A folder of this test process's own under processScratchRoot(), emptied on first use.
 inline std::filesystem::path scratchDir(const std::string& prefix) {
