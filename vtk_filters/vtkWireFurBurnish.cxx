@@ -4,6 +4,8 @@
 #include "vtkFloatArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkFieldData.h"
+#include "vtkIntArray.h"
 #include "vtkObjectFactory.h"
 #include "vtkParametricFunction.h"
 #include "vtkPointData.h"
@@ -230,6 +232,12 @@ int vtkWireFurBurnish::RequestData(
   {
     output->GetPointData()->AddArray(grooves);
   }
+  // Says that the active tangents are burnish grain: vtkWireFurRenderPass shades a marked actor
+  // of this output as brushed metal (its grain, grooves dimming it) rather than as plastic.
+  vtkNew<vtkIntArray> grainFlag;
+  grainFlag->SetName("WireFurGrain");
+  grainFlag->InsertNextValue(this->Grain);
+  output->GetFieldData()->AddArray(grainFlag);
   this->UpdateProgress(1.0);
   return 1;
 }

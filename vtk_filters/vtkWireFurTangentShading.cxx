@@ -1,9 +1,13 @@
 #include "vtkWireFurTangentShading.h"
 
+#include "core/srgb.h"
+
 #include "vtkCamera.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
+#include "vtkFieldData.h"
 #include "vtkFloatArray.h"
+#include "vtkIntArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkLight.h"
@@ -229,6 +233,12 @@ int vtkWireFurTangentShading::RequestData(
   pd->AddArray(colour);
   pd->SetActiveTangents("Tangents");
   pd->SetActiveScalars("ShadedColor");
+  // Says that these colours are shading already: vtkWireFurRenderPass draws such lines as they
+  // are (plain wire in these colours) instead of shading them a second time.
+  vtkNew<vtkIntArray> shaded;
+  shaded->SetName("WireFurShaded");
+  shaded->InsertNextValue(1);
+  output->GetFieldData()->AddArray(shaded);
   if (n == 0)
   {
     return 1;
@@ -476,6 +486,18 @@ int vtkWireFurTangentShading::RequestData(
   }
 
   // ---- per point: tangents and shading (independent: parallel, deterministic) ----------------
+  // The input's own colours ("Colors", 8-bit sRGB: the fur generator's root-to-tip colours)
+  // multiply the shading, as the core's vertex colours do: the material gives the light, the
+  // strands keep their colour.
+  std::vector<glm::dvec3> tint;
+  if (auto* in = vtkUnsignedCharArray::SafeDownCast(input->GetPointData()->GetArray("Colors"));
+      in && in->GetNumberOfComponents() >= 3 && in->GetNumberOfTuples() == n)
+  {
+    tint.resize(size_t(n));
+    for (vtkIdType i = 0; i < n; ++i)
+      for (int k = 0; k < 3; ++k)
+        tint[size_t(i)][k] = wf::srgbToLinear(float(in->GetComponent(i, k)) / 255.0f);
+  }
   std::vector<unsigned char> degenerate(n, 0);
   const wf::PhongMaterial& mat = material;
   const wf::CylinderLobeTable* table = path == 0 ? lobe.get() : nullptr;
@@ -503,6 +525,8 @@ int vtkWireFurTangentShading::RequestData(
         {
           rad = glm::dvec3(map.lookup(te));
         }
+        if (!tint.empty())
+          rad *= tint[size_t(i)];
       }
       const float tw[3] = { float(t.x), float(t.y), float(t.z) };
       const float tv[3] = { float(te.x), float(te.y), float(te.z) };
@@ -552,7 +576,9 @@ int vtkWireFurTangentShading::RequestData(
       {
         v = glm::dvec3(0.0, 0.0, 1.0);
       }
-      const glm::dvec3 ex = wf::cylinderRadianceClosed(glm::dvec3(te[0], te[1], te[2]), v, mat, eyeLights);
+      glm::dvec3 ex = wf::cylinderRadianceClosed(glm::dvec3(te[0], te[1], te[2]), v, mat, eyeLights);
+      if (!tint.empty())
+        ex *= tint[size_t(i)];
       const glm::dvec3 d = glm::abs(ex - glm::dvec3(r[0], r[1], r[2]));
       this->MeasuredError = std::max({ this->MeasuredError, d.x, d.y, d.z });
     }

@@ -1,5 +1,7 @@
 #include "wf_render_pass_scene.h"
 
+#include <vtkFieldData.h>
+
 #include "vtkWireFurRenderPass.h"
 
 #include <vtkActor.h>
@@ -91,6 +93,16 @@ ActorPiece convertActor(vtkActor* actor) {
 
   vtkPolyData* pd = actorInput(actor);
   if (!pd || pd->GetNumberOfPoints() == 0) return piece;
+  // What the WireFur filters said of their output (field data): lines already shaded by
+  // vtkWireFurTangentShading, a surface with burnish grain from vtkWireFurBurnish.
+  vtkFieldData* fd = pd->GetFieldData();
+  const bool preshaded = fd && fd->GetArray("WireFurShaded");
+  const bool burnished = fd && fd->GetArray("WireFurGrain") && pd->GetPointData()->GetTangents() &&
+                         pd->GetPointData()->GetTangents()->GetNumberOfComponents() == 3;
+  // VTK's default property has no specular (Specular 0, SpecularPower 1): a wire or brushed
+  // metal without a highlight reads as flat paint, so it gets the presets' (a property with any
+  // specular keeps its own).
+  const bool noSpecular = !(prop->GetSpecular() > 0.0);
   // A cell naming a point the data does not have (VTK's own mappers would read past the end):
   // the actor is left out, with a warning.
   if (const std::int64_t bad = wf::vtkio::firstCellWithMissingPoints(pd); bad >= 0) {
@@ -143,6 +155,13 @@ ActorPiece convertActor(vtkActor* actor) {
     }
     if (!colours.empty()) m.phong.diffuse = glm::dvec3(prop->GetDiffuse());
   }
+  wf::Material& lineMaterial = piece.wireMaterial;
+  lineMaterial = m;
+  if (noSpecular) lineMaterial.phong.specular = glm::dvec3(0.5), lineMaterial.phong.exponent = 40.0;
+  if (burnished) {
+    m.burnish.grain = wf::Burnish::Grain::U;  // the grain is the tangent itself (derivU below)
+    if (noSpecular) m.phong.specular = glm::dvec3(1.0), m.phong.exponent = 30.0;
+  }
 
   // Lines and polylines -> one wire.
   vtkInformation* keys = actor->GetPropertyKeys();
@@ -155,6 +174,18 @@ ActorPiece convertActor(vtkActor* actor) {
     const int style = keys && keys->Has(vtkWireFurRenderPass::WIREFUR_WIRE_STYLE())
                           ? keys->Get(vtkWireFurRenderPass::WIREFUR_WIRE_STYLE()) : 0;
     w.style = style == 1 ? wf::WireStyle::Plain : style == 2 ? wf::WireStyle::DepthCued : wf::WireStyle::Shaded;
+    std::vector<glm::vec3> lineColours = colours;
+    if (preshaded && style == 0) {
+      // Shaded once already: drawn in its own radiance (the float array, not the 8-bit colour).
+      w.style = wf::WireStyle::Plain;
+      w.colour = glm::vec3(1.0f);
+      if (auto* r = vtkDataArray::SafeDownCast(pd->GetPointData()->GetArray("ShadedRadiance"));
+          r && r->GetNumberOfComponents() == 3 && r->GetNumberOfTuples() == np) {
+        lineColours.resize(size_t(np));
+        for (vtkIdType i = 0; i < np; ++i)
+          lineColours[size_t(i)] = glm::vec3(float(r->GetComponent(i, 0)), float(r->GetComponent(i, 1)), float(r->GetComponent(i, 2)));
+      }
+    }
     if (keys && keys->Has(vtkWireFurRenderPass::WIREFUR_WIRE_THICKNESS())) {
       w.thickness = keys->Get(vtkWireFurRenderPass::WIREFUR_WIRE_THICKNESS());
       w.thicknessInPixels = false;
@@ -162,7 +193,7 @@ ActorPiece convertActor(vtkActor* actor) {
       w.thickness = prop->GetLineWidth();
       w.thicknessInPixels = true;
     }
-    const bool withColours = !colours.empty();
+    const bool withColours = !lineColours.empty();
     vtkCellArray* lines = pd->GetLines();
     vtkNew<vtkIdList> ids;
     w.lines.points.reserve(size_t(lines->GetNumberOfConnectivityIds()));
@@ -174,7 +205,7 @@ ActorPiece convertActor(vtkActor* actor) {
       for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k) {
         const vtkIdType id = ids->GetId(k);
         line.push_back(points[size_t(id)]);
-        if (withColours) w.lines.colours.push_back(colours[size_t(id)]);
+        if (withColours) w.lines.colours.push_back(lineColours[size_t(id)]);
       }
       w.lines.add(line);
     }
@@ -201,6 +232,23 @@ ActorPiece convertActor(vtkActor* actor) {
       for (vtkIdType i = 0; i < np; ++i) mesh.uvs[size_t(i)] = {tc->GetComponent(i, 0), tc->GetComponent(i, 1)};
     }
     mesh.colours = colours;
+    if (burnished) {
+      // The grain (world space under the actor's matrix) as dS/du, which the core's grain U
+      // shades along; grooves dim diffuse and specular together, as the core's groove texture.
+      vtkDataArray* t = pd->GetPointData()->GetTangents();
+      const glm::dmat3 A(M);
+      mesh.derivU.resize(size_t(np));
+      for (vtkIdType i = 0; i < np; ++i) {
+        double v[3];
+        t->GetTuple(i, v);
+        mesh.derivU[size_t(i)] = A * vec(v);
+      }
+      if (auto* g = vtkDataArray::SafeDownCast(pd->GetPointData()->GetArray("GrooveIntensity"));
+          g && g->GetNumberOfComponents() == 1 && g->GetNumberOfTuples() == np) {
+        if (mesh.colours.empty()) mesh.colours.assign(size_t(np), glm::vec3(1.0f));
+        for (vtkIdType i = 0; i < np; ++i) mesh.colours[size_t(i)] *= float(g->GetComponent(i, 0));
+      }
+    }
     auto add = [&](vtkIdType a, vtkIdType b, vtkIdType c) {
       mesh.triangles.push_back({std::uint32_t(a), std::uint32_t(b), std::uint32_t(c)});
     };
@@ -232,12 +280,14 @@ wf::Scene assembleScene(const std::vector<ActorPiece>& pieces, const wf::Scene* 
     if (p.surfaces.empty() && p.wires.empty()) continue;
     const int mi = int(scene.materials.size());
     scene.materials.push_back(p.material);
+    const int wi = int(scene.materials.size());
+    scene.materials.push_back(p.wireMaterial);
     for (wf::SceneSurface s : p.surfaces) {
       s.material = mi;
       scene.surfaces.push_back(std::move(s));
     }
     for (wf::SceneWire w : p.wires) {
-      w.material = mi;
+      w.material = wi;
       scene.wires.push_back(std::move(w));
     }
   }

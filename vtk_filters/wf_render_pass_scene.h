@@ -17,12 +17,13 @@ class vtkRenderer;
 
 namespace wfvtk {
 
-/// One marked actor as core geometry: its surfaces and wires use material 0 of `material`
+/// One marked actor as core geometry: its surfaces use `material`, its wires `wireMaterial`
 /// (renumbered when the pieces are assembled into one scene).
 struct ActorPiece {
   vtkWeakPointer<vtkActor> actor;
   vtkMTimeType signature = 0;  ///< max MTime of actor, property, keys, mapper and input at conversion
-  wf::Material material;
+  wf::Material material;      ///< of the surfaces
+  wf::Material wireMaterial;  ///< of the wires (a highlight where the property has none)
   std::vector<wf::SceneSurface> surfaces;
   std::vector<wf::SceneWire> wires;
 };
