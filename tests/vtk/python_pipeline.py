@@ -91,5 +91,68 @@ b = without.GetPointData().GetScalars()
 differ = sum(1 for i in range(a.GetNumberOfTuples()) if max(abs(x - y) for x, y in zip(a.GetTuple(i), b.GetTuple(i))) > 8)
 check(differ > 0.05 * a.GetNumberOfTuples(), "fur changes more than 5%% of the pixels (%d of %d)" % (differ, a.GetNumberOfTuples()))
 
+# 5. Burnish -> mapper -> marked actor: brushed steel through the pass, not the plain actor's
+#    plastic. The same plane with and without the filter, in the pass, under one light; the C++
+#    test tests/vtk/burnish_pass_gltest.cpp compares the same pipeline with the command's render.
+from vtkmodules.vtkFiltersSources import vtkPlaneSource
+from vtkmodules.vtkFiltersCore import vtkTriangleFilter
+from vtkmodules.vtkRenderingCore import vtkActor, vtkLight, vtkPolyDataMapper, vtkRenderer, vtkRenderWindow
+
+
+def draw_plane(burnished):
+    plane = vtkPlaneSource()
+    plane.SetOrigin(-1.2, -0.8, 0.0)
+    plane.SetPoint1(1.2, -0.8, 0.0)
+    plane.SetPoint2(-1.2, 0.8, 0.0)
+    plane.SetResolution(24, 16)
+    tri = vtkTriangleFilter()
+    tri.SetInputConnection(plane.GetOutputPort())
+    last = tri
+    if burnished:
+        burnish = wirefur.vtkWireFurBurnish()
+        burnish.SetInputConnection(tri.GetOutputPort())
+        last = burnish
+    mapper = vtkPolyDataMapper()
+    mapper.SetInputConnection(last.GetOutputPort())
+    mapper.ScalarVisibilityOff()
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+    prop = actor.GetProperty()
+    prop.SetDiffuseColor(0.18, 0.18, 0.18)
+    prop.SetSpecularColor(5.0, 5.0, 5.0)
+    prop.SetSpecular(1.0)
+    prop.SetSpecularPower(30.0)
+    wirefur.vtkWireFurRenderPass.Mark(actor)
+    ren = vtkRenderer()
+    ren.AutomaticLightCreationOff()
+    light = vtkLight()
+    light.SetLightTypeToSceneLight()
+    light.SetPosition(1, 1, 2)
+    light.SetFocalPoint(0, 0, 0)
+    light.SetPositional(False)
+    ren.AddLight(light)
+    ren.AddActor(actor)
+    cam = ren.GetActiveCamera()
+    cam.SetPosition(0, 0, 5)
+    cam.SetFocalPoint(0, 0, 0)
+    cam.SetViewUp(0, 1, 0)
+    cam.SetViewAngle(30)
+    ren.ResetCameraClippingRange()
+    pass_ = wirefur.vtkWireFurRenderPass()
+    ren.SetPass(pass_)
+    win = vtkRenderWindow()
+    win.SetOffScreenRendering(1)
+    win.SetSize(200, 150)
+    win.AddRenderer(ren)
+    win.Render()
+    return example.write_png(win, os.path.join(tempfile.gettempdir(), "wirefur_python_burnish_%d.png" % burnished))
+
+
+brushed = draw_plane(True).GetPointData().GetScalars()
+plastic = draw_plane(False).GetPointData().GetScalars()
+n = brushed.GetNumberOfTuples()
+mean_diff = sum(abs(x - y) for i in range(n) for x, y in zip(brushed.GetTuple(i), plastic.GetTuple(i))) / (3.0 * n)
+check(mean_diff > 5.0, "the burnished actor differs from the plain one (mean %.1f of 255)" % mean_diff)
+
 print("%d checks failed" % len(failures))
 sys.exit(1 if failures else 0)
