@@ -74,6 +74,25 @@ TEST(Scales, TwoScalesOfTwoTrianglesPerCell) {
   EXPECT_EQ(m.colours.size(), m.positions.size());
 }
 
+// The mask trims scales as a CAD face's trimming does: on 8 x 4 cells with the left half of the
+// unit square masked in, the corners (i / 8 < 1/2: i = 0 ... 3) and the centres ((i + 1/2) / 8 <
+// 1/2: i = 0 ... 3) of every row grow, 32 scales of 64 triangles, every root at x = 2u < 1.
+TEST(Scales, MaskLeavesOutScalesRootedOutside) {
+  struct LeftHalf final : ScalarTexture {
+    double value(const glm::dvec2& st) const override { return st.x < 0.5 ? 1.0 : 0.0; }
+    glm::dvec2 gradient(const glm::dvec2&) const override { return glm::dvec2(0.0); }
+    std::string describe() const override { return "left half"; }
+  };
+  const TestPlane plane;
+  ScaleParams p;
+  p.cellsU = 8;
+  p.cellsV = 4;
+  p.mask = std::make_shared<LeftHalf>();
+  const TriangleMesh m = growScales(plane, p);
+  EXPECT_EQ(m.triangles.size(), size_t(64));
+  for (size_t k = 0; k < m.positions.size(); k += 4) EXPECT_LT(m.positions[k].x, 1.0);  // vertex 0: the root
+}
+
 // maxTriangles bounds the scales before anything is allocated: 10 x 10 cells make 400
 // triangles, refused at 399 and grown at 400.
 TEST(Scales, MaxTrianglesIsCheckedBeforeGrowing) {

@@ -60,10 +60,27 @@ void cellsOfSize(const Surface& surface, double size, int& cellsU, int& cellsV) 
   cellsV = cells(lv);
 }
 
-/// dS/du and dS/dv for burnish grain on a mesh that has none (a mesh file): the up axis (+z, or
-/// +x where the normal is near z) projected onto the tangent plane, and N x that.
+/// dS/du and dS/dv for burnish grain on a mesh that has none (a mesh file): from its texture
+/// coordinates when it has them (each triangle's affine dP/du, dP/dv, area-weighted at the
+/// vertices), else, and where those vanish, the up axis (+z, or +x where the normal is near z)
+/// projected onto the tangent plane and N x that.
 void fillGrainFrame(TriangleMesh& m) {
   if (m.derivU.size() == m.positions.size() && m.derivV.size() == m.positions.size()) return;
+  std::vector<glm::dvec3> su(m.positions.size(), glm::dvec3(0.0)), sv(m.positions.size(), glm::dvec3(0.0));
+  if (m.uvs.size() == m.positions.size())
+    for (const glm::uvec3& t : m.triangles) {
+      if (t.x >= m.positions.size() || t.y >= m.positions.size() || t.z >= m.positions.size()) continue;
+      const glm::dvec2 d1 = m.uvs[t.y] - m.uvs[t.x], d2 = m.uvs[t.z] - m.uvs[t.x];
+      const double det = d1.x * d2.y - d2.x * d1.y;
+      if (!(std::abs(det) > 0.0)) continue;
+      const glm::dvec3 e1 = m.positions[t.y] - m.positions[t.x], e2 = m.positions[t.z] - m.positions[t.x];
+      // [Su Sv] = [e1 e2] [d1 d2]^-1, weighted by the triangle's area (|e1 x e2| / 2).
+      const double area = glm::length(glm::cross(e1, e2));
+      const glm::dvec3 a = (e1 * d2.y - e2 * d1.y) / det, b = (e2 * d1.x - e1 * d2.x) / det;
+      const double la = glm::length(a), lb = glm::length(b);
+      if (!(la > 0.0) || !(lb > 0.0) || !std::isfinite(la + lb + area)) continue;
+      for (std::uint32_t v : {t.x, t.y, t.z}) su[v] += area * a / la, sv[v] += area * b / lb;
+    }
   std::vector<glm::dvec3> normals = m.normals;
   if (normals.size() != m.positions.size()) {
     normals.assign(m.positions.size(), glm::dvec3(0.0));
@@ -79,6 +96,12 @@ void fillGrainFrame(TriangleMesh& m) {
   for (size_t i = 0; i < m.positions.size(); ++i) {
     const double len = glm::length(normals[i]);
     const glm::dvec3 n = len > 0 && std::isfinite(len) ? normals[i] / len : glm::dvec3(0, 0, 1);
+    const glm::dvec3 t = su[i] - glm::dot(su[i], n) * n;
+    if (glm::length(t) > 1e-12 * glm::length(su[i]) && glm::length(t) > 0.0) {
+      m.derivU[i] = glm::normalize(t);
+      m.derivV[i] = glm::cross(n, m.derivU[i]);
+      continue;
+    }
     const glm::dvec3 up = std::abs(n.z) > 0.999 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 0, 1);
     m.derivU[i] = glm::normalize(up - glm::dot(up, n) * n);
     m.derivV[i] = glm::cross(n, m.derivU[i]);

@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <set>
 #include <string>
 
 namespace fs = std::filesystem;
@@ -99,6 +100,29 @@ TEST(CadCli, FurGrowsOnTheExactFaces) {
   EXPECT_NEAR(double(hairs), 60000.0, 2000.0);
   EXPECT_EQ(fur["segments"].get<long>(), 3 * hairs);
   EXPECT_GT(fur["triangles"].get<long>(), 0);  // the tray's surfaces under the fur
+}
+
+// Every style on a STEP and a BREP file, with the presets' materials (docs/scenes.md, "Styles");
+// scales grow on the exact faces, trimmed like fur.
+TEST(CadCli, EveryStyleOnStepAndBrep) {
+  const std::string brep = std::string(WIREFUR_SOURCE_DIR) + "/tests/apps/cad_regressions/binary_brep_from_BinTools_Write.brep";
+  for (const std::string& input : {kCad + "product.step", brep}) {
+    SCOPED_TRACE(input);
+    auto names = [](const json& s) {
+      std::set<std::string> m;
+      for (const json& n : s.value("materials", json::array())) m.insert(n.get<std::string>());
+      return m;
+    };
+    const json wire = renderStats(input, "--style wire", "s_wire");
+    EXPECT_EQ(names(wire), std::set<std::string>({"wire"}));
+    const json steel = renderStats(input, "--style burnished", "s_steel");
+    EXPECT_EQ(names(steel), std::set<std::string>({"brushed steel"}));
+    const json scales = renderStats(input, "--style scales", "s_scales");
+    EXPECT_EQ(names(scales), std::set<std::string>({"skin", "scale"}));
+    EXPECT_GT(scales["generated"]["scales"].get<long>(), 100);
+    const json fur = renderStats(input, "--style fur", "s_fur");
+    EXPECT_EQ(names(fur), std::set<std::string>({"fur skin", "fur"}));
+  }
 }
 
 // Same input, same image, bit for bit, for 1 and 2 threads (meshing and faces run in parallel).
