@@ -26,7 +26,7 @@ std::vector<Material> presetMaterials() {
   m[kSteel].burnish.grain = Burnish::Grain::U;
   phong(kIso, "iso lines", glm::dvec3(0.3, 0.32, 0.36), glm::dvec3(0.9), 40.0);
   // Strands of a polyline file: dark blond hair with a clear highlight.
-  phong(kHair, "hair", glm::dvec3(0.32, 0.22, 0.13), glm::dvec3(0.55), 35.0);
+  phong(kHair, "hair", glm::dvec3(0.22, 0.15, 0.09), glm::dvec3(1.0), 20.0);
   phong(kFur, "fur", glm::dvec3(0.55, 0.42, 0.3), glm::dvec3(0.25), 12.0);
   phong(kSkin, "skin", glm::dvec3(0.1, 0.12, 0.08), glm::dvec3(0.1), 10.0);
   phong(kScale, "scale", glm::dvec3(0.35, 0.55, 0.25), glm::dvec3(0.6), 30.0);
