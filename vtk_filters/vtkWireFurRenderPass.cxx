@@ -128,7 +128,7 @@ public:
 
   /// Reads the colour and depth of the viewport (x, y, w, h) of the framebuffer being drawn,
   /// resolving a multisampled one first. False when it cannot.
-  bool ReadBack(vtkOpenGLRenderWindow* renWin, int x, int y, int w, int h)
+  bool ReadBack(vtkOpenGLRenderWindow* renWin, int x, int y, int w, int h, bool depth)
   {
     vtkOpenGLState* ostate = renWin->GetState();
     GLint drawFb = 0, samples = 0;
@@ -163,10 +163,11 @@ public:
     }
     ostate->vtkglReadBuffer(drawFb != 0 ? GL_COLOR_ATTACHMENT0 : GL_BACK);
     this->Colour.resize(size_t(w) * size_t(h) * 4);
-    this->WindowDepth.resize(size_t(w) * size_t(h));
+    this->WindowDepth.resize(depth ? size_t(w) * size_t(h) : 0);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadPixels(rx, ry, w, h, GL_RGBA, GL_UNSIGNED_BYTE, this->Colour.data());
-    glReadPixels(rx, ry, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, this->WindowDepth.data());
+    if (depth)
+      glReadPixels(rx, ry, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, this->WindowDepth.data());
     const bool ok = glGetError() == GL_NO_ERROR;
     ostate->PopFramebufferBindings();
     return ok;
@@ -366,10 +367,14 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
   if (renWin && camera && w > 0 && h > 0 && (!in.Marked.empty() || in.Core))
   {
     in.UpdateScene();
-    if (in.ReadBack(renWin, x, y, w, h))
+    // The delegate's depth matters only where it drew something: with no prop of its own (a
+    // core scene alone, as in `wirefur view`) it only cleared, and nothing hides the A-buffer.
+    const bool depth = !in.DelegateProps.empty();
+    if (in.ReadBack(renWin, x, y, w, h, depth))
     {
-      wfvtk::viewDepthFromWindowDepth(in.WindowDepth, w, h,
-        camera->GetProjectionTransformMatrix(double(w) / double(h), -1, 1), in.ViewDepth);
+      if (depth)
+        wfvtk::viewDepthFromWindowDepth(in.WindowDepth, w, h,
+          camera->GetProjectionTransformMatrix(double(w) / double(h), -1, 1), in.ViewDepth);
       in.Scene.camera = wfvtk::convertCamera(camera, w, h);
       if (in.Core)
       {
@@ -389,7 +394,7 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
       options.mask = wf::MaskLayout{ this->MaskWidth, this->MaskHeight };
       options.budget = this->Budget;
       options.threads = this->Threads;
-      options.opaqueDepth = &in.ViewDepth;
+      options.opaqueDepth = depth ? &in.ViewDepth : nullptr;
       options.shadingCache = in.Tables;
       options.shading = this->Shading == 1 ? wf::ShadingPath::Maps
         : this->Shading == 2               ? wf::ShadingPath::Exact
