@@ -332,6 +332,11 @@ int vtkWireFurTangentShading::RequestData(
   material.specular = glm::dvec3(this->Specular[0], this->Specular[1], this->Specular[2]);
   material.exponent = this->Exponent;
   material = material.sanitized();
+  // The input's own colours (below) replace the diffuse colour, as point colours do in VTK's
+  // mappers and in the core: the diffuse coefficient stays (its largest component).
+  if (auto* in = vtkUnsignedCharArray::SafeDownCast(input->GetPointData()->GetArray("Colors"));
+      in && in->GetNumberOfComponents() >= 3 && in->GetNumberOfTuples() == input->GetNumberOfPoints())
+    material.diffuse = glm::dvec3(std::max({ material.diffuse.x, material.diffuse.y, material.diffuse.z }));
 
   // ---- the map (only when it is used, and only when something it depends on changed) --------
   wf::PseudoReflectanceMap& map = this->Internals->Map;

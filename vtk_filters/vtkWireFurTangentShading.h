@@ -13,6 +13,11 @@
  *     the active scalars, so a vtkPolyDataMapper shows it as it is (or select it with
  *     ScalarModeToUsePointFieldData + SelectColorArray("ShadedColor")).
  *
+ * Input colours: a point array "Colors" (unsigned char, 3 or 4 components, sRGB-encoded, as
+ * vtkWireFurFurGenerator writes its root-to-tip colours) replaces the diffuse colour (its largest
+ * component stays the diffuse coefficient) and multiplies the radiance, as point colours do in
+ * VTK's mappers and in the core's renders: the strands keep their own colours.
+ *
  * Tangent at a point: the normalised sum of the unit directions of its incoming and outgoing
  * segments (one-sided at the ends of an open line; a closed polyline, first point id = last, wraps
  * around). Zero-length segments are skipped (a repeated point takes the tangent of the points

@@ -3,6 +3,8 @@
 // lights of a vtkRenderer, NaN / Inf and empty input, and the sRGB colour array.
 #include "vtkWireFurTangentShading.h"
 
+#include "core/srgb.h"
+
 #include "vtkCamera.h"
 #include "vtkCellArray.h"
 #include "vtkCommand.h"
@@ -206,6 +208,41 @@ TEST(VtkTangentShading, CircleInViewPlaneHasTheCircleTangent)
 
 // A straight line along the view axis is seen end-on: eye tangent (0, 0, -1) (the line runs
 // away from the viewer), shaded as the map's end-on value.
+// The input's "Colors" (the fur generator's) replace the diffuse colour and multiply the
+// radiance: a red-to-blue line with the copper default is the same line shaded with a grey
+// diffuse of copper's largest component, times its colours (decoded from sRGB).
+TEST(VtkTangentShading, InputColoursReplaceTheDiffuseColour)
+{
+  const std::vector<glm::dvec3> pts = { { -1, 0, 0 }, { 0, 0.3, 0.2 }, { 1, 0.1, -0.3 } };
+  vtkSmartPointer<vtkPolyData> coloured = makePolyline(pts, false);
+  vtkNew<vtkUnsignedCharArray> colors;
+  colors->SetName("Colors");
+  colors->SetNumberOfComponents(3);
+  const unsigned char rgb[3][3] = { { 255, 0, 0 }, { 128, 128, 128 }, { 0, 0, 255 } };
+  for (const auto& c : rgb)
+    colors->InsertNextTypedTuple(c);
+  coloured->GetPointData()->AddArray(colors);
+  vtkNew<vtkWireFurTangentShading> a;
+  a->SetInputData(coloured);
+  a->Update();
+  double d[3];
+  a->GetDiffuse(d);
+  vtkNew<vtkWireFurTangentShading> b;
+  b->SetInputData(makePolyline(pts, false));
+  const double grey = std::max({ d[0], d[1], d[2] });
+  b->SetDiffuse(grey, grey, grey);
+  b->Update();
+  vtkDataArray* ra = a->GetOutput()->GetPointData()->GetArray("ShadedRadiance");
+  vtkDataArray* rb = b->GetOutput()->GetPointData()->GetArray("ShadedRadiance");
+  for (vtkIdType i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k)
+    {
+      const double c = wf::srgbToLinear(float(rgb[i][k]) / 255.0f);
+      EXPECT_NEAR(ra->GetComponent(i, k), rb->GetComponent(i, k) * c, 1e-6) << i << " " << k;
+    }
+  EXPECT_GT(rb->GetComponent(1, 0), 0.01);  // lit
+}
+
 TEST(VtkTangentShading, LineAlongViewAxisIsEndOn)
 {
   vtkNew<vtkCamera> camera;
