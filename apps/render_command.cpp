@@ -253,12 +253,12 @@ int runRender(const RenderCommandOptions& o) {
   stats["generated"] = {{"hairs", sf.hairsGrown}, {"scales", sf.scalesGrown}};
   {
     // The materials the drawn surfaces and wires use, by name, in the scene's order.
-    const int nm = int(sf.scene.materials.size());
+    const int nm = std::max(1, int(sf.scene.materials.size()));
     std::vector<bool> used(size_t(nm), false);
     for (const wf::SceneSurface& s : sf.scene.surfaces) used[size_t(std::clamp(s.material, 0, nm - 1))] = true;
     for (const wf::SceneWire& w : sf.scene.wires) used[size_t(std::clamp(w.material, 0, nm - 1))] = true;
     json names = json::array();
-    for (int i = 0; i < nm; ++i)
+    for (int i = 0; i < nm && i < int(sf.scene.materials.size()); ++i)
       if (used[size_t(i)]) names.push_back(sf.scene.materials[size_t(i)].name);
     stats["materials"] = names;
   }

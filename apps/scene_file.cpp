@@ -347,7 +347,15 @@ wf::ObjectDescription readObject(const Reader& r, const json& j, const std::stri
       try {
         CadGeometry c = readCad(p.string(), co, grows);
         if (!c.warning.empty()) std::cerr << "wirefur: warning: " << c.warning << "\n";
-        if (inputStats.empty()) inputStats = c.info;
+        // For --stats: the coarsest tessellation of the scene's CAD objects, in world units
+        // after the object's transform (its largest scale).
+        nlohmann::ordered_json info = c.info;
+        const glm::dmat3 A(o.transform);
+        const double scale = std::max({glm::length(A[0]), glm::length(A[1]), glm::length(A[2])});
+        if (info.contains("linear_deflection") && info["linear_deflection"].is_number())
+          info["linear_deflection"] = info["linear_deflection"].get<double>() * scale;
+        if (inputStats.empty() || info.value("linear_deflection", 0.0) > inputStats.value("linear_deflection", 0.0))
+          inputStats = std::move(info);
         g = cadGeometryData(std::move(c));
       } catch (const UsageError& e) {
         r.fail(o.fileWhere, e.what());
@@ -367,9 +375,9 @@ wf::ObjectDescription readObject(const Reader& r, const json& j, const std::stri
   // Surface: drawn unless "surface": false; a material by name, or the default.
   if (j.contains("surface")) {
     const json& s = j["surface"];
-    o.surfaceExplicit = true;
     if (s.is_boolean()) {
       o.drawSurface = s.get<bool>();
+      o.surfaceExplicit = o.drawSurface;  // `true` on an object without polygons is an error
     } else {
       r.keys(s, o.surfaceWhere, {"material"});
       if (s.contains("material")) o.surfaceMaterial = materialRef(r, s["material"], Reader::at(o.surfaceWhere, "material"), materials);
@@ -516,7 +524,7 @@ void buildStyled(SceneFile& sf, const std::string& path, std::shared_ptr<const w
   try {
     d = wf::describeStyled(std::move(geometry), style);
   } catch (const wf::SceneError& e) {
-    throw UsageError(path + ": " + e.where + " " + wf::styleName(style) + ": " + e.what());
+    throw UsageError(path + ": " + e.where + ": " + e.what());
   }
   d.width = sf.width, d.height = sf.height;
   d.maxPrimitives = SceneBudget::kMaxPrimitives;

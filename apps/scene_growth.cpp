@@ -133,7 +133,8 @@ wf::FurParams readFurParams(const Reader& r, const json& j, const std::string& p
 }
 
 wf::ScaleParams readScaleParams(const Reader& r, const json& j, const std::string& ptr) {
-  r.keys(j, ptr, {"cells", "size", "lift", "deflection", "intensity_variation", "shoulder", "colour", "seed", "material"});
+  r.keys(j, ptr, {"cells", "cell_size", "size", "lift", "deflection", "intensity_variation", "shoulder", "colour", "seed", "material"});
+  if (j.contains("cells") && j.contains("cell_size")) r.fail(ptr, "give cells or cell_size, not both");
   wf::ScaleParams s;
   if (j.contains("cells")) std::tie(s.cellsU, s.cellsV) = intPair(r, j["cells"], Reader::at(ptr, "cells"), 1, 1 << 14);
   auto num = [&](const char* key, double lo, double hi, double& out) {
@@ -170,6 +171,7 @@ void readGrowth(const Reader& r, const json& obj, const std::string& ptr, const 
     s.where = sp;
     s.cellsWhere = Reader::at(sp, "cells");
     s.params = readScaleParams(r, j, sp);
+    if (j.contains("cell_size")) s.cellSize = r.number(j["cell_size"], Reader::at(sp, "cell_size"), 1e-12, 1e12);
     if (j.contains("material")) s.material = ctx.material(j["material"], Reader::at(sp, "material"));
     object.scales = std::move(s);
   }

@@ -98,32 +98,17 @@ struct Reader {
 #define WIREFUR_SCENE_MAX_PRIMITIVES 8388608.0
 #endif
 
-/// What one scene may make, checked before it is made: generated primitives (tessellated
-/// triangles, wire and hair segments, scale triangles; the renderer needs a few hundred bytes for each)
-/// and decoded texture texels; and the textures already decoded, shared by every material that
-/// names the same file.
+/// What one scene may read: decoded texture texels (the primitives it makes are counted by the
+/// core's buildScene against SceneDescription::maxPrimitives, set to kMaxPrimitives); and the
+/// textures already decoded, shared by every material that names the same file.
 struct SceneBudget {
   /// About 4 GB of renderer memory.
   static constexpr double kMaxPrimitives = WIREFUR_SCENE_MAX_PRIMITIVES;
   static constexpr double kMaxTexels = 33554432.0;     ///< about 1.2 GB of texture tables
-  double primitives = 0.0, texels = 0.0;
-  double generateSeconds = 0.0;            ///< time spent growing fur and scales
-  std::size_t hairs = 0, scales = 0;       ///< what was grown
+  double texels = 0.0;
   std::map<std::string, std::shared_ptr<const wf::ColourTexture>> colourImages;
   std::map<std::string, std::shared_ptr<const wf::ScalarTexture>> heightImages;
 
-  /// Counts `count` more primitives for `what` at `ptr`; fails the read past the budget.
-  void addPrimitives(const Reader& r, const std::string& ptr, double count, const std::string& what) {
-    if (!(count >= 0.0) || !(primitives + count <= kMaxPrimitives)) {
-      std::ostringstream m;
-      m.precision(3);
-      m << what << " would make about " << (std::isfinite(count) ? count : 1e300) << " primitives, and the scene "
-        << primitives << " before it: more than the " << kMaxPrimitives
-        << " one scene may make (lower the resolution, grid, density or segments)";
-      r.fail(ptr, m.str());
-    }
-    primitives += count;
-  }
   /// Counts a decoded image's texels; fails the read past the budget.
   void addTexels(const Reader& r, const std::string& ptr, double count) {
     if (!(texels + count <= kMaxTexels))

@@ -189,7 +189,8 @@ public:
         const float t = 1.0f - std::clamp(c.w, 0.0f, 1.0f);
         for (int k = 0; k < 3; ++k)
         {
-          const float lin = std::clamp(c[k] + t * this->SrgbToLinear[o[k]], 0.0f, 1.0f);
+          float lin = c[k] + t * this->SrgbToLinear[o[k]];
+          lin = lin >= 0.0f ? std::min(lin, 1.0f) : 0.0f;  // NaN too
           o[k] = this->LinearToSrgb8[size_t(lin * 65535.0f + 0.5f)];
         }
         const float a = c.w + t * (float(o[3]) / 255.0f);
@@ -369,7 +370,7 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
     in.UpdateScene();
     // The delegate's depth matters only where it drew something: with no prop of its own (a
     // core scene alone, as in `wirefur view`) it only cleared, and nothing hides the A-buffer.
-    const bool depth = !in.DelegateProps.empty();
+    const bool depth = !in.DelegateProps.empty() || ren->GetPreserveDepthBuffer();
     if (in.ReadBack(renWin, x, y, w, h, depth))
     {
       if (depth)

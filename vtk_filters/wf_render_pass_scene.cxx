@@ -232,23 +232,6 @@ ActorPiece convertActor(vtkActor* actor) {
       for (vtkIdType i = 0; i < np; ++i) mesh.uvs[size_t(i)] = {tc->GetComponent(i, 0), tc->GetComponent(i, 1)};
     }
     mesh.colours = colours;
-    if (burnished) {
-      // The grain (world space under the actor's matrix) as dS/du, which the core's grain U
-      // shades along; grooves dim diffuse and specular together, as the core's groove texture.
-      vtkDataArray* t = pd->GetPointData()->GetTangents();
-      const glm::dmat3 A(M);
-      mesh.derivU.resize(size_t(np));
-      for (vtkIdType i = 0; i < np; ++i) {
-        double v[3];
-        t->GetTuple(i, v);
-        mesh.derivU[size_t(i)] = A * vec(v);
-      }
-      if (auto* g = vtkDataArray::SafeDownCast(pd->GetPointData()->GetArray("GrooveIntensity"));
-          g && g->GetNumberOfComponents() == 1 && g->GetNumberOfTuples() == np) {
-        if (mesh.colours.empty()) mesh.colours.assign(size_t(np), glm::vec3(1.0f));
-        for (vtkIdType i = 0; i < np; ++i) mesh.colours[size_t(i)] *= float(g->GetComponent(i, 0));
-      }
-    }
     auto add = [&](vtkIdType a, vtkIdType b, vtkIdType c) {
       mesh.triangles.push_back({std::uint32_t(a), std::uint32_t(b), std::uint32_t(c)});
     };
@@ -262,6 +245,37 @@ ActorPiece convertActor(vtkActor* actor) {
         if (k % 2 == 0) add(ids->GetId(k), ids->GetId(k + 1), ids->GetId(k + 2));
         else add(ids->GetId(k + 1), ids->GetId(k), ids->GetId(k + 2));
       }
+    if (burnished) {
+      // The grain (world space under the actor's matrix) as dS/du, which the core's grain U
+      // shades along, and N x grain as dS/dv: the core uses a mesh's own derivatives only when
+      // it has both. Grooves dim diffuse and specular together, as the core's groove texture.
+      vtkDataArray* t = pd->GetPointData()->GetTangents();
+      const glm::dmat3 A(M);
+      std::vector<glm::dvec3> n = mesh.normals;
+      if (n.size() != size_t(np)) {  // area-weighted face normals at the vertices
+        n.assign(size_t(np), glm::dvec3(0.0));
+        for (const glm::uvec3& f : mesh.triangles) {
+          const glm::dvec3 c = glm::cross(points[f.y] - points[f.x], points[f.z] - points[f.x]);
+          if (std::isfinite(c.x + c.y + c.z)) n[f.x] += c, n[f.y] += c, n[f.z] += c;
+        }
+      }
+      mesh.derivU.resize(size_t(np));
+      mesh.derivV.resize(size_t(np));
+      for (vtkIdType i = 0; i < np; ++i) {
+        double v[3];
+        t->GetTuple(i, v);
+        const glm::dvec3 T = A * vec(v);
+        mesh.derivU[size_t(i)] = T;
+        const glm::dvec3 B = glm::cross(n[size_t(i)], T);
+        const double lb = glm::length(B);
+        mesh.derivV[size_t(i)] = lb > 0.0 && std::isfinite(lb) ? B / lb : glm::dvec3(0.0);
+      }
+      if (auto* g = vtkDataArray::SafeDownCast(pd->GetPointData()->GetArray("GrooveIntensity"));
+          g && g->GetNumberOfComponents() == 1 && g->GetNumberOfTuples() == np) {
+        if (mesh.colours.empty()) mesh.colours.assign(size_t(np), glm::vec3(1.0f));
+        for (vtkIdType i = 0; i < np; ++i) mesh.colours[size_t(i)] *= float(g->GetComponent(i, 0));
+      }
+    }
     if (!mesh.triangles.empty()) piece.surfaces.push_back(std::move(s));
   }
   return piece;

@@ -209,8 +209,12 @@ void buildObject(const SceneDescription& d, const ObjectDescription& o, std::uin
     }
   } else {
     const GeometryData& g = *o.geometry;
-    if (isCad) budget.add(o.fileWhere, double(g.mesh.triangles.size()), "this CAD tessellation");
-    if (o.drawSurface || (o.wire && wireFrom == WireDescription::From::Edges) || o.fur || o.scales) mesh = g.mesh;
+    // The polygons are copied only where they are drawn, make the edges of a mesh's wire, or
+    // are what fur and scales grow on (a CAD model grows on its exact faces).
+    const bool drawn = o.drawSurface && !g.mesh.triangles.empty();
+    if (isCad && drawn) budget.add(o.fileWhere, double(g.mesh.triangles.size()), "this CAD tessellation");
+    if (drawn || (o.wire && wireFrom == WireDescription::From::Edges && !isCad) || ((o.fur || o.scales) && g.faces.empty()))
+      mesh = g.mesh;
     if (!o.keepColours) mesh.colours.clear();
     // A CAD model's lines: its edges, then the iso lines asked for (unless drawn apart).
     fileLines = g.lines;
@@ -264,6 +268,10 @@ void buildObject(const SceneDescription& d, const ObjectDescription& o, std::uin
     scene.wires.push_back(std::move(w));
   }
 
+  // The polygons placed, once, for the surface and for growth on a mesh.
+  const bool meshGrowth = (o.fur || o.scales) && !isSource && o.geometry->faces.empty();
+  if (drawSurface || meshGrowth) transformMesh(mesh, o.transform);
+
   // Where fur and scales grow: the placed source, a CAD model's exact faces, or a mesh (its
   // texture coordinates, else an automatic layout: surface/mesh_surface.h).
   std::vector<GrowthPatch> patches;
@@ -274,21 +282,24 @@ void buildObject(const SceneDescription& d, const ObjectDescription& o, std::uin
       if (!base) throw SceneError(o.sourceWhere, "a box is not one parametric patch: fur and scales need another source");
       patches.push_back({std::make_shared<TransformedSurface>(base, o.transform), nullptr, index});
     } else if (!o.geometry->faces.empty()) {
-      for (const FaceSurface& f : o.geometry->faces)
+      // A face's identity: the top bit set, the object in the next 11 bits, the face in the low
+      // 20, so that no face shares the random streams of another face or of a one-patch object
+      // (whose identity is its index, below 2^31).
+      if (index >= 2048) throw SceneError(where, "fur and scales grow on CAD faces of the first 2048 objects only");
+      for (const FaceSurface& f : o.geometry->faces) {
+        if (f.id < 0 || f.id >= (1 << 20)) throw SceneError(where, "face " + std::to_string(f.id) + ": fur and scales grow on the first 2^20 faces of a model only");
         patches.push_back({std::make_shared<TransformedSurface>(f.surface, o.transform), f.inside,
-                           (index << 20) ^ std::uint32_t(f.id)});
+                           0x80000000u | (index << 20) | std::uint32_t(f.id)});
+      }
     } else {
       if (mesh.triangles.empty()) throw SceneError(where, "fur and scales grow on a surface (this object has no polygons)");
-      TriangleMesh placed = mesh;
-      transformMesh(placed, o.transform);
-      auto ms = std::make_shared<MeshSurface>(placed);
+      auto ms = std::make_shared<MeshSurface>(mesh);
       if (!ms->problem().empty()) throw SceneError(where, ms->problem());
       patches.push_back({ms, nullptr, index});
     }
   }
 
   if (drawSurface) {
-    transformMesh(mesh, o.transform);
     const Burnish::Grain grain = scene.materials[size_t(o.surfaceMaterial)].burnish.grain;
     if (grain == Burnish::Grain::U || grain == Burnish::Grain::V) fillGrainFrame(mesh);
     const GeometryData* g = isSource ? nullptr : o.geometry.get();
@@ -325,7 +336,7 @@ void buildObject(const SceneDescription& d, const ObjectDescription& o, std::uin
       budget.add(fd.where, double(fur.hairs.polylineCount()) * q.segments, "this fur");
       if (fur.hairs.points.empty() && patches.size() > 1) continue;
       SceneWire w;
-      w.name = patches.size() > 1 ? name + " fur of face " + std::to_string(patch.id & 0xFFFFF) : name + " fur";
+      w.name = patches.size() > 1 ? name + " fur of face " + std::to_string(patch.id & 0xFFFFFu) : name + " fur";
       w.lines = std::move(fur.hairs);
       w.thickness = params.thickness;
       w.style = WireStyle::Shaded;
@@ -391,6 +402,7 @@ BuiltScene buildScene(const SceneDescription& d) {
     if (o.wire) checkMaterial(o.wire->wire.material, o.wire->where);
     if (o.fur) checkMaterial(o.fur->material, o.fur->where);
     if (o.scales) checkMaterial(o.scales->material, o.scales->where);
+    if (o.isoLineWire) checkMaterial(o.isoLineWire->material, o.where);
     buildObject(d, o, std::uint32_t(i), budget, out);
   }
   out.primitives = budget.used;

@@ -99,7 +99,7 @@ struct ObjectDescription {
   glm::dmat4 transform{1.0};
   /// The surface: drawn when the object has polygons, unless drawSurface is false.
   bool drawSurface = true;
-  bool surfaceExplicit = false;  ///< asked for by name: an object without polygons is an error
+  bool surfaceExplicit = false;  ///< asked for (a scene file's `"surface": true`): no polygons is an error
   int surfaceMaterial = 0;
   std::string surfaceWhere;
   /// A CAD model's parts as surfaces of their own, named after them (else one surface).

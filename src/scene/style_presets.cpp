@@ -76,17 +76,19 @@ SceneDescription describeStyled(std::shared_ptr<const GeometryData> geometry, St
   const bool polygons = !g.mesh.triangles.empty();
   const bool strands = !polygons && !g.cad && !g.lines.points.empty();  // a file of polylines only
   if (!polygons && style != Style::Wire && style != Style::WireOverSurface)
-    throw SceneError("--style", "needs polygons (this file has only lines)");
+    throw SceneError(std::string("--style ") + styleName(style), "needs polygons (this file has only lines)");
   SceneDescription d;
   d.materials = presetMaterials();
   d.lights = LightRig::studioRig(3);
   d.lightsFollowCamera = true;
   const double size = modelSize(g);
 
+  const std::string where = std::string("--style ") + styleName(style);
+  d.camera.where = where;
   ObjectDescription o;
   o.name = g.cad ? "part" : "mesh";
-  o.where = "--style";
-  o.sourceWhere = o.fileWhere = o.surfaceWhere = "--style";
+  o.where = where;
+  o.sourceWhere = o.fileWhere = o.surfaceWhere = where;
   o.geometry = geometry;
   o.splitParts = g.cad;
   o.surfaceMaterial = kPart;
@@ -102,7 +104,7 @@ SceneDescription describeStyled(std::shared_ptr<const GeometryData> geometry, St
   const bool lines = style == Style::Wire || style == Style::WireOverSurface;
   if (lines && (!g.cad || !g.lines.points.empty())) {
     WireDescription w;
-    w.where = "--style";
+    w.where = where;
     w.from = g.cad || !g.lines.points.empty() ? WireDescription::From::Lines : WireDescription::From::Edges;
     w.wire.material = kWire;
     w.wire.thickness = style == Style::Wire ? 1.5 : 2.0;
@@ -113,6 +115,7 @@ SceneDescription describeStyled(std::shared_ptr<const GeometryData> geometry, St
       w.wire.thickness = 1.0;
       w.wire.restsOnSurface = false;
       w.wire.aggregate = true;
+      w.wire.roundEnds = true;
     }
     o.wire = w;
   }
@@ -125,7 +128,7 @@ SceneDescription describeStyled(std::shared_ptr<const GeometryData> geometry, St
   }
   if (style == Style::Fur) {
     FurDescription f;
-    f.where = "--style";
+    f.where = where;
     f.material = kFur;
     FurParams& p = f.params;
     const double area = meshArea(g.mesh);
@@ -147,7 +150,7 @@ SceneDescription describeStyled(std::shared_ptr<const GeometryData> geometry, St
   }
   if (style == Style::Scales) {
     ScalesDescription s;
-    s.where = s.cellsWhere = "--style";
+    s.where = s.cellsWhere = where;
     s.material = kScale;
     s.cellSize = 0.025 * size;
     s.params.size = 1.4;

@@ -19,22 +19,25 @@ MeshSurface::MeshSurface(std::vector<glm::dvec3> positions, std::vector<glm::dve
     problem_ = "the mesh has no texture coordinate for every point";
     return;
   }
-  build(triangles, gridCells);
+  build(triangles, gridCells, false);
 }
 
 MeshSurface::MeshSurface(const TriangleMesh& mesh, int gridCells) {
   if (!mesh.uvs.empty() && mesh.uvs.size() == mesh.positions.size()) {
     positions_ = mesh.positions;
     uvs_ = mesh.uvs;
-    build(mesh.triangles, gridCells);
-    return;
+    // The mesh's own layout, unless it leaves a tenth of the surface out (mirrored halves,
+    // overlapping charts: a character's mirrored side would grow nothing) or overlaps itself
+    // too much to look up: then the automatic layout.
+    if (build(mesh.triangles, gridCells, true) && keptArea_ >= 0.9 * totalArea_) return;
+    *this = MeshSurface();
   }
   automatic_ = true;
   layOut(mesh);
   if (!problem_.empty()) return;
   std::vector<glm::uvec3> own(positions_.size() / 3);
   for (size_t k = 0; k < own.size(); ++k) own[k] = glm::uvec3(3 * k, 3 * k + 1, 3 * k + 2);
-  build(own, gridCells);
+  build(own, gridCells, true);
 }
 
 void MeshSurface::layOut(const TriangleMesh& mesh) {
@@ -106,47 +109,56 @@ void MeshSurface::layOut(const TriangleMesh& mesh) {
   }
 }
 
-void MeshSurface::build(const std::vector<glm::uvec3>& all, int gridCells) {
+bool MeshSurface::build(const std::vector<glm::uvec3>& all, int gridCells, bool skipNonFinite) {
   const size_t np = positions_.size();
   if (np == 0 || all.empty()) {
     problem_ = "the mesh has no triangles";
-    return;
+    return false;
   }
   if (np > size_t(std::numeric_limits<std::uint32_t>::max())) {
     problem_ = "the mesh has more than 2^32 points";
-    return;
+    return false;
   }
+  auto usable = [&](size_t i) { return finite(positions_[i]) && std::isfinite(uvs_[i].x) && std::isfinite(uvs_[i].y); };
+  if (!skipNonFinite)
+    for (size_t i = 0; i < np; ++i) {
+      if (!finite(positions_[i])) {
+        problem_ = "point " + std::to_string(i) + " is not finite";
+        return false;
+      }
+      if (!(std::isfinite(uvs_[i].x) && std::isfinite(uvs_[i].y))) {
+        problem_ = "texture coordinate " + std::to_string(i) + " is not finite";
+        return false;
+      }
+    }
+  // Bounds of the points the triangles use (an unused far point says nothing of their size).
   glm::dvec3 blo(std::numeric_limits<double>::infinity()), bhi(-std::numeric_limits<double>::infinity());
-  for (size_t i = 0; i < np; ++i) {
-    if (!finite(positions_[i])) {
-      problem_ = "point " + std::to_string(i) + " is not finite";
-      return;
+  for (size_t k = 0; k < all.size(); ++k) {
+    const glm::uvec3& t = all[k];
+    if (t.x >= np || t.y >= np || t.z >= np) {
+      problem_ = "triangle " + std::to_string(k) + " names a point the mesh does not have";
+      return false;
     }
-    if (!(std::isfinite(uvs_[i].x) && std::isfinite(uvs_[i].y))) {
-      problem_ = "texture coordinate " + std::to_string(i) + " is not finite";
-      return;
-    }
-    blo = glm::min(blo, positions_[i]);
-    bhi = glm::max(bhi, positions_[i]);
+    for (std::uint32_t v : {t.x, t.y, t.z})
+      if (usable(v)) blo = glm::min(blo, positions_[v]), bhi = glm::max(bhi, positions_[v]);
   }
   // Zero area in space is measured against the whole mesh (its bounding box), not the triangle's
   // own edges: the joined corner of a closed layout is three copies of one point, all its edges
   // rounding noise, and yet it spans half the uv square. 1e-12 L^2 is above the area of a triangle
   // made of float-rounded copies of one point ((1e-7 L)^2) and far below any real triangle.
-  const double diagonal2 = glm::dot(bhi - blo, bhi - blo);
+  const double diagonal2 = blo.x <= bhi.x ? glm::dot(bhi - blo, bhi - blo) : 0.0;
   std::vector<double> dets(all.size(), 0.0);
   double positiveArea = 0.0, negativeArea = 0.0;
+  totalArea_ = 0.0;
   for (size_t k = 0; k < all.size(); ++k) {
     const glm::uvec3& t = all[k];
-    if (t.x >= np || t.y >= np || t.z >= np) {
-      problem_ = "triangle " + std::to_string(k) + " names a point the mesh does not have";
-      return;
-    }
+    if (!usable(t.x) || !usable(t.y) || !usable(t.z)) continue;  // (only when skipping)
     const glm::dvec2 d1 = uvs_[t.y] - uvs_[t.x], d2 = uvs_[t.z] - uvs_[t.x];
     const double det = d1.x * d2.y - d2.x * d1.y;
     const double scale = std::max({std::abs(d1.x), std::abs(d1.y), std::abs(d2.x), std::abs(d2.y)});
     const glm::dvec3 e1 = positions_[t.y] - positions_[t.x], e2 = positions_[t.z] - positions_[t.x];
     const double area2 = glm::length(glm::cross(e1, e2));
+    if (std::isfinite(area2)) totalArea_ += 0.5 * area2;
     const double edge2 = std::max(glm::dot(e1, e1), glm::dot(e2, e2));
     if (!(std::abs(det) > 1e-14 * scale * scale) || !(area2 > 1e-12 * std::max(edge2, diagonal2))) continue;
     dets[k] = det;
@@ -154,6 +166,7 @@ void MeshSurface::build(const std::vector<glm::uvec3>& all, int gridCells) {
   }
   const double winding = positiveArea >= negativeArea ? 1.0 : -1.0;
   glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  keptArea_ = 0.0;
   for (size_t k = 0; k < all.size(); ++k) {
     if (!(dets[k] * winding > 0)) continue;
     const glm::uvec3& t = all[k];
@@ -163,6 +176,7 @@ void MeshSurface::build(const std::vector<glm::uvec3>& all, int gridCells) {
     const glm::dvec2 d1 = b - a, d2 = c - a;
     const double det = dets[k];
     const glm::dvec3 e1 = positions_[t.y] - positions_[t.x], e2 = positions_[t.z] - positions_[t.x];
+    keptArea_ += 0.5 * glm::length(glm::cross(e1, e2));
     // [e1 e2] = [Su Sv] [d1 d2]  =>  [Su Sv] = [e1 e2] [d1 d2]^-1
     tri.Su = (e1 * d2.y - e2 * d1.y) / det;
     tri.Sv = (e2 * d1.x - e1 * d2.x) / det;
@@ -176,11 +190,11 @@ void MeshSurface::build(const std::vector<glm::uvec3>& all, int gridCells) {
   }
   if (triangles_.empty()) {
     problem_ = "the mesh has no triangle with a non-zero area in texture space";
-    return;
+    return false;
   }
   if (triangles_.size() > std::numeric_limits<std::uint32_t>::max()) {
     problem_ = "the mesh has more than 2^32 triangles";
-    return;
+    return false;
   }
   domain_.u0 = lo.x, domain_.u1 = hi.x, domain_.v0 = lo.y, domain_.v1 = hi.y;
   // Uniform grid: about one cell per triangle (or gridCells), shaped like the uv bounding box.
@@ -193,6 +207,21 @@ void MeshSurface::build(const std::vector<glm::uvec3>& all, int gridCells) {
     auto iy = [&](double v) { return std::clamp(int(std::floor((v - domain_.v0) / domain_.dv() * ny_)), 0, ny_ - 1); };
     i0 = ix(t.lo.x), i1 = ix(t.hi.x), j0 = iy(t.lo.y), j1 = iy(t.hi.y);
   };
+  // The lookup's size, counted before it is made: a layout that overlaps itself (every face on the
+  // whole texture) puts each triangle in many cells, up to N^2 entries in all.
+  std::size_t entries = 0;
+  for (const Triangle& t : triangles_) {
+    int i0, i1, j0, j1;
+    cellRange(t, i0, i1, j0, j1);
+    entries += std::size_t(i1 - i0 + 1) * std::size_t(j1 - j0 + 1);
+  }
+  const std::size_t cap = 16 * triangles_.size() + 4096;
+  if (entries > cap) {
+    problem_ = "the texture coordinates overlap themselves too much to look up (" + std::to_string(entries) +
+               " grid entries for " + std::to_string(triangles_.size()) + " triangles)";
+    triangles_.clear();
+    return false;
+  }
   cellStart_.assign(size_t(nx_) * size_t(ny_) + 1, 0);
   for (const Triangle& t : triangles_) {
     int i0, i1, j0, j1;
@@ -209,6 +238,7 @@ void MeshSurface::build(const std::vector<glm::uvec3>& all, int gridCells) {
     for (int j = j0; j <= j1; ++j)
       for (int i = i0; i <= i1; ++i) cellTriangles_[fill[size_t(j) * nx_ + i]++] = k;
   }
+  return true;
 }
 
 bool MeshSurface::locate(double u, double v, std::size_t& triangle, glm::dvec3& barycentric) const {

@@ -36,10 +36,14 @@ namespace wf {
 
 class MeshSurface final : public Surface {
  public:
-  /// Over mesh.uvs when the mesh has one per vertex, else over the automatic layout.
+  /// Over mesh.uvs when the mesh has one per vertex and they cover at least 90% of its area
+  /// (not mirrored or overlapping charts) without overlapping themselves too much for the
+  /// lookup; else over the automatic layout. Triangles with a NaN / Inf corner are left out.
   /// gridCells 0 picks about one lookup cell per triangle.
   explicit MeshSurface(const TriangleMesh& mesh, int gridCells = 0);
-  /// Over the given texture coordinates (one per position).
+  /// Over the given texture coordinates (one per position); a NaN / Inf point or texture
+  /// coordinate, or a layout that overlaps itself too much (its lookup would pass 16 entries a
+  /// triangle), is the problem.
   MeshSurface(std::vector<glm::dvec3> positions, std::vector<glm::dvec2> uvs, const std::vector<glm::uvec3>& triangles,
               int gridCells = 0);
 
@@ -57,8 +61,12 @@ class MeshSurface final : public Surface {
   bool locate(double u, double v, std::size_t& triangle, glm::dvec3& barycentric) const;
 
  private:
-  void build(const std::vector<glm::uvec3>& triangles, int gridCells);
+  MeshSurface() = default;
+  /// The lookup over triangles; false (and problem_) when unusable. skipNonFinite: triangles with
+  /// a NaN / Inf corner are left out (else such a point is the problem).
+  bool build(const std::vector<glm::uvec3>& triangles, int gridCells, bool skipNonFinite);
   void layOut(const TriangleMesh& mesh);
+  double keptArea_ = 0.0, totalArea_ = 0.0;  ///< space area of the looked-up / all finite triangles
 
   struct Triangle {
     std::uint32_t v[3];

@@ -500,7 +500,6 @@ TEST(SceneKeysCli, ScalesKeysAreValidated) {
   });
 }
 
-// Fur and scales grow on one parametric patch: not on a mesh file, not on a box.
 // Fur and scales grow on a mesh file's triangles too (surface/mesh_surface.h: its texture
 // coordinates, else an automatic flat layout); a box is several patches and still refuses them.
 TEST(SceneKeysCli, FurAndScalesGrowOnMeshFilesNotOnABox) {

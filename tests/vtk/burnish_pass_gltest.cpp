@@ -174,6 +174,66 @@ TEST(BurnishPass, BurnishedActorIsBrushedSteelAsTheCommandDrawsIt) {
   EXPECT_GT(plainToCommand, 1e-2);
 }
 
+// Every grain of the filter reaches the pass: V and Circular (the style path has only U) against
+// the core's render of the same triangles with the filter's tangents as the grain.
+TEST(BurnishPass, EveryGrainIsTheFiltersTangents) {
+  vtkSmartPointer<vtkPolyData> mesh = plane();
+  for (int grain : {int(vtkWireFurBurnish::GrainV), int(vtkWireFurBurnish::Circular)}) {
+    SCOPED_TRACE(grain);
+    vtkNew<vtkWireFurBurnish> burnish;
+    burnish->SetInputData(mesh);
+    burnish->SetGrain(grain);
+    burnish->SetAxisPoint(0.3, -0.2, 0.0);
+    burnish->Update();
+    vtkPolyData* out = burnish->GetOutput();
+    ASSERT_GT(out->GetNumberOfPoints(), 0);
+    Window win;
+    vtkNew<vtkPolyDataMapper> mapper;
+    mapper->SetInputData(out);
+    mapper->ScalarVisibilityOff();
+    vtkNew<vtkActor> actor;
+    actor->SetMapper(mapper);
+    steel(actor->GetProperty());
+    vtkWireFurRenderPass::Mark(actor);
+    win.renderer->AddActor(actor);
+    const std::vector<glm::dvec3> pass = win.Render();
+
+    wf::Scene s;
+    wf::SceneSurface surf;
+    vtkDataArray* T = out->GetPointData()->GetTangents();
+    for (vtkIdType i = 0; i < out->GetNumberOfPoints(); ++i) {
+      double p[3], t[3];
+      out->GetPoint(i, p);
+      T->GetTuple(i, t);
+      surf.mesh.positions.emplace_back(p[0], p[1], p[2]);
+      surf.mesh.normals.emplace_back(0.0, 0.0, 1.0);
+      surf.mesh.derivU.emplace_back(t[0], t[1], t[2]);
+      surf.mesh.derivV.push_back(glm::normalize(glm::cross(glm::dvec3(0, 0, 1), glm::dvec3(t[0], t[1], t[2]))));
+    }
+    vtkNew<vtkIdList> ids;
+    for (out->GetPolys()->InitTraversal(); out->GetPolys()->GetNextCell(ids);)
+      surf.mesh.triangles.emplace_back(std::uint32_t(ids->GetId(0)), std::uint32_t(ids->GetId(1)), std::uint32_t(ids->GetId(2)));
+    s.surfaces.push_back(surf);
+    s.materials[0].phong = {glm::dvec3(0.18), glm::dvec3(5.0), 30.0};
+    s.materials[0].burnish.grain = wf::Burnish::Grain::U;
+    wf::Camera c;
+    c.eye = {0, 0, 5};
+    c.up = {0, 1, 0};
+    s.camera = c;
+    s.lights.lights.push_back({glm::normalize(glm::dvec3(1, 1, 2)), glm::dvec3(1.0)});
+    wf::RenderOptions o;
+    o.width = W;
+    o.height = H;
+    const wf::RenderResult r = wf::render(s, o);
+    std::vector<glm::dvec3> core(size_t(W) * H);
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) core[size_t(y) * W + x] = glm::dvec3(glm::vec3(r.image.at(x, y)));
+    const double e = rms(pass, core);
+    std::printf("grain %d: pass vs core with the filter's tangents %.4g\n", grain, e);
+    EXPECT_LE(e, 1e-2);
+  }
+}
+
 TEST(BurnishPass, TangentShadedLinesAreNotShadedTwice) {
   // A few lines, shaded by the filter with the window's light; the pass must show the filter's
   // radiance as it is (drawn plain), not shade it again.
