@@ -62,6 +62,36 @@ TEST(MeshSurface, OwnTextureCoordinates) {
   EXPECT_NEAR(p.Sv.y, 3.0, 1e-12);
 }
 
+// A texture layout that overlaps itself (every quad on the whole texture, as tiled exports do):
+// the explicit layout refuses it before building a lookup of N^2 entries, and a mesh falls back
+// to the automatic layout (which covers the whole area). So does a mirrored half, whose triangles
+// are wound against the majority in uv and would grow nothing.
+TEST(MeshSurface, OverlappingOrMirroredLayoutsFallBackToTheAutomaticOne) {
+  TriangleMesh m;
+  const int n = 2000;
+  for (int k = 0; k < n; ++k) {
+    const std::uint32_t b = std::uint32_t(m.positions.size());
+    const double x = 1.1 * k;
+    for (const glm::dvec2& c : {glm::dvec2(0, 0), glm::dvec2(1, 0), glm::dvec2(1, 1), glm::dvec2(0, 1)}) {
+      m.positions.emplace_back(x + c.x, c.y, 0.0);
+      m.uvs.push_back(c);
+    }
+    m.triangles.push_back({b, b + 1, b + 2});
+    m.triangles.push_back({b, b + 2, b + 3});
+  }
+  const MeshSurface own(m.positions, m.uvs, m.triangles);
+  EXPECT_NE(own.problem().find("overlap"), std::string::npos) << own.problem();
+  const MeshSurface fallback(m);
+  EXPECT_TRUE(fallback.problem().empty()) << fallback.problem();
+  EXPECT_TRUE(fallback.automaticLayout());
+
+  TriangleMesh mirrored;
+  mirrored.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {-1, 0, 0}, {-1, 1, 0}};
+  mirrored.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {1, 0}, {1, 1}};  // the left half mirrors the right
+  mirrored.triangles = {{0, 1, 2}, {0, 2, 3}, {0, 3, 5}, {0, 5, 4}};
+  EXPECT_TRUE(MeshSurface(mirrored).automaticLayout());
+}
+
 TEST(MeshSurface, NoTrianglesIsAProblem) {
   TriangleMesh m;
   m.positions = {{0, 0, 0}};
