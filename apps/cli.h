@@ -1,6 +1,8 @@
 // Small helpers shared by the wirefur subcommands: argument errors, progress, timing.
 #pragma once
 
+#include "core/timer.h"
+
 #include <chrono>
 #include <cstddef>
 #include <stdexcept>
@@ -24,9 +26,7 @@ class Progress {
   bool enabled_;
 };
 
-inline double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
+using wf::secondsSince;  // core/timer.h
 
 /// Parses a positive integer option value; throws UsageError naming the option.
 int parsePositiveInt(const std::string& option, const std::string& value);
