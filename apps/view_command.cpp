@@ -8,6 +8,8 @@
 #include "render_command.h"
 #include "scene_file.h"
 
+#include "core/srgb.h"
+
 #include "vtkWireFurRenderPass.h"
 
 #include <vtkActor.h>
@@ -64,14 +66,6 @@ struct ViewOptions {
   CadOptions cad;         ///< --deflection, --angular-deflection, --isos (CAD input)
 };
 
-unsigned char srgbByte(float linear) {
-  float v = linear;
-  if (!(v > 0.0f)) v = 0.0f;
-  if (v >= 1.0f) v = 1.0f;
-  v = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-  return static_cast<unsigned char>(std::lround(255.0f * v));
-}
-
 // Vertex colours as the pass reads them: 8-bit, sRGB-encoded.
 vtkSmartPointer<vtkUnsignedCharArray> colourArray(const std::vector<glm::vec3>& colours) {
   auto a = vtkSmartPointer<vtkUnsignedCharArray>::New();
@@ -79,7 +73,7 @@ vtkSmartPointer<vtkUnsignedCharArray> colourArray(const std::vector<glm::vec3>& 
   a->SetNumberOfComponents(3);
   a->SetNumberOfTuples(vtkIdType(colours.size()));
   for (size_t i = 0; i < colours.size(); ++i)
-    for (int k = 0; k < 3; ++k) a->SetValue(vtkIdType(i * 3 + k), srgbByte(colours[i][k]));
+    for (int k = 0; k < 3; ++k) a->SetValue(vtkIdType(i * 3 + k), wf::srgb8(colours[i][k]));
   return a;
 }
 
@@ -278,7 +272,7 @@ int runView(const std::vector<std::string>& args) {
   if (o.offscreen) window->SetOffScreenRendering(1);
   window->AddRenderer(renderer);
   const glm::vec4 bg = scene.background;
-  renderer->SetBackground(srgbByte(bg.x) / 255.0, srgbByte(bg.y) / 255.0, srgbByte(bg.z) / 255.0);
+  renderer->SetBackground(wf::srgb8(bg.x) / 255.0, wf::srgb8(bg.y) / 255.0, wf::srgb8(bg.z) / 255.0);
 
   vtkNew<vtkWireFurRenderPass> pass;
   pass->SetMaskSize(o.mask.empty() ? sf.mask.w : o.mask[0] - '0', o.mask.empty() ? sf.mask.h : o.mask[2] - '0');
