@@ -67,19 +67,19 @@ bool parseCadOption(const std::vector<std::string>& a, size_t& i, CadOptions& o)
     return x;
   };
   if (a[i] == "--deflection") {
-    o.deflection = number("--deflection", 1e-7, 0.5);
+    o.deflection = number("--deflection", wf::kMinCadDeflection, wf::kMaxCadDeflection);
     o.absoluteDeflection = false;
   } else if (a[i] == "--linear-deflection") {
-    o.deflection = number("--linear-deflection", 1e-12, 1e30);
+    o.deflection = number("--linear-deflection", wf::kMinCadLinearDeflection, wf::kMaxCadLinearDeflection);
     o.absoluteDeflection = true;
   } else if (a[i] == "--angular-deflection") {
-    o.angularDegrees = number("--angular-deflection", 1.0, 85.0);
+    o.angularDegrees = number("--angular-deflection", wf::kMinCadAngularDegrees, wf::kMaxCadAngularDegrees);
   } else if (a[i] == "--cad-timeout") {
     o.timeoutSeconds = number("--cad-timeout", 0.1, 1e6);
   } else if (a[i] == "--isos") {
     const std::string v = need();
     o.isos = v == "0" ? 0 : parsePositiveInt("--isos", v);
-    if (o.isos > 1000) throw UsageError("option --isos: at most 1000 per face");
+    if (o.isos > wf::kMaxCadIsos) throw UsageError("option --isos: at most " + std::to_string(wf::kMaxCadIsos) + " per face");
   } else {
     return false;
   }

@@ -1,6 +1,7 @@
 // Small helpers shared by the wirefur subcommands: argument errors, progress, timing.
 #pragma once
 
+#include "core/limits.h"  // the limits every command and scene file checks
 #include "core/timer.h"
 
 #include <chrono>

@@ -188,7 +188,7 @@ int runExport(const std::vector<std::string>& a) {
       const std::string v = need();
       char* end = nullptr;
       const double t = std::strtod(v.c_str(), &end);
-      if (v.empty() || *end != '\0' || !std::isfinite(t) || std::abs(t) > 1e9)
+      if (v.empty() || *end != '\0' || !std::isfinite(t) || std::abs(t) > wf::kMaxWindTime)
         throw UsageError("option --time: expected a number in [-1e9, 1e9], got '" + v + "'");
       overrides.time = t;
     } else if (a[i] == "--style") {

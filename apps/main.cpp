@@ -73,7 +73,8 @@ int run(const std::vector<std::string>& a) {
       else if (a[i] == "--quiet") o.quiet = true;
       else throw wfapp::UsageError("gallery: unknown option '" + a[i] + "'");
     }
-    if (o.size != 0 && (o.size < 16 || o.size > 8192)) throw wfapp::UsageError("option --size: expected 16 ... 8192");
+    if (o.size != 0 && (o.size < 16 || o.size > wf::kMaxImageSide))
+      throw wfapp::UsageError("option --size: expected 16 ... " + std::to_string(wf::kMaxImageSide));
     return wfapp::runGallery(o);
   }
   if (cmd == "accuracy") {
@@ -97,7 +98,8 @@ int run(const std::vector<std::string>& a) {
         if (x == std::string::npos) throw wfapp::UsageError("option --size: expected WxH, got '" + v + "'");
         o.width = wfapp::parsePositiveInt("--size", v.substr(0, x));
         o.height = wfapp::parsePositiveInt("--size", v.substr(x + 1));
-        if (o.width > 16384 || o.height > 16384) throw wfapp::UsageError("option --size: at most 16384x16384");
+        if (o.width > wf::kMaxImageSide || o.height > wf::kMaxImageSide)
+          throw wfapp::UsageError("option --size: at most " + std::to_string(wf::kMaxImageSide) + "x" + std::to_string(wf::kMaxImageSide));
       } else if (a[i] == "--style") {
         o.style = need(a, i);
         if (o.style != "wire" && o.style != "wire-over-surface" && o.style != "burnished" && o.style != "fur" && o.style != "scales")
@@ -117,7 +119,7 @@ int run(const std::vector<std::string>& a) {
       else if (a[i] == "--samples") o.samples = wfapp::parsePositiveInt("--samples", need(a, i));
       else if (a[i] == "--view-grid") {
         o.viewGrid = wfapp::parsePositiveInt("--view-grid", need(a, i));
-        if (o.viewGrid > 16) throw wfapp::UsageError("option --view-grid: expected 1 ... 16");
+        if (o.viewGrid > wf::kMaxViewGrid) throw wfapp::UsageError("option --view-grid: expected 1 ... " + std::to_string(wf::kMaxViewGrid));
       }
       else if (a[i] == "--simplify") {
         const std::string v = need(a, i);
@@ -136,7 +138,7 @@ int run(const std::vector<std::string>& a) {
         const std::string v = need(a, i);
         char* end = nullptr;
         const double t = std::strtod(v.c_str(), &end);
-        if (v.empty() || *end != '\0' || !std::isfinite(t) || std::abs(t) > 1e9)
+        if (v.empty() || *end != '\0' || !std::isfinite(t) || std::abs(t) > wf::kMaxWindTime)
           throw wfapp::UsageError("option --time: expected a number in [-1e9, 1e9], got '" + v + "'");
         o.time = t;
       }

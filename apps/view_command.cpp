@@ -213,7 +213,8 @@ ViewOptions parse(const std::vector<std::string>& a) {
       if (x == std::string::npos) throw UsageError("option --size: expected WxH, got '" + v + "'");
       o.width = parsePositiveInt("--size", v.substr(0, x));
       o.height = parsePositiveInt("--size", v.substr(x + 1));
-      if (o.width > 8192 || o.height > 8192) throw UsageError("option --size: at most 8192x8192");
+      if (o.width > wf::kMaxImageSide || o.height > wf::kMaxImageSide)
+        throw UsageError("option --size: at most " + std::to_string(wf::kMaxImageSide) + "x" + std::to_string(wf::kMaxImageSide));
     } else if (a[i] == "--style") {
       o.style = need(i);
       if (o.style != "wire" && o.style != "wire-over-surface" && o.style != "burnished" && o.style != "fur" && o.style != "scales")
