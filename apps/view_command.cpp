@@ -1,7 +1,5 @@
 #include "view_command.h"
 
-#include "cad_input.h"
-
 #include "x_display.h"
 
 #include "cli.h"
@@ -54,17 +52,6 @@
 namespace wfapp {
 
 namespace {
-
-struct ViewOptions {
-  std::string input, style;
-  int width = 800, height = 600;
-  int frames = 0;         ///< > 0: benchmark N frames turning the camera, then exit
-  bool offscreen = false;
-  std::string png;        ///< --png FILE: the last benchmark frame as a PNG (for a person to look at)
-  std::string mask;       ///< empty: the scene's
-  int threads = 0;
-  CadOptions cad;         ///< --deflection, --angular-deflection, --isos (CAD input)
-};
 
 // Vertex colours as the pass reads them: 8-bit, sRGB-encoded.
 vtkSmartPointer<vtkUnsignedCharArray> colourArray(const std::vector<glm::vec3>& colours) {
@@ -200,45 +187,6 @@ class ViewerStyle : public vtkInteractorStyleTrackballCamera {
 };
 vtkStandardNewMacro(ViewerStyle);
 
-ViewOptions parse(const std::vector<std::string>& a) {
-  ViewOptions o;
-  auto need = [&](size_t& i) {
-    if (i + 1 >= a.size()) throw UsageError("option " + a[i] + " needs a value");
-    return a[++i];
-  };
-  for (size_t i = 0; i < a.size(); ++i) {
-    if (a[i] == "--size") {
-      const std::string v = need(i);
-      const size_t x = v.find('x');
-      if (x == std::string::npos) throw UsageError("option --size: expected WxH, got '" + v + "'");
-      o.width = parsePositiveInt("--size", v.substr(0, x));
-      o.height = parsePositiveInt("--size", v.substr(x + 1));
-      if (o.width > wf::kMaxImageSide || o.height > wf::kMaxImageSide)
-        throw UsageError("option --size: at most " + std::to_string(wf::kMaxImageSide) + "x" + std::to_string(wf::kMaxImageSide));
-    } else if (a[i] == "--style") {
-      o.style = need(i);
-      if (o.style != "wire" && o.style != "wire-over-surface" && o.style != "burnished" && o.style != "fur" && o.style != "scales")
-        throw UsageError("option --style: expected wire, wire-over-surface, burnished, fur or scales");
-    } else if (a[i] == "--frames") {
-      o.frames = parsePositiveInt("--frames", need(i));
-      if (o.frames > 100000) throw UsageError("option --frames: at most 100000");
-    } else if (a[i] == "--offscreen") o.offscreen = true;
-    else if (a[i] == "--png") o.png = need(i);
-    else if (a[i] == "--mask") {
-      o.mask = need(i);
-      if (o.mask != "4x4" && o.mask != "8x4" && o.mask != "8x8") throw UsageError("option --mask: expected 4x4, 8x4 or 8x8");
-    } else if (a[i] == "--threads") o.threads = parsePositiveInt("--threads", need(i));
-    else if (parseCadOption(a, i, o.cad)) {
-    } else if (a[i] == "--quiet") {
-    } else if (!a[i].empty() && a[i][0] == '-') throw UsageError("view: unknown option '" + a[i] + "'");
-    else if (o.input.empty()) o.input = a[i];
-    else throw UsageError("view: more than one input ('" + o.input + "' and '" + a[i] + "')");
-  }
-  if (!o.png.empty() && o.frames == 0) throw UsageError("view: --png needs --frames N");
-  if (o.offscreen && o.frames == 0) throw UsageError("view: --offscreen needs --frames N (there is no window to interact with)");
-  return o;
-}
-
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
@@ -248,8 +196,9 @@ double median(std::vector<double> v) {
 
 }  // namespace
 
-int runView(const std::vector<std::string>& args) {
-  const ViewOptions o = parse(args);
+int runView(const ViewOptions& o) {
+  if (!o.png.empty() && o.frames == 0) throw UsageError("view: --png needs --frames N");
+  if (o.offscreen && o.frames == 0) throw UsageError("view: --offscreen needs --frames N (there is no window to interact with)");
   SceneOverrides overrides;
   overrides.cad = o.cad;
   SceneFile sf = loadInput(o.input, o.style, overrides);  // bad input first: exit 2, whatever the display
