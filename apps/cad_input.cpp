@@ -49,43 +49,6 @@ bool isCadFile(const std::string& path) {
   return e == ".step" || e == ".stp" || e == ".iges" || e == ".igs" || e == ".brep" || e == ".fcstd";
 }
 
-bool parseCadOption(const std::vector<std::string>& a, size_t& i, CadOptions& o) {
-  auto need = [&]() -> std::string {
-    if (i + 1 >= a.size()) throw UsageError("option " + a[i] + " needs a value");
-    return a[++i];
-  };
-  auto number = [&](const std::string& option, double lo, double hi) {
-    const std::string v = need();
-    char* end = nullptr;
-    const double x = std::strtod(v.c_str(), &end);
-    if (v.empty() || *end != '\0' || !std::isfinite(x) || x < lo || x > hi)
-    {
-      char range[96];
-      std::snprintf(range, sizeof range, "[%g, %g]", lo, hi);
-      throw UsageError("option " + option + ": expected a number in " + range + ", got '" + v + "'");
-    }
-    return x;
-  };
-  if (a[i] == "--deflection") {
-    o.deflection = number("--deflection", 1e-7, 0.5);
-    o.absoluteDeflection = false;
-  } else if (a[i] == "--linear-deflection") {
-    o.deflection = number("--linear-deflection", 1e-12, 1e30);
-    o.absoluteDeflection = true;
-  } else if (a[i] == "--angular-deflection") {
-    o.angularDegrees = number("--angular-deflection", 1.0, 85.0);
-  } else if (a[i] == "--cad-timeout") {
-    o.timeoutSeconds = number("--cad-timeout", 0.1, 1e6);
-  } else if (a[i] == "--isos") {
-    const std::string v = need();
-    o.isos = v == "0" ? 0 : parsePositiveInt("--isos", v);
-    if (o.isos > 1000) throw UsageError("option --isos: at most 1000 per face");
-  } else {
-    return false;
-  }
-  return true;
-}
-
 #ifdef WIREFUR_CAD_LIBRARY
 
 namespace {

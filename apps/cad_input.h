@@ -21,10 +21,6 @@ namespace wfapp {
 /// True for the CAD extensions (any case).
 bool isCadFile(const std::string& path);
 
-/// Consumes a CAD option at args[i] (advancing i past its value) and returns true, or returns
-/// false when args[i] is not one. Throws UsageError for a bad value.
-bool parseCadOption(const std::vector<std::string>& args, size_t& i, CadOptions& options);
-
 /// What a CAD file gives: the faces as one mesh with exact (u, v), Su, Sv and normals and the
 /// file's colours; the edges (lines) and iso lines as polylines; per-triangle part index.
 struct CadGeometry {

@@ -21,20 +21,7 @@ void Progress::say(const std::string& line) const {
   if (enabled_) std::cerr << "wirefur: " << line << "\n";
 }
 
-int parsePositiveInt(const std::string& option, const std::string& value) {
-  try {
-    if (value.empty() || value.find_first_not_of("0123456789") != std::string::npos) throw std::invalid_argument("digits");
-    size_t used = 0;
-    const long v = std::stol(value, &used);
-    if (used != value.size() || v <= 0 || v > 1000000) throw std::invalid_argument("range");
-    return int(v);
-  } catch (const std::exception&) {
-    throw UsageError("option " + option + ": expected a positive integer, got '" + value + "'");
-  }
-}
-
-std::size_t parseByteSize(const std::string& option, const std::string& value) {
-  const std::string bad = "option " + option + ": expected bytes or a size such as 512M, 2G (0: unlimited), got '" + value + "'";
+std::optional<std::size_t> byteSize(const std::string& value) {
   std::string v = value;
   for (const char* unit : {"iB", "B"})
     if (v.size() > std::strlen(unit) && v.compare(v.size() - std::strlen(unit), std::string::npos, unit) == 0) {
@@ -52,11 +39,21 @@ std::size_t parseByteSize(const std::string& option, const std::string& value) {
     }
     if (scale > 1.0) v.pop_back();
   }
-  if (v.empty() || v.find_first_not_of("0123456789.") != std::string::npos || v.front() == '.') throw UsageError(bad);
+  if (v.empty() || v.find_first_not_of("0123456789.") != std::string::npos || v.front() == '.') return std::nullopt;
   char* end = nullptr;
   const double n = std::strtod(v.c_str(), &end) * scale;
-  if (*end != '\0' || !std::isfinite(n) || n < 0 || n > 1.0e18) throw UsageError(bad);
+  if (*end != '\0' || !std::isfinite(n) || n < 0 || n > 1.0e18) return std::nullopt;
   return std::size_t(n);
+}
+
+std::string byteSizeProblem(const std::string& value) {
+  if (byteSize(value)) return {};
+  return "expected bytes or a size such as 512M, 2G (0: unlimited), got '" + value + "'";
+}
+
+std::size_t parseByteSize(const std::string& option, const std::string& value) {
+  if (const std::optional<std::size_t> n = byteSize(value)) return *n;
+  throw UsageError("option " + option + ": " + byteSizeProblem(value));
 }
 
 void ensureDirectory(const std::string& dir) {

@@ -1,8 +1,12 @@
 // Small helpers shared by the wirefur subcommands: argument errors, progress, timing.
 #pragma once
 
+#include "core/limits.h"  // the limits every command and scene file checks
+#include "core/timer.h"
+
 #include <chrono>
 #include <cstddef>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -24,16 +28,18 @@ class Progress {
   bool enabled_;
 };
 
-inline double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
+using wf::secondsSince;  // core/timer.h
 
-/// Parses a positive integer option value; throws UsageError naming the option.
-int parsePositiveInt(const std::string& option, const std::string& value);
+/// A byte count: plain bytes ("1500000000") or a number with a binary suffix K, M, G or T
+/// ("512M", "1.5G"; an optional trailing "iB" or "B"); "0" means unlimited. Nothing when `value`
+/// is not one.
+std::optional<std::size_t> byteSize(const std::string& value);
 
-/// Parses a byte count: plain bytes ("1500000000") or a number with a binary suffix K, M, G or T
-/// ("512M", "1.5G"; an optional trailing "iB" or "B"); "0" means unlimited. Throws UsageError
-/// naming the option.
+/// What is wrong with `value` as a byte count ("expected bytes or a size such as 512M, 2G (0:
+/// unlimited), got 'x'"); empty when nothing is.
+std::string byteSizeProblem(const std::string& value);
+
+/// byteSize, or UsageError naming the option.
 std::size_t parseByteSize(const std::string& option, const std::string& value);
 
 /// Creates a directory (and parents); throws UsageError if it cannot.

@@ -1,7 +1,5 @@
 #include "export_command.h"
 
-#include "cad_input.h"
-
 #include "cli.h"
 #include "render_command.h"
 #include "scene_file.h"
@@ -175,32 +173,9 @@ vtkSmartPointer<vtkPolyData> sceneToPolyData(const wf::Scene& scene) {
   return pd;
 }
 
-int runExport(const std::vector<std::string>& a) {
-  std::string input, output, style;
-  SceneOverrides overrides;
-  for (size_t i = 0; i < a.size(); ++i) {
-    auto need = [&]() -> std::string {
-      if (i + 1 >= a.size()) throw UsageError("option " + a[i] + " needs a value");
-      return a[++i];
-    };
-    if (a[i] == "-o" || a[i] == "--out") output = need();
-    else if (a[i] == "--time") {
-      const std::string v = need();
-      char* end = nullptr;
-      const double t = std::strtod(v.c_str(), &end);
-      if (v.empty() || *end != '\0' || !std::isfinite(t) || std::abs(t) > 1e9)
-        throw UsageError("option --time: expected a number in [-1e9, 1e9], got '" + v + "'");
-      overrides.time = t;
-    } else if (a[i] == "--style") {
-      style = need();
-      if (style != "wire" && style != "wire-over-surface" && style != "burnished")
-        throw UsageError("option --style: expected wire, wire-over-surface or burnished");
-    } else if (a[i] == "--quiet") {
-    } else if (parseCadOption(a, i, overrides.cad)) {
-    } else if (!a[i].empty() && a[i][0] == '-') throw UsageError("export: unknown option '" + a[i] + "'");
-    else if (input.empty()) input = a[i];
-    else throw UsageError("export: more than one input ('" + input + "' and '" + a[i] + "')");
-  }
+int runExport(const ExportOptions& o) {
+  const std::string& input = o.input;
+  const std::string& output = o.output;
   if (input.empty()) throw UsageError("export: no INPUT (a scene .json or a mesh / polyline file)");
   if (output.empty()) throw UsageError("export: no output (-o OUT.vtp|.vtk|.obj|.ply)");
   std::string ext = std::filesystem::path(output).extension().string();
@@ -213,7 +188,7 @@ int runExport(const std::vector<std::string>& a) {
     throw UsageError(output + ": the folder " + parent.string() + " does not exist");
   if (std::filesystem::is_directory(target, ec)) throw UsageError(output + ": is a folder");
 
-  const SceneFile sf = loadInput(input, style, overrides);
+  const SceneFile sf = loadInput(input, o.style, o.overrides);
   const vtkSmartPointer<vtkPolyData> pd = sceneToPolyData(sf.scene);
   if (ext == ".ply" && pd->GetNumberOfLines() > 0)
     std::cerr << "wirefur: warning: " << output << ": PLY holds no lines: " << pd->GetNumberOfLines()

@@ -3,6 +3,8 @@
 // tools (docs/cli.md).
 #pragma once
 
+#include "scene_file.h"
+
 #include "render/scene.h"
 
 #include <vtkSmartPointer.h>
@@ -23,7 +25,16 @@ namespace wfapp {
 /// units, 0 for surfaces and pixel-wide wires); field data "ObjectNames".
 vtkSmartPointer<vtkPolyData> sceneToPolyData(const wf::Scene& scene);
 
+/// The command's options (declared in apps/main.cpp).
+struct ExportOptions {
+  std::string input;           ///< scene .json, CAD or mesh / polyline file (required)
+  std::string output;          ///< .vtp, .vtk, .obj or .ply (required)
+  std::string style;           ///< for CAD and mesh input
+  bool quiet = false;          ///< accepted as by every command (export prints no progress)
+  SceneOverrides overrides;    ///< --time and the CAD options
+};
+
 /// Runs the command; returns the exit status.
-int runExport(const std::vector<std::string>& args);
+int runExport(const ExportOptions& options);
 
 }  // namespace wfapp

@@ -2,6 +2,7 @@
 #include "accuracy.h"
 #include "cad_input.h"
 #include "cli.h"
+#include "cli_options.h"
 #include "gallery.h"
 #include "export_command.h"
 #include "render_command.h"
@@ -11,6 +12,8 @@
 
 #include <vtkLogger.h>
 #include <vtkObject.h>
+
+#include <CLI/CLI.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -22,143 +25,159 @@
 
 namespace {
 
-constexpr const char* kUsage =
-    "usage: wirefur <command> [options]\n"
-    "  gallery  [-o DIR] [--scenes DIR] [--size N] [--quiet]\n"
-    "                                               every scene of data/scenes (and the shading tables) into DIR\n"
-    "                                               (default out/gallery) with index.html; --size N: longer side at most N\n"
-    "  accuracy [--json FILE] [--plots DIR] [--quick] [--quiet]\n"
-    "                                               error against run time of every shading approximation\n"
-    "  render   [INPUT] -o OUT.png [--size WxH] [--style STYLE] [--mask 4x4|8x4|8x8] [--threads N]\n"
-    "           [--stats FILE] [--budget K] [--shading closed|maps|exact] [--reference [--samples N]]\n"
-    "           [--time T] [--simplify WIDTH|off] [--wire-depth round|flat]\n"
-    "           [--view-grid N] [--measure-error] [--memory-budget BYTES|NNM|NNG] [--quiet] [CAD options]\n"
-    "                                               INPUT: scene .json, CAD .step .stp .iges .igs .brep .FCStd,\n"
-    "                                               or mesh .vtp .vtk .stl .obj .ply; none: built-in scene\n"
-    "           --memory-budget: refuse (exit 2) a render estimated to need more (default: half the RAM; 0: no limit)\n"
-    "           STYLE for CAD: wire, wire-over-surface (default), burnished, fur; for meshes: wire, wire-over-surface\n"
-    "           CAD options: --deflection D (of the model's size, default 0.001) | --linear-deflection L (world)\n"
-    "                        --angular-deflection DEG (default 20) --isos N (u and v iso lines per face)\n"
-    "                        --cad-timeout S (read and mesh in a worker process limited to S s, default 600)\n"
-    "  export   INPUT -o OUT.vtp|.vtk|.obj|.ply [--style STYLE] [--time T] [--quiet] [CAD options]\n"
-    "                                               the scene's geometry as drawn (tessellations, scales, wires,\n"
-    "                                               fur) with normals, tangents, (u, v) and colours\n"
-    "  view     [INPUT] [--style STYLE] [--size WxH] [--mask 4x4|8x4|8x8] [--threads N] [CAD options]\n"
-    "           [--frames N [--offscreen] [--png F]] interactive VTK window (keys: w f s m a q); --frames N renders\n"
-    "                                               N frames turning the camera and prints the median frame time\n"
-    "  --help, --version\n";
+const std::vector<std::string> kStyles = {"wire", "wire-over-surface", "burnished", "fur", "scales"};
+const char* const kStyleHelp =
+    "how a mesh, polyline or CAD file is drawn: wire, wire-over-surface (default), burnished, fur or scales "
+    "(a file of polylines only: wire or wire-over-surface; docs/scenes.md, Styles)";
+const char* const kInputHelp =
+    "scene .json, CAD .step .stp .iges .igs .brep .FCStd, or mesh .vtp .vtk .stl .obj .ply";
 
-std::string need(const std::vector<std::string>& a, size_t& i) {
-  if (i + 1 >= a.size()) throw wfapp::UsageError("option " + a[i] + " needs a value");
-  return a[++i];
+void declareGallery(CLI::App& wirefur, wfapp::GalleryOptions& o) {
+  CLI::App* c = wfapp::addCommand(wirefur, "gallery",
+                                  "every scene of data/scenes (and the shading tables) as PNG files with index.html");
+  wfapp::addOutputOption(*c, o.outDir, "DIR", "output folder (default out/gallery)");
+  c->add_option("--scenes", o.scenesDir, "the scene files to render (default: data/scenes of the source tree)")
+      ->type_name("DIR")
+      ->trigger_on_parse();
+  wfapp::addIntegerOption(*c, "--size", o.size, 16, wf::kMaxImageSide,
+                          "scale every scene down so that its longer side is at most N pixels, {range}");
+  wfapp::addQuietOption(*c, o.quiet);
 }
+
+void declareAccuracy(CLI::App& wirefur, wfapp::AccuracyOptions& o) {
+  CLI::App* c = wfapp::addCommand(wirefur, "accuracy", "error against run time of every shading approximation");
+  c->add_option("--json", o.jsonPath, "write the study as JSON")->type_name("FILE")->trigger_on_parse();
+  c->add_option("--plots", o.plotsDir, "write the PNG plots (gnuplot) into DIR")->type_name("DIR")->trigger_on_parse();
+  wfapp::addFlag(*c, "--quick", o.quick, "smaller sets (for tests; about 9 s)");
+  wfapp::addQuietOption(*c, o.quiet);
+}
+
+void declareRender(CLI::App& wirefur, wfapp::RenderCommandOptions& o) {
+  CLI::App* c = wfapp::addCommand(wirefur, "render", "draw INPUT with the A-buffer into an 8-bit sRGB PNG");
+  wfapp::addInputArgument(*c, o.input, std::string(kInputHelp) + "; none: the built-in scene");
+  wfapp::addOutputOption(*c, o.output, "OUT.png", "the PNG to write (required)");
+  wfapp::addSizeOption(*c, o.width, o.height, "default: the scene's");
+  wfapp::addStyleOption(*c, o.style, kStyles, kStyleHelp);
+  wfapp::addMaskOption(*c, o.mask);
+  wfapp::addThreadsOption(*c, o.threads);
+  c->add_option("--stats", o.statsPath, "write the render's statistics and error estimate as JSON")
+      ->type_name("FILE")
+      ->trigger_on_parse();
+  wfapp::addIntegerOption(*c, "--budget", o.budget, 1, wf::kMaxListBudget,
+                          "fragments kept exactly per pixel, {range} (default: the scene's, else 64)", "K");
+  c->add_option("--shading", o.shading,
+                "closed (default): closed-form cylinder integral; exact: the same computed exactly; maps: "
+                "the paper's pseudo-reflectance maps")
+      ->check(wfapp::oneOf({"closed", "maps", "exact"}))
+      ->type_name("closed|maps|exact")
+      ->trigger_on_parse();
+  wfapp::addFlag(*c, "--reference", o.reference, "render the brute-force reference instead (exact shading)");
+  wfapp::addIntegerOption(*c, "--samples", o.samples, 1, wf::kMaxReferenceSamples,
+                          "the reference's N x N samples per pixel, {range} (default 16)");
+  wfapp::addFlag(*c, "--measure-error", o.measureError, "render the reference too and put the measured difference in the stats");
+  wfapp::addIntegerOption(*c, "--view-grid", o.viewGrid, 1, wf::kMaxViewGrid,
+                          "with --shading maps: tables for N x N view directions, {range} (default: the scene's, else 1)");
+  c->add_option_function<std::string>(
+       "--memory-budget", [&o](const std::string& v) { o.memoryBudget = wfapp::parseByteSize("--memory-budget", v); },
+       "refuse (exit 2) a render estimated to need more (default: half the RAM; 0: no limit)")
+      ->check(wfapp::checkedBy(wfapp::byteSizeProblem))
+      ->type_name("BYTES|NNM|NNG")
+      ->trigger_on_parse();
+  c->add_option_function<std::string>(
+       "--simplify",
+       [&o](const std::string& v) {
+         if (v == "off") o.simplify.reset();
+         else o.simplify = std::strtod(v.c_str(), nullptr);
+       },
+       "draw dense fur by stochastic simplification to hairs of WIDTH pixels, 0.1 ... 64 (default off)")
+      ->check(wfapp::checkedBy([](const std::string& v) -> std::string {
+        if (v == "off" || wfapp::numberProblem(v, 0.1, 64).empty()) return {};
+        return "expected off or a width in pixels, 0.1 ... 64, got '" + v + "'";
+      }))
+      ->type_name("WIDTH|off")
+      ->trigger_on_parse();
+  c->add_option("--wire-depth", o.wireDepth, "round (default): the depth of the round cylinder; flat: the paper's flat polygon")
+      ->check(wfapp::oneOf({"round", "flat"}))
+      ->type_name("round|flat")
+      ->trigger_on_parse();
+  wfapp::addTimeOption(*c, o.time);
+  wfapp::addQuietOption(*c, o.quiet);
+  wfapp::addCadOptions(*c, o.cad);
+}
+
+void declareExport(CLI::App& wirefur, wfapp::ExportOptions& o) {
+  CLI::App* c = wfapp::addCommand(wirefur, "export",
+                                  "the geometry INPUT draws (tessellations, scales, wires, fur) with normals, tangents, "
+                                  "(u, v) and colours, through VTK's writers");
+  wfapp::addInputArgument(*c, o.input, std::string(kInputHelp) + " (required)");
+  wfapp::addOutputOption(*c, o.output, "OUT.vtp|.vtk|.obj|.ply", "the file to write (required)");
+  wfapp::addStyleOption(*c, o.style, kStyles, kStyleHelp);
+  wfapp::addTimeOption(*c, o.overrides.time);
+  wfapp::addQuietOption(*c, o.quiet);
+  wfapp::addCadOptions(*c, o.overrides.cad);
+}
+
+#ifdef WIREFUR_WITH_VIEW
+void declareView(CLI::App& wirefur, wfapp::ViewOptions& o) {
+  CLI::App* c = wfapp::addCommand(wirefur, "view",
+                                  "an interactive VTK window over INPUT (keys: w f s m a q); --frames N: a benchmark");
+  wfapp::addInputArgument(*c, o.input, std::string(kInputHelp) + "; none: the built-in scene");
+  wfapp::addStyleOption(*c, o.style, kStyles, kStyleHelp);
+  wfapp::addSizeOption(*c, o.width, o.height, "default 800x600");
+  wfapp::addMaskOption(*c, o.mask);
+  wfapp::addThreadsOption(*c, o.threads);
+  wfapp::addIntegerOption(*c, "--frames", o.frames, 1, 100000,
+                          "render N frames turning the camera and print the median frame time, {range}");
+  wfapp::addFlag(*c, "--offscreen", o.offscreen, "with --frames: no window shown (still needs an X display)");
+  c->add_option("--png", o.png, "with --frames: write the last frame as a PNG")->type_name("F")->trigger_on_parse();
+  wfapp::addQuietOption(*c, o.quiet);
+  wfapp::addCadOptions(*c, o.cad);
+}
+#endif
 
 int run(const std::vector<std::string>& a) {
   if (a.empty()) throw wfapp::UsageError("no command (try wirefur --help)");
-  if (a[0] == "--help" || a[0] == "-h" || a[0] == "help") {
-    std::cout << kUsage;
-    return 0;
-  }
-  if (a[0] == "--version") {
-    std::cout << "wirefur 0.1.0\n";
-    return 0;
-  }
-  const std::string cmd = a[0];
-  if (cmd == "gallery") {
-    wfapp::GalleryOptions o;
-    for (size_t i = 1; i < a.size(); ++i) {
-      if (a[i] == "-o" || a[i] == "--out") o.outDir = need(a, i);
-      else if (a[i] == "--size") o.size = wfapp::parsePositiveInt("--size", need(a, i));
-      else if (a[i] == "--scenes") o.scenesDir = need(a, i);
-      else if (a[i] == "--quiet") o.quiet = true;
-      else throw wfapp::UsageError("gallery: unknown option '" + a[i] + "'");
-    }
-    if (o.size != 0 && (o.size < 16 || o.size > 8192)) throw wfapp::UsageError("option --size: expected 16 ... 8192");
-    return wfapp::runGallery(o);
-  }
-  if (cmd == "accuracy") {
-    wfapp::AccuracyOptions o;
-    for (size_t i = 1; i < a.size(); ++i) {
-      if (a[i] == "--json") o.jsonPath = need(a, i);
-      else if (a[i] == "--plots") o.plotsDir = need(a, i);
-      else if (a[i] == "--quick") o.quick = true;
-      else if (a[i] == "--quiet") o.quiet = true;
-      else throw wfapp::UsageError("accuracy: unknown option '" + a[i] + "'");
-    }
-    return wfapp::runAccuracy(o);
-  }
-  if (cmd == "render") {
-    wfapp::RenderCommandOptions o;
-    for (size_t i = 1; i < a.size(); ++i) {
-      if (a[i] == "-o" || a[i] == "--out") o.output = need(a, i);
-      else if (a[i] == "--size") {
-        const std::string v = need(a, i);
-        const size_t x = v.find('x');
-        if (x == std::string::npos) throw wfapp::UsageError("option --size: expected WxH, got '" + v + "'");
-        o.width = wfapp::parsePositiveInt("--size", v.substr(0, x));
-        o.height = wfapp::parsePositiveInt("--size", v.substr(x + 1));
-        if (o.width > 16384 || o.height > 16384) throw wfapp::UsageError("option --size: at most 16384x16384");
-      } else if (a[i] == "--style") {
-        o.style = need(a, i);
-        if (o.style != "wire" && o.style != "wire-over-surface" && o.style != "burnished" && o.style != "fur" && o.style != "scales")
-          throw wfapp::UsageError("option --style: expected wire, wire-over-surface, burnished, fur or scales");
-      } else if (a[i] == "--mask") o.mask = need(a, i);
-      else if (a[i] == "--threads") o.threads = wfapp::parsePositiveInt("--threads", need(a, i));
-      else if (a[i] == "--stats") o.statsPath = need(a, i);
-      else if (a[i] == "--budget") o.budget = wfapp::parsePositiveInt("--budget", need(a, i));
-      else if (a[i] == "--memory-budget") o.memoryBudget = wfapp::parseByteSize("--memory-budget", need(a, i));
-      else if (a[i] == "--shading") {
-        const std::string v = need(a, i);
-        if (v != "closed" && v != "maps" && v != "exact")
-          throw wfapp::UsageError("option --shading: expected closed, maps or exact");
-        o.shading = v;
-      } else if (a[i] == "--reference") o.reference = true;
-      else if (a[i] == "--measure-error") o.measureError = true;
-      else if (a[i] == "--samples") o.samples = wfapp::parsePositiveInt("--samples", need(a, i));
-      else if (a[i] == "--view-grid") {
-        o.viewGrid = wfapp::parsePositiveInt("--view-grid", need(a, i));
-        if (o.viewGrid > 16) throw wfapp::UsageError("option --view-grid: expected 1 ... 16");
-      }
-      else if (a[i] == "--simplify") {
-        const std::string v = need(a, i);
-        if (v != "off") {
-          char* end = nullptr;
-          const double w = std::strtod(v.c_str(), &end);
-          if (v.empty() || *end != '\0' || !(w >= 0.1 && w <= 64))
-            throw wfapp::UsageError("option --simplify: expected off or a width in pixels, 0.1 ... 64, got '" + v + "'");
-          o.simplify = w;
-        }
-      } else if (a[i] == "--wire-depth") {
-        o.wireDepth = need(a, i);
-        if (o.wireDepth != "round" && o.wireDepth != "flat") throw wfapp::UsageError("option --wire-depth: expected round or flat");
-      }
-      else if (a[i] == "--time") {
-        const std::string v = need(a, i);
-        char* end = nullptr;
-        const double t = std::strtod(v.c_str(), &end);
-        if (v.empty() || *end != '\0' || !std::isfinite(t) || std::abs(t) > 1e9)
-          throw wfapp::UsageError("option --time: expected a number in [-1e9, 1e9], got '" + v + "'");
-        o.time = t;
-      }
-      else if (a[i] == "--quiet") o.quiet = true;
-      else if (wfapp::parseCadOption(a, i, o.cad)) {
-      } else if (!a[i].empty() && a[i][0] == '-') throw wfapp::UsageError("render: unknown option '" + a[i] + "'");
-      else if (o.input.empty()) o.input = a[i];
-      else throw wfapp::UsageError("render: more than one input ('" + o.input + "' and '" + a[i] + "')");
-    }
-    return wfapp::runRender(o);
-  }
-  if (cmd == "cad-worker") return wfapp::runCadWorker(std::vector<std::string>(a.begin() + 1, a.end()));
-  if (cmd == "export") return wfapp::runExport(std::vector<std::string>(a.begin() + 1, a.end()));
-  if (cmd == "view") {
+  // The CAD worker process (apps/cad_input.cpp): internal, not in the contract, its own arguments.
+  if (a[0] == "cad-worker") return wfapp::runCadWorker(std::vector<std::string>(a.begin() + 1, a.end()));
+
+  CLI::App wirefur("WireFur: shaded wires, fur and hair drawn with an A-buffer.", "wirefur");
+  wirefur.set_version_flag("--version", "wirefur 0.1.0");
+  wirefur.require_subcommand(0, 1);  // one command; a word after it is its INPUT, never a second command
+  wirefur.allow_extras();            // an unknown command or option: reported by parseCommandLine
+  wirefur.get_formatter()->column_width(34);
+  wirefur.get_formatter()->label("SUBCOMMAND", "COMMAND");
+  wfapp::GalleryOptions gallery;
+  wfapp::AccuracyOptions accuracy;
+  wfapp::RenderCommandOptions render;
+  wfapp::ExportOptions exportOptions;
+  declareGallery(wirefur, gallery);
+  declareAccuracy(wirefur, accuracy);
+  declareRender(wirefur, render);
+  declareExport(wirefur, exportOptions);
 #ifdef WIREFUR_WITH_VIEW
-    return wfapp::runView(std::vector<std::string>(a.begin() + 1, a.end()));
+  wfapp::ViewOptions view;
+  declareView(wirefur, view);
 #else
-    std::cerr << "wirefur: 'view' needs the VTK module (configure with WIREFUR_BUILD_VTK_MODULE=ON)\n";
-    return 1;
+  wfapp::addCommand(wirefur, "view", "an interactive VTK window (not in this build: needs the VTK module)");
 #endif
+  wirefur.footer("wirefur COMMAND --help: the command's options. The contract: docs/cli.md.");
+
+  if (a[0] == "help") {
+    std::cout << wirefur.help();
+    return 0;
   }
-  throw wfapp::UsageError("unknown command '" + cmd + "' (try wirefur --help)");
+  if (!wfapp::parseCommandLine(wirefur, a)) return 0;  // --help or --version answered
+  const std::string command = wfapp::chosenCommand(wirefur)->get_name();
+  if (command == "gallery") return wfapp::runGallery(gallery);
+  if (command == "accuracy") return wfapp::runAccuracy(accuracy);
+  if (command == "render") return wfapp::runRender(render);
+  if (command == "export") return wfapp::runExport(exportOptions);
+#ifdef WIREFUR_WITH_VIEW
+  return wfapp::runView(view);
+#else
+  std::cerr << "wirefur: 'view' needs the VTK module (configure with WIREFUR_BUILD_VTK_MODULE=ON)\n";
+  return 1;
+#endif
 }
 
 }  // namespace

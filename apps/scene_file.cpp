@@ -338,11 +338,11 @@ wf::ObjectDescription readObject(const Reader& r, const json& j, const std::stri
         const std::string cp = Reader::at(ptr, "cad");
         r.keys(c, cp, {"deflection", "linear_deflection", "angular_deflection", "isos"});
         if (c.contains("deflection") && c.contains("linear_deflection")) r.fail(cp, "give deflection (relative) or linear_deflection (world units), not both");
-        if (c.contains("deflection")) co.deflection = r.number(c["deflection"], Reader::at(cp, "deflection"), 1e-7, 0.5), co.absoluteDeflection = false;
+        if (c.contains("deflection")) co.deflection = r.number(c["deflection"], Reader::at(cp, "deflection"), wf::kMinCadDeflection, wf::kMaxCadDeflection), co.absoluteDeflection = false;
         if (c.contains("linear_deflection"))
-          co.deflection = r.number(c["linear_deflection"], Reader::at(cp, "linear_deflection"), 1e-12, 1e30), co.absoluteDeflection = true;
-        if (c.contains("angular_deflection")) co.angularDegrees = r.number(c["angular_deflection"], Reader::at(cp, "angular_deflection"), 1, 85);
-        if (c.contains("isos")) co.isos = int(r.number(c["isos"], Reader::at(cp, "isos"), 0, 1000));
+          co.deflection = r.number(c["linear_deflection"], Reader::at(cp, "linear_deflection"), wf::kMinCadLinearDeflection, wf::kMaxCadLinearDeflection), co.absoluteDeflection = true;
+        if (c.contains("angular_deflection")) co.angularDegrees = r.number(c["angular_deflection"], Reader::at(cp, "angular_deflection"), wf::kMinCadAngularDegrees, wf::kMaxCadAngularDegrees);
+        if (c.contains("isos")) co.isos = int(r.number(c["isos"], Reader::at(cp, "isos"), 0, wf::kMaxCadIsos));
       }
       try {
         CadGeometry c = readCad(p.string(), co, grows);
@@ -459,13 +459,13 @@ SceneFile parseScene(const std::string& path, const std::string& text, const std
     r.keys(im, "/image", {"size", "mask", "budget", "background", "view_grid"});
     if (im.contains("size")) {
       if (!im["size"].is_array() || im["size"].size() != 2) r.fail("/image/size", "expected [width, height]");
-      sf.width = r.integer(im["size"][0], "/image/size/0", 1, 16384);
-      sf.height = r.integer(im["size"][1], "/image/size/1", 1, 16384);
+      sf.width = r.integer(im["size"][0], "/image/size/0", 1, wf::kMaxImageSide);
+      sf.height = r.integer(im["size"][1], "/image/size/1", 1, wf::kMaxImageSide);
     }
     if (im.contains("mask") && !wf::MaskLayout::parse(r.string(im["mask"], "/image/mask"), sf.mask))
       r.fail("/image/mask", "expected 4x4, 8x4 or 8x8");
-    if (im.contains("budget")) sf.budget = r.integer(im["budget"], "/image/budget", 1, 65535);
-    if (im.contains("view_grid")) sf.viewGrid = r.integer(im["view_grid"], "/image/view_grid", 1, 16);
+    if (im.contains("budget")) sf.budget = r.integer(im["budget"], "/image/budget", 1, wf::kMaxListBudget);
+    if (im.contains("view_grid")) sf.viewGrid = r.integer(im["view_grid"], "/image/view_grid", 1, wf::kMaxViewGrid);
     if (im.contains("background")) {
       const json& b = im["background"];
       if (b.is_array() && b.size() == 4) {

@@ -4,6 +4,7 @@
 
 #include "scene_materials.h"
 
+#include "core/limits.h"
 #include "growth/fur.h"
 #include "growth/scales.h"
 #include "texture/textures.h"
@@ -107,7 +108,7 @@ wf::FurParams readFurParams(const Reader& r, const json& j, const std::string& p
     if (w.contains("strength")) f.windStrength = r.number(w["strength"], Reader::at(wp, "strength"), 0, 1e6);
     if (w.contains("sway")) f.windSway = r.number(w["sway"], Reader::at(wp, "sway"), 0, 1);
     if (w.contains("frequency")) f.windFrequency = r.number(w["frequency"], Reader::at(wp, "frequency"), 0, 1e6);
-    if (w.contains("time")) f.time = r.number(w["time"], Reader::at(wp, "time"), -1e9, 1e9);
+    if (w.contains("time")) f.time = r.number(w["time"], Reader::at(wp, "time"), -wf::kMaxWindTime, wf::kMaxWindTime);
   }
   if (j.contains("root_colour")) f.rootColour = glm::vec3(r.colour(j["root_colour"], Reader::at(ptr, "root_colour")));
   if (j.contains("tip_colour")) f.tipColour = glm::vec3(r.colour(j["tip_colour"], Reader::at(ptr, "tip_colour")));

@@ -1,7 +1,5 @@
 #include "view_command.h"
 
-#include "cad_input.h"
-
 #include "x_display.h"
 
 #include "cli.h"
@@ -54,19 +52,6 @@ namespace wfapp {
 
 namespace {
 
-struct ViewOptions {
-  std::string input, style;
-  int width = 800, height = 600;
-  int frames = 0;         ///< > 0: benchmark N frames turning the camera, then exit
-  bool offscreen = false;
-  std::string png;        ///< --png FILE: the last benchmark frame as a PNG (for a person to look at)
-  std::string mask;       ///< empty: the scene's
-  int threads = 0;
-  CadOptions cad;         ///< --deflection, --angular-deflection, --isos (CAD input)
-};
-
-unsigned char srgbByte(float linear) { return wf::srgb8(std::clamp(linear, 0.0f, 1.0f)); }
-
 bool endsWith(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
 }
@@ -90,44 +75,6 @@ class ViewerStyle : public vtkInteractorStyleTrackballCamera {
 };
 vtkStandardNewMacro(ViewerStyle);
 
-ViewOptions parse(const std::vector<std::string>& a) {
-  ViewOptions o;
-  auto need = [&](size_t& i) {
-    if (i + 1 >= a.size()) throw UsageError("option " + a[i] + " needs a value");
-    return a[++i];
-  };
-  for (size_t i = 0; i < a.size(); ++i) {
-    if (a[i] == "--size") {
-      const std::string v = need(i);
-      const size_t x = v.find('x');
-      if (x == std::string::npos) throw UsageError("option --size: expected WxH, got '" + v + "'");
-      o.width = parsePositiveInt("--size", v.substr(0, x));
-      o.height = parsePositiveInt("--size", v.substr(x + 1));
-      if (o.width > 8192 || o.height > 8192) throw UsageError("option --size: at most 8192x8192");
-    } else if (a[i] == "--style") {
-      o.style = need(i);
-      if (o.style != "wire" && o.style != "wire-over-surface" && o.style != "burnished" && o.style != "fur" && o.style != "scales")
-        throw UsageError("option --style: expected wire, wire-over-surface, burnished, fur or scales");
-    } else if (a[i] == "--frames") {
-      o.frames = parsePositiveInt("--frames", need(i));
-      if (o.frames > 100000) throw UsageError("option --frames: at most 100000");
-    } else if (a[i] == "--offscreen") o.offscreen = true;
-    else if (a[i] == "--png") o.png = need(i);
-    else if (a[i] == "--mask") {
-      o.mask = need(i);
-      if (o.mask != "4x4" && o.mask != "8x4" && o.mask != "8x8") throw UsageError("option --mask: expected 4x4, 8x4 or 8x8");
-    } else if (a[i] == "--threads") o.threads = parsePositiveInt("--threads", need(i));
-    else if (parseCadOption(a, i, o.cad)) {
-    } else if (a[i] == "--quiet") {
-    } else if (!a[i].empty() && a[i][0] == '-') throw UsageError("view: unknown option '" + a[i] + "'");
-    else if (o.input.empty()) o.input = a[i];
-    else throw UsageError("view: more than one input ('" + o.input + "' and '" + a[i] + "')");
-  }
-  if (!o.png.empty() && o.frames == 0) throw UsageError("view: --png needs --frames N");
-  if (o.offscreen && o.frames == 0) throw UsageError("view: --offscreen needs --frames N (there is no window to interact with)");
-  return o;
-}
-
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
@@ -137,8 +84,9 @@ double median(std::vector<double> v) {
 
 }  // namespace
 
-int runView(const std::vector<std::string>& args) {
-  const ViewOptions o = parse(args);
+int runView(const ViewOptions& o) {
+  if (!o.png.empty() && o.frames == 0) throw UsageError("view: --png needs --frames N");
+  if (o.offscreen && o.frames == 0) throw UsageError("view: --offscreen needs --frames N (there is no window to interact with)");
   SceneOverrides overrides;
   overrides.cad = o.cad;
   SceneFile sf = loadInput(o.input, o.style, overrides);  // bad input first: exit 2, whatever the display
@@ -162,7 +110,7 @@ int runView(const std::vector<std::string>& args) {
   if (o.offscreen) window->SetOffScreenRendering(1);
   window->AddRenderer(renderer);
   const glm::vec4 bg = scene.background;
-  renderer->SetBackground(srgbByte(bg.x) / 255.0, srgbByte(bg.y) / 255.0, srgbByte(bg.z) / 255.0);
+  renderer->SetBackground(wf::srgb8(bg.x) / 255.0, wf::srgb8(bg.y) / 255.0, wf::srgb8(bg.z) / 255.0);
 
   vtkNew<vtkWireFurRenderPass> pass;
   pass->SetMaskSize(o.mask.empty() ? sf.mask.w : o.mask[0] - '0', o.mask.empty() ? sf.mask.h : o.mask[2] - '0');

@@ -5,12 +5,26 @@
 // without a display too).
 #pragma once
 
+#include "scene_file.h"
+
 #include <string>
-#include <vector>
 
 namespace wfapp {
 
-/// Runs the command on its arguments (those after `view`). Returns the exit status.
-int runView(const std::vector<std::string>& args);
+/// The command's options (declared in apps/main.cpp).
+struct ViewOptions {
+  std::string input, style;
+  int width = 800, height = 600;
+  int frames = 0;         ///< > 0: benchmark N frames turning the camera, then exit
+  bool offscreen = false;
+  std::string png;        ///< --png FILE: the last benchmark frame as a PNG (for a person to look at)
+  std::string mask;       ///< empty: the scene's
+  int threads = 0;
+  bool quiet = false;     ///< accepted as by every command (view prints no progress)
+  CadOptions cad;         ///< --deflection, --angular-deflection, --isos (CAD input)
+};
+
+/// Runs the command. Returns the exit status.
+int runView(const ViewOptions& options);
 
 }  // namespace wfapp

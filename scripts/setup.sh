@@ -10,6 +10,7 @@ packages=(
   libglm-dev libtbb-dev             # the core: GLM vectors, oneTBB parallel loops
   libvtk9-dev                       # apps and VTK module: image I/O, windows, pipeline
   nlohmann-json3-dev                # JSON reports and scene files
+  libcli11-dev                      # the wirefur command line (CLI11, header only)
   libpng-dev                        # PNG textures (libpng's simplified reader)
   gnuplot-nox                       # error-against-time plots (wirefur accuracy)
   libgtest-dev libbenchmark-dev     # tests and benchmarks

@@ -4,6 +4,7 @@
 
 #include "wf_render_pass_scene.h"
 
+#include "core/timer.h"
 #include "render/renderer.h"
 
 #include "vtkActor.h"
@@ -68,9 +69,7 @@ void main(void)
 }
 )";
 
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
+using wf::secondsSince;  // core/timer.h
 
 }  // namespace
 

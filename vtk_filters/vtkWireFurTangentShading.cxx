@@ -21,6 +21,7 @@
 #include "vtkRenderer.h"
 #include "vtkUnsignedCharArray.h"
 
+#include "core/srgb.h"
 #include "shading/cylinder_shading.h"
 #include "shading/light.h"
 #include "shading/phong.h"
@@ -47,15 +48,6 @@ glm::dvec3 unitOrZero(const glm::dvec3& d) {
   if (!(s > 0.0) || !std::isfinite(s)) return glm::dvec3(0.0);
   const glm::dvec3 e = d / s;
   return e / std::sqrt(glm::dot(e, e));
-}
-
-// sRGB transfer function (IEC 61966-2-1) of one linear value, clamped to [0, 1], as 8 bits;
-// NaN -> 0. The same encoding as the apps' PNG writer.
-unsigned char srgb8(double v) {
-  if (!(v > 0.0)) return 0;
-  if (v >= 1.0) return 255;
-  const double e = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
-  return static_cast<unsigned char>(std::lround(255.0 * e));
 }
 
 // Unit vectors spread evenly over the sphere (Fibonacci lattice): the test set of the error
@@ -536,8 +528,9 @@ int vtkWireFurTangentShading::RequestData(
       const float tw[3] = { float(t.x), float(t.y), float(t.z) };
       const float tv[3] = { float(te.x), float(te.y), float(te.z) };
       const float r[3] = { float(rad.x), float(rad.y), float(rad.z) };
-      // The colour encodes the stored float radiance, so the two arrays agree exactly.
-      const unsigned char c[3] = { srgb8(r[0]), srgb8(r[1]), srgb8(r[2]) };
+      // The colour encodes the stored float radiance, so the two arrays agree exactly; encoded
+      // in double, as this filter always has (in float about 4 in 10^6 codes would differ by one).
+      const unsigned char c[3] = { wf::srgb8(double(r[0])), wf::srgb8(double(r[1])), wf::srgb8(double(r[2])) };
       worldTangents->SetTypedTuple(i, tw);
       eyeTangents->SetTypedTuple(i, tv);
       radiance->SetTypedTuple(i, r);

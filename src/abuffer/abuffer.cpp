@@ -1,5 +1,7 @@
 #include "abuffer/abuffer.h"
 
+#include "core/limits.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -104,7 +106,7 @@ void SurfaceDepth::atSamples(const float* sx, const float* sy, int n, float* out
 }
 
 TileABuffer::TileABuffer(const MaskLayout& layout, int budget, float occlusionEpsilon)
-    : layout_(layout), budget_(std::clamp(budget, 1, 65535)),
+    : layout_(layout), budget_(std::clamp(budget, 1, kMaxListBudget)),
       epsilon_(std::isfinite(occlusionEpsilon) ? std::clamp(occlusionEpsilon, 0.0f, 0.5f) : 0.0f) {
   for (int k = 0; k < layout_.samples(); ++k) {
     sampleX_[k] = float(layout_.sampleX(k % layout_.w));

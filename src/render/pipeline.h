@@ -29,6 +29,7 @@
 #include "abuffer/coverage_mask.h"
 #include "abuffer/screen_polygon.h"
 #include "core/hash.h"
+#include "core/timer.h"  // secondsSince, for the stages' timings
 #include "render/renderer.h"
 #include "shading/cylinder_lobe.h"
 #include "shading/pseudo_reflectance_map.h"
@@ -384,9 +385,6 @@ inline bool shadingVariesInPixel(const PreparedScene& ps, std::uint32_t i) {
 
 // ---- helpers the stages share ------------------------------------------------------------
 
-inline double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 inline bool finite3(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 /// Colours and opacities from the scene: NaN / Inf / negative would reach the image.
 inline glm::vec3 safeColour(const glm::vec3& c) {

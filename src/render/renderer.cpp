@@ -3,6 +3,7 @@
 #include "render/shading_cache.h"
 
 #include "abuffer/screen_polygon.h"
+#include "core/limits.h"
 #include "render/pipeline.h"
 #include "render/rasterize.h"
 #include "shading/cylinder_shading.h"
@@ -93,18 +94,21 @@ std::string memoryProblem(const Scene& scene, const RenderOptions& o, bool refer
 }
 
 std::string optionsProblem(const RenderOptions& o) {
-  if (o.width < 1 || o.height < 1 || o.width > 16384 || o.height > 16384)
-    return "image size must be 1 ... 16384 on each side";
+  if (o.width < 1 || o.height < 1 || o.width > kMaxImageSide || o.height > kMaxImageSide)
+    return "image size must be 1 ... " + std::to_string(kMaxImageSide) + " on each side";
   if (!o.mask.valid()) return "mask must be 4x4, 8x4 or 8x8";
-  if (o.budget < 1 || o.budget > 65535) return "budget must be 1 ... 65535";
+  if (o.budget < 1 || o.budget > kMaxListBudget) return "budget must be 1 ... " + std::to_string(kMaxListBudget);
   if (!(o.occlusionEpsilon >= 0.0 && o.occlusionEpsilon <= 0.1)) return "occlusion epsilon must be 0 ... 0.1";
   if (o.tileSize < 8 || o.tileSize > 256) return "tile size must be 8 ... 256";
-  if (o.threads < 0 || o.threads > 1024) return "threads must be 0 ... 1024";
-  if (o.referenceSamples < 1 || o.referenceSamples > 64) return "reference samples must be 1 ... 64";
-  if (o.map.resolution < 8 || o.map.resolution > 4096) return "map resolution must be 8 ... 4096";
-  if (o.map.samples < 1 || o.map.samples > 65536) return "map samples must be 1 ... 65536";
-  if (o.sphereResolution < 8 || o.sphereResolution > 8192) return "sphere resolution must be 8 ... 8192";
-  if (o.viewGrid < 1 || o.viewGrid > 16) return "view grid must be 1 ... 16";
+  if (o.threads < 0 || o.threads > kMaxThreads) return "threads must be 0 ... " + std::to_string(kMaxThreads);
+  if (o.referenceSamples < 1 || o.referenceSamples > kMaxReferenceSamples)
+    return "reference samples must be 1 ... " + std::to_string(kMaxReferenceSamples);
+  if (o.map.resolution < kMinMapResolution || o.map.resolution > kMaxMapResolution)
+    return "map resolution must be " + std::to_string(kMinMapResolution) + " ... " + std::to_string(kMaxMapResolution);
+  if (o.map.samples < 1 || o.map.samples > kMaxMapSamples) return "map samples must be 1 ... " + std::to_string(kMaxMapSamples);
+  if (o.sphereResolution < kMinSphereResolution || o.sphereResolution > kMaxSphereResolution)
+    return "sphere resolution must be " + std::to_string(kMinSphereResolution) + " ... " + std::to_string(kMaxSphereResolution);
+  if (o.viewGrid < 1 || o.viewGrid > kMaxViewGrid) return "view grid must be 1 ... " + std::to_string(kMaxViewGrid);
   if (o.opaqueDepth && o.opaqueDepth->size() != size_t(o.width) * size_t(o.height))
     return "opaque depth must hold width x height values";
   return {};

@@ -1,6 +1,8 @@
 // buildScene (scene/scene_description.h): a description into the renderer's wf::Scene.
 #include "scene/scene_description.h"
 
+#include "core/timer.h"
+
 #include "surface/mesh_surface.h"
 #include "surface/transformed_surface.h"
 
@@ -13,10 +15,6 @@
 namespace wf {
 
 namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 /// Appends b's triangles and vertex arrays to a (an array present in one and not the other is
 /// dropped: the scales of several faces all carry the same arrays).

@@ -1,5 +1,6 @@
 #include "shading/pseudo_reflectance_map.h"
 
+#include "core/limits.h"
 #include "core/node_grid.h"
 #include "shading/cylinder_shading.h"
 
@@ -74,8 +75,8 @@ bool PseudoReflectanceMap::texelNeeded(int i, int j) const {
 void PseudoReflectanceMap::build(const PhongMaterial& material, const LightRig& eyeLights,
                                  const PseudoReflectanceMapOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
-  options_.resolution = std::clamp(options.resolution, 8, 4096);
-  options_.samples = std::clamp(options.samples, 1, 65536);
+  options_.resolution = std::clamp(options.resolution, kMinMapResolution, kMaxMapResolution);
+  options_.samples = std::clamp(options.samples, 1, kMaxMapSamples);
   options_.indexing = options.indexing;
   material_ = material.sanitized();
   lights_ = eyeLights.canonical();
@@ -114,8 +115,8 @@ void PseudoReflectanceMap::build(const PhongMaterial& material, const LightRig& 
 bool PseudoReflectanceMap::update(const PhongMaterial& material, const LightRig& eyeLights,
                                   const PseudoReflectanceMapOptions& options) {
   PseudoReflectanceMapOptions o = options;
-  o.resolution = std::clamp(o.resolution, 8, 4096);
-  o.samples = std::clamp(o.samples, 1, 65536);
+  o.resolution = std::clamp(o.resolution, kMinMapResolution, kMaxMapResolution);
+  o.samples = std::clamp(o.samples, 1, kMaxMapSamples);
   if (!empty() && o == options_ && material.sanitized() == material_ &&
       eyeLights.canonical().nearlyEqual(lights_))
     return false;

@@ -1,5 +1,6 @@
 #include "shading/reflectance_sphere.h"
 
+#include "core/limits.h"
 #include "core/node_grid.h"
 
 #include <tbb/blocked_range.h>
@@ -36,7 +37,7 @@ ReflectanceSphere ReflectanceSphere::build(int resolution, const Shader& shader,
                                            Indexing indexing) {
   ReflectanceSphere s;
   s.indexing_ = indexing;
-  s.resolution_ = std::clamp(resolution, 8, 8192);
+  s.resolution_ = std::clamp(resolution, kMinSphereResolution, kMaxSphereResolution);
   supersample = std::clamp(supersample, 1, 16);
   const int n = s.resolution_;
   const double h = 2.0 / (n - 1);

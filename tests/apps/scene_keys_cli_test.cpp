@@ -6,6 +6,7 @@
 // the same input gives the same image bit for bit for any --threads. Positive cases check the
 // numbers the stats must show (segments per hair, triangles per scale, maps and spheres built).
 #include "cli_support.h"
+#include "core/timer.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -69,9 +70,7 @@ Result runCapped(const std::string& args, long memKiB, int seconds) {
   return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, err};
 }
 
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
+using wf::secondsSince;  // core/timer.h
 
 // --- scene text -----------------------------------------------------------------------------------
 

@@ -32,6 +32,7 @@
 #include "render_command.h"
 #include "scene_file.h"
 
+#include "core/limits.h"
 #include "render/renderer.h"
 
 #include <vtkObject.h>
@@ -55,7 +56,7 @@ void checkScene(const wfapp::SceneFile& sf) {
   const wf::Scene& s = sf.scene;
   const int nMaterials = int(s.materials.size());
   if (nMaterials < 1) finding("a scene without the default material");
-  if (sf.width < 1 || sf.width > 16384 || sf.height < 1 || sf.height > 16384)
+  if (sf.width < 1 || sf.width > wf::kMaxImageSide || sf.height < 1 || sf.height > wf::kMaxImageSide)
     finding("image size " + std::to_string(sf.width) + "x" + std::to_string(sf.height) + " out of range");
   if (!s.camera) finding("a loaded scene without a camera");
   if (const std::string p = s.camera->problem(); !p.empty()) finding("the loaded camera has a problem: " + p);

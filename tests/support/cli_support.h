@@ -52,6 +52,28 @@ inline CliResult runCommand(const std::string& command) {
 /// Runs `WIREFUR_EXE args` through the shell, stdout discarded.
 inline CliResult runWirefur(const std::string& args) { return runCommand(std::string("'") + WIREFUR_EXE + "' " + args); }
 
+struct CliOutput {
+  int status;       ///< exit status (-1 when killed by a signal)
+  std::string out;  ///< everything written to stdout
+  std::string err;  ///< everything written to stderr
+};
+
+/// Runs `WIREFUR_EXE args` through the shell, keeping stdout too (help texts).
+inline CliOutput runWirefurWithOutput(const std::string& args) {
+  const std::filesystem::path outFile = processScratchRoot() / "stdout.txt", errFile = processScratchRoot() / "stderr.txt";
+  const std::string cmd = std::string("'") + WIREFUR_EXE + "' " + args + " >'" + outFile.string() + "' 2>'" + errFile.string() + "'";
+  const int raw = std::system(cmd.c_str());
+  auto slurp = [](const std::filesystem::path& p) {
+    std::ifstream f(p);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    std::filesystem::remove(p);
+    return ss.str();
+  };
+  const std::string out = slurp(outFile);
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, out, slurp(errFile)};
+}
+
 /// A folder of this test process's own under processScratchRoot(), emptied on first use.
 inline std::filesystem::path scratchDir(const std::string& prefix) {
   const std::filesystem::path p = processScratchRoot() / prefix;

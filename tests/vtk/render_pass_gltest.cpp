@@ -7,6 +7,7 @@
 // 3-pixel polyline through the image centre at depths -0.2 ... 0.2 about z = 0.
 #include "vtkWireFurRenderPass.h"
 
+#include "core/srgb.h"
 #include "render/renderer.h"
 
 #include <vtkActor.h>
@@ -44,19 +45,8 @@ const std::vector<glm::dvec3> kWirePoints = {
 };
 const double kWireColour[3] = { 0.8, 0.5, 0.2 };
 
-float linearToSrgb(float v)  // apps/image_io.cpp's PNG encoding
-{
-  if (!(v > 0.0f))
-    return 0.0f;
-  if (v >= 1.0f)
-    return 1.0f;
-  return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-}
-
-float srgbToLinear(float v)
-{
-  return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
-}
+using wf::linearToSrgb; // core/srgb.h: apps/image_io.cpp's PNG encoding
+using wf::srgbToLinear;
 
 struct Window
 {

@@ -5,6 +5,8 @@
 // ones agree within a pixel).
 #include "vtkWireFurRenderPass.h"
 
+#include "core/srgb.h"
+
 #include <vtkActor.h>
 #include <vtkCamera.h>
 #include <vtkCellArray.h>
@@ -39,8 +41,7 @@ namespace {
 
 float toLinear(unsigned char v)
 {
-  const float f = v / 255.0f;
-  return f <= 0.04045f ? f / 12.92f : std::pow((f + 0.055f) / 1.055f, 2.4f);
+  return wf::srgbToLinear(v / 255.0f); // core/srgb.h
 }
 
 class ErrorCount : public vtkCommand

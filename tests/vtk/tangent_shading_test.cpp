@@ -20,6 +20,7 @@
 #include "vtkSmartPointer.h"
 #include "vtkUnsignedCharArray.h"
 
+#include "core/srgb.h"
 #include "shading/cylinder_shading.h"
 #include "shading/light.h"
 #include "shading/pseudo_reflectance_map.h"
@@ -807,10 +808,7 @@ TEST(VtkTangentShading, EmptyInputIsAnErrorAndAnEmptyOutput)
 // plain vtkPolyDataMapper maps it to those colours unchanged (alpha 255).
 TEST(VtkTangentShading, ShadedColorIsTheSrgbEncodingOfShadedRadiance)
 {
-  auto decode = [](double e) {
-    e = std::clamp(e, 0.0, 1.0);
-    return e <= 0.04045 ? e / 12.92 : std::pow((e + 0.055) / 1.055, 2.4);
-  };
+  auto decode = [](double e) { return wf::srgbToLinear(e); }; // core/srgb.h, in double
   vtkNew<vtkCamera> camera;
   obliqueCamera(camera);
   const std::vector<glm::dvec3> pts = helix(200);

@@ -1,5 +1,7 @@
 #include "vtk_tubes.h"
 
+#include "core/timer.h"
+
 #include <vtkActor.h>
 #include <vtkCamera.h>
 #include <vtkCellArray.h>
@@ -25,9 +27,7 @@
 namespace wfbench {
 namespace {
 
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
+using wf::secondsSince;  // core/timer.h
 
 // ReportCapabilities() is the only portable way to get GL_RENDERER without pulling in GL headers.
 std::string rendererLine(vtkRenderWindow* window) {

@@ -1,0 +1,290 @@
+#include "cli_options.h"
+
+#include "cli.h"
+
+#include <CLI/CLI.hpp>
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <iostream>
+
+namespace wfapp {
+
+namespace {
+
+std::optional<long long> readInteger(const std::string& text) {
+  long long v = 0;
+  const char* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, v);  // decimal, an optional '-', nothing else
+  if (text.empty() || ec != std::errc() || ptr != end) return std::nullopt;
+  return v;
+}
+
+std::optional<double> readNumber(const std::string& text) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
+// A limit as people write it: 0.5, 85, 1e-7, 1e9 (not %g's 1e-07, 1e+09).
+std::string limitText(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", v);
+  std::string s = b;
+  const size_t e = s.find('e');
+  if (e == std::string::npos) return s;
+  std::string exponent = s.substr(e + 1);
+  const bool negative = exponent[0] == '-';
+  exponent.erase(0, exponent.find_first_not_of("+-0"));
+  return s.substr(0, e + 1) + (negative ? "-" : "") + exponent;
+}
+
+std::string rangeText(double lo, double hi) { return limitText(lo) + " ... " + limitText(hi); }
+
+// The help text with the range in place of "{range}" (or after it).
+std::string withRange(const std::string& description, double lo, double hi) {
+  const size_t at = description.find("{range}");
+  if (at == std::string::npos) return description + " (" + rangeText(lo, hi) + ")";
+  return description.substr(0, at) + rangeText(lo, hi) + description.substr(at + 7);
+}
+
+// One line from a CLI11 error: an option's error starts with its name.
+std::string oneLine(const std::string& what) {
+  std::string s = what;
+  for (char& c : s)
+    if (c == '\n' || c == '\r') c = ' ';
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  return !s.empty() && s[0] == '-' ? "option " + s : s;
+}
+
+bool looksLikeOption(const std::string& a) { return a.size() > 1 && a[0] == '-'; }
+
+}  // namespace
+
+std::string integerProblem(const std::string& text, long long lo, long long hi) {
+  const std::optional<long long> v = readInteger(text);
+  if (v && *v >= lo && *v <= hi) return {};
+  return "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" + text + "'";
+}
+
+std::string numberProblem(const std::string& text, double lo, double hi) {
+  const std::optional<double> v = readNumber(text);
+  if (v && *v >= lo && *v <= hi) return {};
+  return "expected a number in [" + limitText(lo) + ", " + limitText(hi) + "], got '" + text + "'";
+}
+
+CLI::Validator checkedBy(std::function<std::string(const std::string&)> problem) {
+  // No description: the option's help says what it takes.
+  return CLI::Validator([problem = std::move(problem)](std::string& text) { return problem(text); }, "");
+}
+
+CLI::Validator integerIn(long long lo, long long hi) {
+  return checkedBy([lo, hi](const std::string& text) { return integerProblem(text, lo, hi); });
+}
+
+CLI::Validator numberIn(double lo, double hi) {
+  return checkedBy([lo, hi](const std::string& text) { return numberProblem(text, lo, hi); });
+}
+
+CLI::Validator oneOf(std::vector<std::string> names) {
+  std::string list;
+  for (size_t i = 0; i < names.size(); ++i) list += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+  return checkedBy([names = std::move(names), list](const std::string& text) -> std::string {
+    for (const std::string& n : names)
+      if (text == n) return {};
+    return "expected " + list + ", got '" + text + "'";
+  });
+}
+
+CLI::Option* addIntegerOption(CLI::App& app, const std::string& name, int& target, int lo, int hi,
+                              const std::string& description, const std::string& typeName) {
+  return app
+      .add_option_function<std::string>(
+          name, [&target](const std::string& v) { target = int(*readInteger(v)); }, withRange(description, lo, hi))
+      ->check(integerIn(lo, hi))
+      ->type_name(typeName)
+      ->trigger_on_parse();  // checked and set in the order given, as each one is read
+}
+
+CLI::Option* addNumberOption(CLI::App& app, const std::string& name, double& target, double lo, double hi,
+                             const std::string& description, const std::string& typeName) {
+  return app
+      .add_option_function<std::string>(
+          name, [&target](const std::string& v) { target = *readNumber(v); }, withRange(description, lo, hi))
+      ->check(numberIn(lo, hi))
+      ->type_name(typeName)
+      ->trigger_on_parse();
+}
+
+CLI::App* addCommand(CLI::App& wirefur, const std::string& name, const std::string& description) {
+  CLI::App* c = wirefur.add_subcommand(name, description);
+  c->group("Commands");
+  c->allow_extras();  // parseCommandLine reports what is left, in one line
+  c->option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  return c;
+}
+
+CLI::Option* addInputArgument(CLI::App& app, std::string& input, const std::string& description) {
+  return app.add_option("INPUT", input, description)->type_name("");
+}
+
+CLI::Option* addOutputOption(CLI::App& app, std::string& path, const std::string& typeName, const std::string& description) {
+  return app.add_option("-o,--out", path, description)->type_name(typeName)->trigger_on_parse();
+}
+
+CLI::Option* addSizeOption(CLI::App& app, int& width, int& height, const std::string& defaultText) {
+  const int most = wf::kMaxImageSide;
+  auto problem = [most](const std::string& text) -> std::string {
+    const size_t x = text.find('x');
+    if (x != std::string::npos && integerProblem(text.substr(0, x), 1, most).empty() &&
+        integerProblem(text.substr(x + 1), 1, most).empty())
+      return {};
+    return "expected WxH, each side an integer in [1, " + std::to_string(most) + "], got '" + text + "'";
+  };
+  return app
+      .add_option_function<std::string>(
+          "--size",
+          [&width, &height](const std::string& v) {
+            const size_t x = v.find('x');
+            width = int(*readInteger(v.substr(0, x)));
+            height = int(*readInteger(v.substr(x + 1)));
+          },
+          "image size in pixels, each side 1 ... " + std::to_string(most) + " (" + defaultText + ")")
+      ->check(checkedBy(problem))
+      ->type_name("WxH")
+      ->trigger_on_parse();
+}
+
+CLI::Option* addStyleOption(CLI::App& app, std::string& style, const std::vector<std::string>& styles,
+                            const std::string& description) {
+  return app.add_option("--style", style, description)->check(oneOf(styles))->type_name("STYLE")->trigger_on_parse();
+}
+
+CLI::Option* addMaskOption(CLI::App& app, std::string& mask) {
+  return app.add_option("--mask", mask, "coverage mask: subsamples per pixel (default: the scene's, else 8x4)")
+      ->check(oneOf({"4x4", "8x4", "8x8"}))
+      ->type_name("4x4|8x4|8x8")
+      ->trigger_on_parse();
+}
+
+CLI::Option* addThreadsOption(CLI::App& app, int& threads) {
+  return addIntegerOption(app, "--threads", threads, 1, wf::kMaxThreads,
+                          "worker threads, {range} (default: all cores; the image is the same for any count)");
+}
+
+CLI::Option* addFlag(CLI::App& app, const std::string& name, bool& target, const std::string& description) {
+  return app.add_flag(name, target, description)->disable_flag_override();  // --quiet, not --quiet=no
+}
+
+CLI::Option* addQuietOption(CLI::App& app, bool& quiet) {
+  return addFlag(app, "--quiet", quiet, "no progress lines (shown only on a terminal, outside CI)");
+}
+
+CLI::Option* addTimeOption(CLI::App& app, std::optional<double>& time) {
+  const double most = wf::kMaxWindTime;
+  return app
+      .add_option_function<std::string>(
+          "--time", [&time](const std::string& v) { time = *readNumber(v); },
+          "the time of every fur's wind (the scene's wind.time), " + rangeText(-most, most) +
+              ": the same T gives the same hairs")
+      ->check(numberIn(-most, most))
+      ->type_name("T")
+      ->trigger_on_parse();
+}
+
+void addCadOptions(CLI::App& app, CadOptions& cad) {
+  const std::string group = "CAD options (.step .stp .iges .igs .brep .FCStd input)";
+  // --deflection and --linear-deflection set the same value: the last one given wins.
+  app.add_option_function<std::string>(
+         "--deflection",
+         [&cad](const std::string& v) {
+           cad.deflection = *readNumber(v);
+           cad.absoluteDeflection = false;
+         },
+         "chordal deflection as a fraction of the model's diagonal, " +
+             rangeText(wf::kMinCadDeflection, wf::kMaxCadDeflection) + " (default 0.001)")
+      ->check(numberIn(wf::kMinCadDeflection, wf::kMaxCadDeflection))
+      ->type_name("D")
+      ->trigger_on_parse()
+      ->group(group);
+  app.add_option_function<std::string>(
+         "--linear-deflection",
+         [&cad](const std::string& v) {
+           cad.deflection = *readNumber(v);
+           cad.absoluteDeflection = true;
+         },
+         "the chordal deflection in world units instead, " +
+             rangeText(wf::kMinCadLinearDeflection, wf::kMaxCadLinearDeflection))
+      ->check(numberIn(wf::kMinCadLinearDeflection, wf::kMaxCadLinearDeflection))
+      ->type_name("L")
+      ->trigger_on_parse()
+      ->group(group);
+  addNumberOption(app, "--angular-deflection", cad.angularDegrees, wf::kMinCadAngularDegrees, wf::kMaxCadAngularDegrees,
+                  "angular deflection in degrees, {range} (default about 20)", "DEG")
+      ->group(group);
+  addIntegerOption(app, "--isos", cad.isos, 0, wf::kMaxCadIsos, "u and v iso lines per face, {range} (default 0)")->group(group);
+  // Only here: the worker's time limit is no scene key.
+  addNumberOption(app, "--cad-timeout", cad.timeoutSeconds, 0.1, 1e6,
+                  "read and mesh in a worker process stopped after S seconds, {range} (default 600)", "S")
+      ->group(group);
+}
+
+bool parseCommandLine(CLI::App& wirefur, const std::vector<std::string>& args) {
+  std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 reads from the back
+  try {
+    wirefur.parse(reversed);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << wirefur.help();  // the chosen command's help, else the list of commands
+    return false;
+  } catch (const CLI::CallForAllHelp&) {
+    std::cout << wirefur.help("", CLI::AppFormatMode::All);
+    return false;
+  } catch (const CLI::CallForVersion& e) {
+    std::cout << e.what() << "\n";
+    return false;
+  } catch (const CLI::ArgumentMismatch& e) {
+    const std::string what = e.what();
+    // CLI11 takes an option's value whatever it looks like, so it runs out of values only at
+    // the end of the line: the last argument is the option without one ("--x: 1 required N missing").
+    const std::string& last = args.empty() ? std::string() : args.back();
+    const size_t equals = last.find('=');
+    if (looksLikeOption(last) && (equals == std::string::npos || equals + 1 == last.size()) && what.ends_with(" missing"))
+      throw UsageError("option " + last.substr(0, equals) + " needs a value");
+    // A flag given a value ("--quiet=no": "quiet was given a disallowed flag override").
+    if (const size_t at = what.find(" was given a disallowed flag override"); at != std::string::npos) {
+      const std::string name = what.substr(0, at);
+      throw UsageError("option " + (name.starts_with("-") ? name : "--" + name) + " takes no value");
+    }
+    throw UsageError(oneLine(what));
+  } catch (const CLI::ParseError& e) {
+    throw UsageError(oneLine(e.what()));
+  }
+  // What CLI11 left (every command allows extras, so that they are reported here in one line).
+  for (const std::string& a : wirefur.remaining()) {
+    if (a == "--") continue;
+    throw UsageError((looksLikeOption(a) ? "unknown option '" : "unknown command '") + a + "' (try wirefur --help)");
+  }
+  const CLI::App* command = chosenCommand(wirefur);
+  if (!command) throw UsageError("no command (try wirefur --help)");
+  const CLI::Option* input = command->get_option_no_throw("INPUT");
+  for (const std::string& a : command->remaining()) {
+    if (a == "--") continue;
+    const std::string& name = command->get_name();
+    if (looksLikeOption(a)) throw UsageError(name + ": unknown option '" + a + "' (try wirefur " + name + " --help)");
+    if (input && !input->results().empty())
+      throw UsageError(name + ": more than one input ('" + input->results().front() + "' and '" + a + "')");
+    throw UsageError(name + ": unexpected argument '" + a + "'");
+  }
+  return true;
+}
+
+const CLI::App* chosenCommand(const CLI::App& wirefur) {
+  const std::vector<CLI::App*> chosen = wirefur.get_subcommands();
+  return chosen.empty() ? nullptr : chosen.front();
+}
+
+}  // namespace wfapp
