@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -234,7 +235,33 @@ void addCadOptions(CLI::App& app, CadOptions& cad) {
 }
 
 bool parseCommandLine(CLI::App& wirefur, const std::vector<std::string>& args) {
-  std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 reads from the back
+  // Before CLI11 sees them (up to a "--"): help first, whatever else is on the line; an option
+  // written "--stats=" or "-o=..." (CLI11 would take the next argument as the value of the
+  // first, and write over it, and give the second a file named "=..."); at most one argument
+  // after "--".
+  const auto dashes = std::find(args.begin(), args.end(), std::string("--"));
+  for (auto it = args.begin(); it != dashes; ++it) {
+    const std::string& a = *it;
+    if (a == "-h" || a == "--help") {
+      std::vector<std::string> help;
+      if (args.front() != a && !looksLikeOption(args.front())) help.push_back(args.front());  // the command
+      help.push_back("--help");
+      if (help.size() == args.size() && help == args) break;  // this very line: let CLI11 print it
+      return parseCommandLine(wirefur, help);
+    }
+    if (a.size() > 1 && a[0] == '-' && a.back() == '=' && a.find('=') == a.size() - 1)
+      throw UsageError("option " + a.substr(0, a.size() - 1) + " needs a value");
+    if (a.size() > 2 && a[0] == '-' && a[1] != '-' && a[2] == '=')
+      throw UsageError("option " + a.substr(0, 2) + ": write " + a.substr(0, 2) + " VALUE, without '='");
+  }
+  if (dashes != args.end() && args.end() - dashes > 2)
+    throw UsageError("only one input may follow '--'");
+  // The input after "--" (one that starts with '-') is set here, after CLI11 has parsed the
+  // rest: CLI11 would hand it up to the top level once the command had its INPUT.
+  const std::string afterDashes = dashes != args.end() && dashes + 1 != args.end() ? *(dashes + 1) : std::string();
+  const bool hasAfterDashes = dashes != args.end() && dashes + 1 != args.end();
+  std::vector<std::string> head(args.begin(), dashes);
+  std::vector<std::string> reversed(head.rbegin(), head.rend());  // CLI11 reads from the back
   try {
     wirefur.parse(reversed);
   } catch (const CLI::CallForHelp&) {
@@ -263,14 +290,31 @@ bool parseCommandLine(CLI::App& wirefur, const std::vector<std::string>& args) {
   } catch (const CLI::ParseError& e) {
     throw UsageError(oneLine(e.what()));
   }
-  // What CLI11 left (every command allows extras, so that they are reported here in one line).
+  const CLI::App* command = chosenCommand(wirefur);
+  CLI::Option* input = command ? wirefur.get_subcommands().front()->get_option_no_throw("INPUT") : nullptr;
+  if (hasAfterDashes) {
+    if (!command) throw UsageError("no command (try wirefur --help)");
+    if (!input) throw UsageError(command->get_name() + ": unexpected argument '" + afterDashes + "'");
+    if (!input->results().empty())
+      throw UsageError(command->get_name() + ": more than one input ('" + input->results().front() + "' and '" + afterDashes + "')");
+    input->add_result(afterDashes);
+    input->run_callback();
+  }
+  // What CLI11 left (every command allows extras, so that they are reported here in one line);
+  // what a command passed up (after its INPUT) is the command's.
   for (const std::string& a : wirefur.remaining()) {
     if (a == "--") continue;
+    if (command && input && !input->results().empty())
+      throw UsageError(command->get_name() + ": more than one input ('" + input->results().front() + "' and '" + a + "')");
     throw UsageError((looksLikeOption(a) ? "unknown option '" : "unknown command '") + a + "' (try wirefur --help)");
   }
-  const CLI::App* command = chosenCommand(wirefur);
   if (!command) throw UsageError("no command (try wirefur --help)");
-  const CLI::Option* input = command->get_option_no_throw("INPUT");
+  // An empty value ('' for INPUT, -o, --stats, --png, --json ...) names nothing: refused, not
+  // read as "no input" or "no file".
+  for (const CLI::Option* opt : command->get_options())
+    for (const std::string& r : opt->results())
+      if (r.empty())
+        throw UsageError(opt->get_name() == "INPUT" ? "INPUT is empty" : "option " + opt->get_name() + ": empty value");
   for (const std::string& a : command->remaining()) {
     if (a == "--") continue;
     const std::string& name = command->get_name();

@@ -92,6 +92,10 @@ void writeIndex(const std::string& dir, const std::vector<Entry>& entries, doubl
 int runGallery(const GalleryOptions& opt) {
   const auto tStart = std::chrono::steady_clock::now();
   const Progress progress(opt.quiet);
+  {
+    std::error_code ec;  // bad input first: no output folder made for a run that cannot start
+    if (!std::filesystem::is_directory(opt.scenesDir, ec)) throw UsageError(opt.scenesDir + ": no such scenes folder");
+  }
   ensureDirectory(opt.outDir);
   const std::string dir = opt.outDir;
   std::vector<Entry> entries;

@@ -120,7 +120,7 @@ void declareExport(CLI::App& wirefur, wfapp::ExportOptions& o) {
 #ifdef WIREFUR_WITH_VIEW
 void declareView(CLI::App& wirefur, wfapp::ViewOptions& o) {
   CLI::App* c = wfapp::addCommand(wirefur, "view",
-                                  "an interactive VTK window over INPUT (keys: w f s m a q); --frames N: a benchmark");
+                                  "an interactive VTK window over INPUT, drawn as render draws it (keys: w f s m q); --frames N: a benchmark");
   wfapp::addInputArgument(*c, o.input, std::string(kInputHelp) + "; none: the built-in scene");
   wfapp::addStyleOption(*c, o.style, kStyles, kStyleHelp);
   wfapp::addSizeOption(*c, o.width, o.height, "default 800x600");

@@ -25,7 +25,10 @@ long peakRssBytes() {
 }
 
 SceneFile loadInput(const std::string& input, const std::string& style, const SceneOverrides& overrides) {
-  if (input.empty()) return defaultScene();
+  if (input.empty()) {
+    if (!style.empty()) throw UsageError("--style applies to a mesh or CAD input, not to the built-in scene");
+    return defaultScene();
+  }
   if (isCadFile(input)) return sceneForCadFile(input, style.empty() ? "wire-over-surface" : style, overrides.cad);
   if (isGeometryFile(input)) return sceneForGeometryFile(input, style.empty() ? "wire-over-surface" : style);
   std::string e = std::filesystem::path(input).extension().string();

@@ -1,6 +1,6 @@
-// `wirefur view [INPUT]`: an interactive VTK window over any input `render` accepts, drawn by
-// vtkWireFurRenderPass (docs/vtk_render_pass.md): wires and fur through the A-buffer,
-// composited over the surfaces OpenGL draws. `--frames N` renders N frames turning the camera
+// `wirefur view [INPUT]`: an interactive VTK window over any input `render` accepts, the built
+// scene drawn whole through the A-buffer by vtkWireFurRenderPass::SetScene (docs/vtk.md), so a
+// frame is the picture `render` makes. `--frames N` renders N frames turning the camera
 // and prints the median frame time (a benchmark that runs without a person; `--offscreen`
 // without a display too).
 #pragma once

@@ -1,6 +1,6 @@
 // Private to vtkWireFurRenderPass: the conversion of marked vtkActors, the renderer's vtkLights
 // and its vtkCamera into the core's wf::Scene, and of the OpenGL depth buffer into view depth.
-// Kept apart from the OpenGL code so that each step reads on its own (docs/vtk_render_pass.md).
+// Kept apart from the OpenGL code so that each step reads on its own (docs/vtk.md).
 #pragma once
 
 #include "render/scene.h"

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+namespace fs = std::filesystem;
+
 namespace {
 
 using wf::test::lineCount;
@@ -110,14 +112,47 @@ TEST(OptionsCli, ABadSharedOptionIsTheSameOneLineInEveryCommand) {
 // Every --size accepts the same largest side: the parse takes it, and the first problem is the
 // missing input (nothing is rendered).
 TEST(OptionsCli, EverySizeAcceptsTheLargestSide) {
+  const std::string out = (wf::test::scratchDir("largest-side") / "gallery").string();
   for (const std::string& args : {"render /nonexistent/in.json -o /nonexistent/out.png --size " + kSide + "x" + kSide,
                                   "view /nonexistent/in.json --size " + kSide + "x" + kSide,
-                                  "gallery --scenes /nonexistent/scenes -o /nonexistent/gallery --size " + kSide}) {
+                                  "gallery --scenes /nonexistent/scenes -o '" + out + "' --size " + kSide}) {
     const wf::test::CliOutput r = wf::test::runWirefurWithOutput(args);
     EXPECT_EQ(r.status, 2) << args;
     EXPECT_EQ(lineCount(r.err), 1) << args << ": " << r.err;
     EXPECT_EQ(r.err.find("--size"), std::string::npos) << args << ": " << r.err;
     EXPECT_NE(r.err.find("/nonexistent/"), std::string::npos) << args << ": " << r.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(out)) << "a gallery that cannot start makes no folder";
+}
+
+// Lines CLI11 alone would misread: "--stats=" took the next argument as the stats file (and
+// wrote over it), "-o=x.png" wrote a file named "=x.png", '' was "no input", help lost to a bad
+// value, and a second input after "--" went up to the top level.
+TEST(OptionsCli, EmptyValuesDashesAndHelpFirst) {
+  const fs::path d = wf::test::scratchDir("empty-values");
+  const std::string scene = wf::test::writeFile(d, "keep.json", "{}");
+  struct Case {
+    std::string args, expect;
+  };
+  for (const Case& c : std::vector<Case>{
+           {"render --stats= '" + scene + "' -o x.png", "option --stats needs a value"},
+           {"render -o=x.png '" + scene + "'", "option -o: write -o VALUE, without '='"},
+           {"render '' -o x.png", "INPUT is empty"},
+           {"render '" + scene + "' -o x.png --stats ''", "option --stats: empty value"},
+           {"view --png '' --frames 1", "option --png: empty value"},
+           {"render a.json -- b.json", "render: more than one input ('a.json' and 'b.json')"},
+           {"render a.json -- --version", "render: more than one input ('a.json' and '--version')"},
+           {"render -- a.json b.json", "only one input may follow '--'"},
+           {"view --style fur", "--style applies to a mesh or CAD input, not to the built-in scene"}}) {
+    const wf::test::CliOutput r = wf::test::runWirefurWithOutput(c.args);
+    EXPECT_EQ(r.status, 2) << c.args;
+    EXPECT_EQ(r.err, "wirefur: " + c.expect + "\n") << c.args;
+  }
+  EXPECT_EQ(wf::test::readFile(scene), "{}") << "the scene file is untouched";
+  for (const std::string args : {"render --help --threads 0", "render -h -o", "export --bogus --help"}) {
+    const wf::test::CliOutput r = wf::test::runWirefurWithOutput(args);
+    EXPECT_EQ(r.status, 0) << args << ": " << r.err;
+    EXPECT_NE(r.out.find("Usage: wirefur"), std::string::npos) << args;
   }
 }
 
