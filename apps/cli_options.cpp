@@ -200,30 +200,23 @@ CLI::Option* addTimeOption(CLI::App& app, std::optional<double>& time) {
 void addCadOptions(CLI::App& app, CadOptions& cad) {
   const std::string group = "CAD options (.step .stp .iges .igs .brep .FCStd input)";
   // --deflection and --linear-deflection set the same value: the last one given wins.
-  app.add_option_function<std::string>(
-         "--deflection",
-         [&cad](const std::string& v) {
-           cad.deflection = *readNumber(v);
-           cad.absoluteDeflection = false;
-         },
-         "chordal deflection as a fraction of the model's diagonal, " +
-             rangeText(wf::kMinCadDeflection, wf::kMaxCadDeflection) + " (default 0.001)")
-      ->check(numberIn(wf::kMinCadDeflection, wf::kMaxCadDeflection))
-      ->type_name("D")
-      ->trigger_on_parse()
-      ->group(group);
-  app.add_option_function<std::string>(
-         "--linear-deflection",
-         [&cad](const std::string& v) {
-           cad.deflection = *readNumber(v);
-           cad.absoluteDeflection = true;
-         },
-         "the chordal deflection in world units instead, " +
-             rangeText(wf::kMinCadLinearDeflection, wf::kMaxCadLinearDeflection))
-      ->check(numberIn(wf::kMinCadLinearDeflection, wf::kMaxCadLinearDeflection))
-      ->type_name("L")
-      ->trigger_on_parse()
-      ->group(group);
+  auto deflection = [&](const char* name, bool absolute, double lo, double hi, const std::string& help, const char* type) {
+    app.add_option_function<std::string>(
+           name,
+           [&cad, absolute](const std::string& v) {
+             cad.deflection = *readNumber(v);
+             cad.absoluteDeflection = absolute;
+           },
+           withRange(help, lo, hi))
+        ->check(numberIn(lo, hi))
+        ->type_name(type)
+        ->trigger_on_parse()
+        ->group(group);
+  };
+  deflection("--deflection", false, wf::kMinCadDeflection, wf::kMaxCadDeflection,
+             "chordal deflection as a fraction of the model's diagonal, {range} (default 0.001)", "D");
+  deflection("--linear-deflection", true, wf::kMinCadLinearDeflection, wf::kMaxCadLinearDeflection,
+             "the chordal deflection in world units instead, {range}", "L");
   addNumberOption(app, "--angular-deflection", cad.angularDegrees, wf::kMinCadAngularDegrees, wf::kMaxCadAngularDegrees,
                   "angular deflection in degrees, {range} (default about 20)", "DEG")
       ->group(group);

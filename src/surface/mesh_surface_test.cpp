@@ -92,6 +92,27 @@ TEST(MeshSurface, OverlappingOrMirroredLayoutsFallBackToTheAutomaticOne) {
   EXPECT_TRUE(MeshSurface(mirrored).automaticLayout());
 }
 
+// A NaN corner leaves its triangle out of a mesh's surface (fur and scales grow on the rest), in
+// the mesh's own layout and the automatic one; an unused point at 1e6 does not make the others
+// "zero area". The explicit layout (the VTK filters' contract) refuses the NaN instead.
+TEST(MeshSurface, NaNCornersAreLeftOutAndFarUnusedPointsIgnored) {
+  const double nan = std::nan("");
+  TriangleMesh m;
+  m.positions = {{0, 0, 0}, {1e-3, 0, 0}, {1e-3, 1e-3, 0}, {0, 1e-3, 0}, {nan, 0, 0}, {1e6, 1e6, 1e6}};
+  m.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0.5, 0.5}, {0, 0}};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}, {0, 1, 4}};
+  const MeshSurface own(m);
+  ASSERT_TRUE(own.problem().empty()) << own.problem();
+  EXPECT_FALSE(own.automaticLayout());
+  EXPECT_EQ(own.triangleCount(), 2u);
+  m.uvs.clear();
+  const MeshSurface automatic(m);
+  ASSERT_TRUE(automatic.problem().empty()) << automatic.problem();
+  EXPECT_EQ(automatic.triangleCount(), 2u);
+  m.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0.5, 0.5}, {0, 0}};
+  EXPECT_NE(MeshSurface(m.positions, m.uvs, m.triangles).problem().find("not finite"), std::string::npos);
+}
+
 TEST(MeshSurface, NoTrianglesIsAProblem) {
   TriangleMesh m;
   m.positions = {{0, 0, 0}};

@@ -3,6 +3,7 @@
 // plastic before), and it matches the core's render of the same geometry in the `burnished` style
 // (scene/style_presets.h: what `wirefur render FILE --style burnished` draws), with the window's
 // camera and light. And lines shaded by vtkWireFurTangentShading are not shaded a second time.
+#include "pass_window.h"
 #include "vtkWireFurBurnish.h"
 #include "vtkWireFurRenderPass.h"
 #include "vtkWireFurTangentShading.h"
@@ -45,27 +46,7 @@ struct Window {
   vtkNew<vtkRenderWindow> window;
   vtkNew<vtkRenderer> renderer;
   vtkNew<vtkWireFurRenderPass> pass;
-  Window() {
-    window->SetOffScreenRendering(1);
-    window->SetMultiSamples(0);
-    window->SetSize(W, H);
-    window->AddRenderer(renderer);
-    renderer->SetBackground(0, 0, 0);
-    renderer->AutomaticLightCreationOff();
-    vtkNew<vtkLight> light;
-    light->SetLightTypeToSceneLight();
-    light->SetPosition(1, 1, 2);
-    light->SetFocalPoint(0, 0, 0);
-    light->SetPositional(false);
-    renderer->AddLight(light);
-    vtkCamera* c = renderer->GetActiveCamera();
-    c->SetPosition(0, 0, 5);
-    c->SetFocalPoint(0, 0, 0);
-    c->SetViewUp(0, 1, 0);
-    c->SetViewAngle(30);
-    c->SetClippingRange(1, 20);
-    renderer->SetPass(pass);
-  }
+  Window() { setUpPassWindow(window, renderer, pass, W, H); }
   /// Linear RGB, row 0 at the top.
   std::vector<glm::dvec3> Render() {
     window->Render();
@@ -114,6 +95,42 @@ void steel(vtkProperty* p) {
   p->SetAmbient(0.0);
 }
 
+/// `input` as a steel actor marked for the pass, in the window: linear RGB, row 0 at the top.
+std::vector<glm::dvec3> drawSteel(vtkPolyData* input) {
+  Window win;
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputData(input);
+  mapper->ScalarVisibilityOff();
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  steel(actor->GetProperty());
+  vtkWireFurRenderPass::Mark(actor);
+  win.renderer->AddActor(actor);
+  return win.Render();
+}
+
+/// The core's render of `scene` in the window's camera and light, linear RGB, row 0 at the top.
+std::vector<glm::dvec3> coreImage(wf::Scene scene) {
+  wf::Camera c;
+  c.eye = {0, 0, 5};
+  c.target = {0, 0, 0};
+  c.up = {0, 1, 0};
+  c.fovYDegrees = 30;
+  scene.camera = c;
+  scene.lights = wf::LightRig{};
+  scene.lights.lights.push_back({glm::normalize(glm::dvec3(1, 1, 2)), glm::dvec3(1.0)});
+  scene.lightsFollowCamera = false;
+  scene.background = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+  wf::RenderOptions o;
+  o.width = W;
+  o.height = H;
+  const wf::RenderResult r = wf::render(scene, o);
+  std::vector<glm::dvec3> out(size_t(W) * H);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) out[size_t(y) * W + x] = glm::dvec3(glm::vec3(r.image.at(x, y)));
+  return out;
+}
+
 TEST(BurnishPass, BurnishedActorIsBrushedSteelAsTheCommandDrawsIt) {
   vtkSmartPointer<vtkPolyData> mesh = plane();
   vtkNew<vtkWireFurBurnish> burnish;
@@ -122,19 +139,7 @@ TEST(BurnishPass, BurnishedActorIsBrushedSteelAsTheCommandDrawsIt) {
   burnish->Update();
   ASSERT_GT(burnish->GetOutput()->GetNumberOfPoints(), 0);
 
-  auto draw = [&](vtkPolyData* input) {
-    Window win;
-    vtkNew<vtkPolyDataMapper> mapper;
-    mapper->SetInputData(input);
-    mapper->ScalarVisibilityOff();
-    vtkNew<vtkActor> actor;
-    actor->SetMapper(mapper);
-    steel(actor->GetProperty());
-    vtkWireFurRenderPass::Mark(actor);
-    win.renderer->AddActor(actor);
-    return win.Render();
-  };
-  const std::vector<glm::dvec3> brushed = draw(burnish->GetOutput()), plain = draw(mesh);
+  const std::vector<glm::dvec3> brushed = drawSteel(burnish->GetOutput()), plain = drawSteel(mesh);
 
   // The command's burnished style on the same triangles, with the window's camera and light.
   auto g = std::make_shared<wf::GeometryData>();
@@ -147,24 +152,7 @@ TEST(BurnishPass, BurnishedActorIsBrushedSteelAsTheCommandDrawsIt) {
   vtkNew<vtkIdList> ids;
   for (mesh->GetPolys()->InitTraversal(); mesh->GetPolys()->GetNextCell(ids);)
     g->mesh.triangles.emplace_back(std::uint32_t(ids->GetId(0)), std::uint32_t(ids->GetId(1)), std::uint32_t(ids->GetId(2)));
-  wf::BuiltScene built = wf::buildScene(wf::describeStyled(g, wf::Style::Burnished));
-  wf::Camera c;
-  c.eye = {0, 0, 5};
-  c.target = {0, 0, 0};
-  c.up = {0, 1, 0};
-  c.fovYDegrees = 30;
-  built.scene.camera = c;
-  built.scene.lights = wf::LightRig{};
-  built.scene.lights.lights.push_back({glm::normalize(glm::dvec3(1, 1, 2)), glm::dvec3(1.0)});
-  built.scene.lightsFollowCamera = false;
-  built.scene.background = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
-  wf::RenderOptions o;
-  o.width = W;
-  o.height = H;
-  const wf::RenderResult r = wf::render(built.scene, o);
-  std::vector<glm::dvec3> command(size_t(W) * H);
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x) command[size_t(y) * W + x] = glm::dvec3(glm::vec3(r.image.at(x, y)));
+  const std::vector<glm::dvec3> command = coreImage(wf::buildScene(wf::describeStyled(g, wf::Style::Burnished)).scene);
 
   const double toCommand = rms(brushed, command), toPlain = rms(brushed, plain), plainToCommand = rms(plain, command);
   std::printf("burnished pass vs command %.4g, vs unburnished %.4g; unburnished vs command %.4g\n", toCommand, toPlain,
@@ -187,16 +175,7 @@ TEST(BurnishPass, EveryGrainIsTheFiltersTangents) {
     burnish->Update();
     vtkPolyData* out = burnish->GetOutput();
     ASSERT_GT(out->GetNumberOfPoints(), 0);
-    Window win;
-    vtkNew<vtkPolyDataMapper> mapper;
-    mapper->SetInputData(out);
-    mapper->ScalarVisibilityOff();
-    vtkNew<vtkActor> actor;
-    actor->SetMapper(mapper);
-    steel(actor->GetProperty());
-    vtkWireFurRenderPass::Mark(actor);
-    win.renderer->AddActor(actor);
-    const std::vector<glm::dvec3> pass = win.Render();
+    const std::vector<glm::dvec3> pass = drawSteel(out);
 
     wf::Scene s;
     wf::SceneSurface surf;
@@ -216,18 +195,7 @@ TEST(BurnishPass, EveryGrainIsTheFiltersTangents) {
     s.surfaces.push_back(surf);
     s.materials[0].phong = {glm::dvec3(0.18), glm::dvec3(5.0), 30.0};
     s.materials[0].burnish.grain = wf::Burnish::Grain::U;
-    wf::Camera c;
-    c.eye = {0, 0, 5};
-    c.up = {0, 1, 0};
-    s.camera = c;
-    s.lights.lights.push_back({glm::normalize(glm::dvec3(1, 1, 2)), glm::dvec3(1.0)});
-    wf::RenderOptions o;
-    o.width = W;
-    o.height = H;
-    const wf::RenderResult r = wf::render(s, o);
-    std::vector<glm::dvec3> core(size_t(W) * H);
-    for (int y = 0; y < H; ++y)
-      for (int x = 0; x < W; ++x) core[size_t(y) * W + x] = glm::dvec3(glm::vec3(r.image.at(x, y)));
+    const std::vector<glm::dvec3> core = coreImage(s);
     const double e = rms(pass, core);
     std::printf("grain %d: pass vs core with the filter's tangents %.4g\n", grain, e);
     EXPECT_LE(e, 1e-2);

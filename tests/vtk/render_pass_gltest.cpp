@@ -5,6 +5,7 @@
 // The scene: a 200 x 150 window, camera at (0, 0, 5) looking at the origin (view angle 30,
 // clipping range 1 ... 20), one scene light from (1, 1, 2), black background; the wire is a
 // 3-pixel polyline through the image centre at depths -0.2 ... 0.2 about z = 0.
+#include "pass_window.h"
 #include "vtkWireFurRenderPass.h"
 
 #include "core/srgb.h"
@@ -57,27 +58,7 @@ struct Window
 
   explicit Window(int multiSamples = 0)
   {
-    window->SetOffScreenRendering(1);
-    window->SetMultiSamples(multiSamples);
-    window->SetSize(W, H);
-    window->AddRenderer(renderer);
-    renderer->SetBackground(0, 0, 0);
-    renderer->AutomaticLightCreationOff();
-    vtkNew<vtkLight> light;
-    light->SetLightTypeToSceneLight();
-    light->SetPosition(1, 1, 2);
-    light->SetFocalPoint(0, 0, 0);
-    light->SetPositional(false);
-    light->SetIntensity(1.0);
-    light->SetColor(1, 1, 1);
-    renderer->AddLight(light);
-    vtkCamera* c = renderer->GetActiveCamera();
-    c->SetPosition(0, 0, 5);
-    c->SetFocalPoint(0, 0, 0);
-    c->SetViewUp(0, 1, 0);
-    c->SetViewAngle(30);
-    c->SetClippingRange(1, 20);
-    renderer->SetPass(pass);
+    setUpPassWindow(window, renderer, pass, W, H, multiSamples);
   }
 
   vtkActor* AddWire(bool marked)
