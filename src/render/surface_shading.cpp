@@ -14,6 +14,8 @@
 // renderer point-samples instead and averages its sub-samples.
 #include "render/pipeline.h"
 
+#include "core/fast_atan2.h"
+
 #include "shading/cylinder_lobe.h"
 #include "texture/bump.h"
 #include "texture/grooves.h"
@@ -52,7 +54,7 @@ double turnAbout(const ShaderSlot& slot, const glm::dvec3& P) {
   const glm::dvec3 r = radialOffset(slot, P);
   const glm::dvec3 e1 = anyPerpendicular(slot.axisDirection);
   const glm::dvec3 e2 = glm::cross(slot.axisDirection, e1);
-  const double a = std::atan2(glm::dot(r, e2), glm::dot(r, e1)) / kTwoPi;
+  const double a = fastAtan2(glm::dot(r, e2), glm::dot(r, e1)) / kTwoPi;
   return a < 0 ? a + 1.0 : a;
 }
 

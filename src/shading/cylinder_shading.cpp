@@ -1,6 +1,7 @@
 #include "shading/cylinder_shading.h"
 
 #include "shading/cylinder_lobe.h"
+#include "core/fast_atan2.h"
 #include "shading/quadrature.h"
 
 #include <algorithm>
@@ -86,7 +87,7 @@ CylinderFrame cylinderFrame(const glm::dvec3& T, const glm::dvec3& V) {
 
 double cylinderDiffuseClosedForm(double a, double b) {
   if (a == 0.0 && b == 0.0) return 0.0;
-  const double beta = std::abs(std::atan2(b, a));
+  const double beta = std::abs(fastAtan2(b, a));
   // For a light almost straight behind (a ~ -rho, b ~ 0) the two terms cancel to ~-1e-17.
   return std::max(0.0, 0.25 * (std::abs(b) + (kPi - beta) * a));
 }
