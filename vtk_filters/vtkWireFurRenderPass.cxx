@@ -121,7 +121,17 @@ public:
       changed = true;
     }
     if (changed)
-      this->Scene = wfvtk::assembleScene(this->Pieces, this->Core.get());
+    {
+      try
+      {
+        this->Scene = wfvtk::assembleScene(this->Pieces, this->Core.get());
+      }
+      catch (const std::exception& e)  // wf::SceneError: what the builder cannot make of them
+      {
+        vtkGenericWarningMacro(<< "vtkWireFurRenderPass: the marked actors are left out: " << e.what());
+        this->Scene = wfvtk::assembleScene({}, this->Core.get());
+      }
+    }
     return changed;
   }
 

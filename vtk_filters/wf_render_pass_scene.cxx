@@ -111,19 +111,24 @@ ActorPiece convertActor(vtkActor* actor) {
     return piece;
   }
 
-  // World positions (the actor's matrix) and normals (its inverse transpose).
+  // The object: the data in object space, the actor's matrix as its transform (the builder
+  // places positions, normals and grain directions).
   vtkNew<vtkMatrix4x4> matrix;
   actor->GetMatrix(matrix);
   glm::dmat4 M(1.0);
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 4; ++c) M[c][r] = matrix->GetElement(r, c);
-  const glm::dmat3 N = glm::transpose(glm::inverse(glm::dmat3(M)));
+  wf::ObjectDescription& o = piece.object;
+  o.name = "actor";
+  o.where = "actor";
+  o.transform = M;
+  auto g = std::make_shared<wf::GeometryData>();
   const vtkIdType np = pd->GetNumberOfPoints();
   std::vector<glm::dvec3> points(static_cast<size_t>(np));
   for (vtkIdType i = 0; i < np; ++i) {
     double p[3];
     pd->GetPoint(i, p);
-    points[size_t(i)] = glm::dvec3(M * glm::dvec4(p[0], p[1], p[2], 1.0));
+    points[size_t(i)] = vec(p);
   }
   // Mapped colours (direct 8-bit colours or through the lookup table). As in VTK's own
   // rendering they replace the diffuse colour (the diffuse coefficient still applies; the
@@ -163,12 +168,14 @@ ActorPiece convertActor(vtkActor* actor) {
     if (noSpecular) m.phong.specular = glm::dvec3(1.0), m.phong.exponent = 30.0;
   }
 
-  // Lines and polylines -> one wire.
+  // Lines and polylines -> the object's wire.
   vtkInformation* keys = actor->GetPropertyKeys();
   if (pd->GetNumberOfLines() > 0) {
-    wf::SceneWire w;
-    w.name = "lines";
-    w.material = 0;
+    wf::WireDescription wd;
+    wd.from = wf::WireDescription::From::Lines;
+    wd.where = "actor/wire";
+    wf::SceneWire& w = wd.wire;
+    w.material = 1;
     w.opacity = m.opacity;
     w.colour = glm::vec3(vec(dc));
     const int style = keys && keys->Has(vtkWireFurRenderPass::WIREFUR_WIRE_STYLE())
@@ -194,37 +201,35 @@ ActorPiece convertActor(vtkActor* actor) {
       w.thicknessInPixels = true;
     }
     const bool withColours = !lineColours.empty();
-    vtkCellArray* lines = pd->GetLines();
+    wf::PolylineSet& lines = g->lines;
+    vtkCellArray* cells = pd->GetLines();
     vtkNew<vtkIdList> ids;
-    w.lines.points.reserve(size_t(lines->GetNumberOfConnectivityIds()));
-    if (withColours) w.lines.colours.reserve(size_t(lines->GetNumberOfConnectivityIds()));
+    lines.points.reserve(size_t(cells->GetNumberOfConnectivityIds()));
+    if (withColours) lines.colours.reserve(size_t(cells->GetNumberOfConnectivityIds()));
     std::vector<glm::dvec3> line;
-    for (lines->InitTraversal(); lines->GetNextCell(ids);) {
+    for (cells->InitTraversal(); cells->GetNextCell(ids);) {
       if (ids->GetNumberOfIds() < 2) continue;
       line.clear();
       for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k) {
         const vtkIdType id = ids->GetId(k);
         line.push_back(points[size_t(id)]);
-        if (withColours) w.lines.colours.push_back(lineColours[size_t(id)]);
+        if (withColours) lines.colours.push_back(lineColours[size_t(id)]);
       }
-      w.lines.add(line);
+      lines.add(line);
     }
-    if (w.lines.polylineCount() > 0) piece.wires.push_back(std::move(w));
+    if (lines.polylineCount() > 0) o.wire = std::move(wd);
   }
 
-  // Polygons (fans) and strips -> one triangle mesh over all the points.
+  // Polygons (fans) and strips -> the object's surface: one triangle mesh over all the points.
+  o.drawSurface = false;
   if (pd->GetNumberOfPolys() > 0 || pd->GetNumberOfStrips() > 0) {
-    wf::SceneSurface s;
-    s.name = "polys";
-    s.material = 0;
-    wf::TriangleMesh& mesh = s.mesh;
-    mesh.positions = points;
+    wf::TriangleMesh& mesh = g->mesh;
     if (vtkDataArray* normals = pd->GetPointData()->GetNormals(); normals && normals->GetNumberOfComponents() == 3) {
       mesh.normals.resize(size_t(np));
       for (vtkIdType i = 0; i < np; ++i) {
         double n[3];
         normals->GetTuple(i, n);
-        mesh.normals[size_t(i)] = N * vec(n);
+        mesh.normals[size_t(i)] = vec(n);
       }
     }
     if (vtkDataArray* tc = pd->GetPointData()->GetTCoords(); tc && tc->GetNumberOfComponents() >= 2) {
@@ -245,12 +250,12 @@ ActorPiece convertActor(vtkActor* actor) {
         if (k % 2 == 0) add(ids->GetId(k), ids->GetId(k + 1), ids->GetId(k + 2));
         else add(ids->GetId(k + 1), ids->GetId(k), ids->GetId(k + 2));
       }
-    if (burnished) {
-      // The grain (world space under the actor's matrix) as dS/du, which the core's grain U
-      // shades along, and N x grain as dS/dv: the core uses a mesh's own derivatives only when
-      // it has both. Grooves dim diffuse and specular together, as the core's groove texture.
+    if (burnished && !mesh.triangles.empty()) {
+      // The grain as dS/du, which the core's grain U shades along, and N x grain as dS/dv (the
+      // core uses a mesh's own derivatives only when it has both; the builder places both by
+      // the actor's matrix). Grooves dim diffuse and specular together, as the core's groove
+      // texture does.
       vtkDataArray* t = pd->GetPointData()->GetTangents();
-      const glm::dmat3 A(M);
       std::vector<glm::dvec3> n = mesh.normals;
       if (n.size() != size_t(np)) {  // area-weighted face normals at the vertices
         n.assign(size_t(np), glm::dvec3(0.0));
@@ -264,48 +269,57 @@ ActorPiece convertActor(vtkActor* actor) {
       for (vtkIdType i = 0; i < np; ++i) {
         double v[3];
         t->GetTuple(i, v);
-        const glm::dvec3 T = A * vec(v);
+        const glm::dvec3 T = vec(v);
         mesh.derivU[size_t(i)] = T;
         const glm::dvec3 B = glm::cross(n[size_t(i)], T);
         const double lb = glm::length(B);
         mesh.derivV[size_t(i)] = lb > 0.0 && std::isfinite(lb) ? B / lb : glm::dvec3(0.0);
       }
-      if (auto* g = vtkDataArray::SafeDownCast(pd->GetPointData()->GetArray("GrooveIntensity"));
-          g && g->GetNumberOfComponents() == 1 && g->GetNumberOfTuples() == np) {
+      if (auto* gi = vtkDataArray::SafeDownCast(pd->GetPointData()->GetArray("GrooveIntensity"));
+          gi && gi->GetNumberOfComponents() == 1 && gi->GetNumberOfTuples() == np) {
         if (mesh.colours.empty()) mesh.colours.assign(size_t(np), glm::vec3(1.0f));
-        for (vtkIdType i = 0; i < np; ++i) mesh.colours[size_t(i)] *= float(g->GetComponent(i, 0));
+        for (vtkIdType i = 0; i < np; ++i) mesh.colours[size_t(i)] *= float(gi->GetComponent(i, 0));
       }
     }
-    if (!mesh.triangles.empty()) piece.surfaces.push_back(std::move(s));
+    if (!mesh.triangles.empty()) {
+      mesh.positions = std::move(points);
+      o.drawSurface = true;
+      o.surfaceMaterial = 0;
+    }
   }
+  if (o.drawSurface || o.wire) o.geometry = std::move(g);
   return piece;
 }
 
+wf::SceneDescription describeActors(const std::vector<ActorPiece>& pieces, std::vector<wf::Material> firstMaterials) {
+  wf::SceneDescription d;
+  d.materials = std::move(firstMaterials);
+  d.maxPrimitives = INFINITY;  // VTK's data is already made: the render's memory estimate bounds it
+  d.camera.framed = false;     // the pass sets the vtkCamera's every frame
+  for (const ActorPiece& p : pieces) {
+    if (!p.object.geometry) continue;
+    const int mi = int(d.materials.size());
+    d.materials.push_back(p.material);
+    d.materials.push_back(p.wireMaterial);
+    wf::ObjectDescription o = p.object;
+    o.surfaceMaterial = mi;
+    if (o.wire) o.wire->wire.material = mi + 1;
+    d.objects.push_back(std::move(o));
+  }
+  if (d.materials.empty()) d.materials.emplace_back();
+  return d;
+}
+
 wf::Scene assembleScene(const std::vector<ActorPiece>& pieces, const wf::Scene* core) {
-  wf::Scene scene;
-  scene.materials.clear();
-  if (core) {  // first, so that its material indices hold
-    scene.materials = core->materials;
-    scene.surfaces = core->surfaces;
-    scene.wires = core->wires;
+  // The core scene's materials first, so that its surfaces' and wires' indices hold.
+  wf::Scene scene =
+      wf::buildScene(describeActors(pieces, core ? core->materials : std::vector<wf::Material>{})).scene;
+  if (core) {
+    scene.surfaces.insert(scene.surfaces.begin(), core->surfaces.begin(), core->surfaces.end());
+    scene.wires.insert(scene.wires.begin(), core->wires.begin(), core->wires.end());
     scene.environment = core->environment;
   }
-  for (const ActorPiece& p : pieces) {
-    if (p.surfaces.empty() && p.wires.empty()) continue;
-    const int mi = int(scene.materials.size());
-    scene.materials.push_back(p.material);
-    const int wi = int(scene.materials.size());
-    scene.materials.push_back(p.wireMaterial);
-    for (wf::SceneSurface s : p.surfaces) {
-      s.material = mi;
-      scene.surfaces.push_back(std::move(s));
-    }
-    for (wf::SceneWire w : p.wires) {
-      w.material = wi;
-      scene.wires.push_back(std::move(w));
-    }
-  }
-  if (scene.materials.empty()) scene.materials.emplace_back();
+  scene.camera.reset();
   scene.background = glm::vec4(0.0f);  // premultiplied over nothing: composited afterwards
   return scene;
 }

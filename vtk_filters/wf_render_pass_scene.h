@@ -1,9 +1,11 @@
-// Private to vtkWireFurRenderPass: the conversion of marked vtkActors, the renderer's vtkLights
-// and its vtkCamera into the core's wf::Scene, and of the OpenGL depth buffer into view depth.
-// Kept apart from the OpenGL code so that each step reads on its own (docs/vtk.md).
+// Private to vtkWireFurRenderPass: the conversion of marked vtkActors into a scene description
+// (src/scene/scene_description.h) built by the core's buildScene, of the renderer's vtkLights and
+// its vtkCamera into the core's, and of the OpenGL depth buffer into view depth. Kept apart from
+// the OpenGL code so that each step reads on its own (docs/vtk.md).
 #pragma once
 
 #include "render/scene.h"
+#include "scene/scene_description.h"
 
 #include <vtkType.h>
 #include <vtkWeakPointer.h>
@@ -17,31 +19,40 @@ class vtkRenderer;
 
 namespace wfvtk {
 
-/// One marked actor as core geometry: its surfaces use `material`, its wires `wireMaterial`
-/// (renumbered when the pieces are assembled into one scene).
+/// One marked actor as one object of a scene description: its data in object space (the file
+/// geometry of the description), the actor's matrix as the object's transform, its surface in
+/// `material` and its wire in `wireMaterial` (numbered when the pieces are described together).
 struct ActorPiece {
   vtkWeakPointer<vtkActor> actor;
   vtkMTimeType signature = 0;  ///< max MTime of actor, property, keys, mapper and input at conversion
-  wf::Material material;      ///< of the surfaces
-  wf::Material wireMaterial;  ///< of the wires (a highlight where the property has none)
-  std::vector<wf::SceneSurface> surfaces;
-  std::vector<wf::SceneWire> wires;
+  wf::Material material;      ///< of the surface
+  wf::Material wireMaterial;  ///< of the wire (a highlight where the property has none)
+  /// The object (geometry, transform, surface and wire; material indices 0 and 1 until
+  /// describeActors numbers them). Empty (no geometry) when the actor draws nothing.
+  wf::ObjectDescription object;
 };
 
 /// The MTime an actor's piece depends on: the actor (with its property, transform and keys),
 /// its mapper, the mapper's input. Updates the mapper's input first.
 vtkMTimeType actorSignature(vtkActor* actor);
 
-/// Converts one actor: lines and polylines -> SceneWire (style and thickness from the pass's
-/// information keys, else shaded at the property's LineWidth in pixels), polys and strips ->
-/// SceneSurface (point normals and texture coordinates when present), the actor's matrix
-/// applied, mapped point colours (8-bit, sRGB-encoded) decoded to linear multipliers, material
-/// from the vtkProperty. Non-finite points pass through: the core rejects them itself.
+/// Converts one actor into an object: lines and polylines -> its wire (style and thickness from
+/// the pass's information keys, else shaded at the property's LineWidth in pixels), polys and
+/// strips -> its surface's mesh (point normals and texture coordinates when present; a
+/// vtkWireFurBurnish output's tangents as the grain, its groove intensity into the vertex
+/// colours), the actor's matrix as the transform, mapped point colours (8-bit, sRGB-encoded)
+/// decoded to linear multipliers, material from the vtkProperty. Non-finite points pass
+/// through: the core rejects them itself.
 ActorPiece convertActor(vtkActor* actor);
 
-/// The pieces as one scene (materials renumbered in order), after the surfaces, wires,
-/// materials and environment of `core` when given (vtkWireFurRenderPass::SetScene); camera and
-/// lights left empty.
+/// The pieces as one scene description: two materials per piece (surface, wire) after
+/// `firstMaterials`, an object per piece that draws something; no primitive bound (the render's
+/// memory estimate applies), camera and lights left for the pass to set per frame.
+wf::SceneDescription describeActors(const std::vector<ActorPiece>& pieces, std::vector<wf::Material> firstMaterials = {});
+
+/// The pieces built by wf::buildScene, after the surfaces, wires, materials and environment of
+/// `core` when given (vtkWireFurRenderPass::SetScene); camera and lights left for the pass.
+/// Throws wf::SceneError as buildScene does.
 wf::Scene assembleScene(const std::vector<ActorPiece>& pieces, const wf::Scene* core = nullptr);
 
 /// The vtkCamera as the core's camera for a width x height viewport: position, focal point,
