@@ -127,7 +127,10 @@ void declareView(CLI::App& wirefur, wfapp::ViewOptions& o) {
   wfapp::addMaskOption(*c, o.mask);
   wfapp::addThreadsOption(*c, o.threads);
   wfapp::addIntegerOption(*c, "--frames", o.frames, 1, 100000,
-                          "render N frames turning the camera and print the median frame time, {range}");
+                          "render N frames turning the camera, still and moving (at the interactive reduction), and print the median frame times, {range}");
+  wfapp::addIntegerOption(*c, "--interactive-reduction", o.interactiveReduction, 1, 8,
+                          "while the camera moves, render at 1/F of the size and scale up; the still frame is "
+                          "full size (1: off; default 2), {range}");
   wfapp::addFlag(*c, "--offscreen", o.offscreen, "with --frames: no window shown (still needs an X display)");
   c->add_option("--png", o.png, "with --frames: write the last frame as a PNG")->type_name("F")->trigger_on_parse();
   wfapp::addQuietOption(*c, o.quiet);

@@ -169,7 +169,9 @@ int runView(const ViewOptions& o) {
     s.setf(std::ios::fixed);
     s.precision(1);
     s << "frame " << 1000.0 * pass->GetLastRenderSeconds() << " ms (A-buffer " << 1000.0 * pass->GetLastCoreSeconds()
-      << " ms)   ";
+      << " ms";
+    if (pass->GetImageReductionFactor() > 1) s << ", moving: 1/" << pass->GetImageReductionFactor() << " size";
+    s << ")   ";
     s.unsetf(std::ios::fixed);
     s.precision(2);  // the shading bound is ~1e-9 on the default path: significant digits, not decimals
     s << "error <= " << pass->GetLastErrorEstimate() << " (shading), " << pass->GetLastCoverageError() << " (coverage)   mask "
@@ -184,25 +186,45 @@ int runView(const ViewOptions& o) {
   renderer->AddObserver(vtkCommand::StartEvent, before);
 
   if (o.frames > 0) {
-    // Benchmark: N frames, the camera turning 360 / N degrees a frame about the view up.
-    std::vector<double> frame, core;
+    // Benchmark: N frames, the camera turning 360 / N degrees a frame about the view up, as an
+    // interaction draws them (at the interactive reduction), then N still frames (full size).
+    struct Run {
+      std::vector<double> frame, core;
+      double error = 0;
+    };
     const double step = 360.0 / o.frames;
-    double error = 0;
-    for (int i = 0; i < o.frames; ++i) {
-      if (i > 0) {
+    auto turn = [&](int reduction) {
+      Run r;
+      pass->SetImageReductionFactor(reduction);
+      for (int i = 0; i < o.frames; ++i) {
+        if (i > 0) {
+          camera->Azimuth(step);
+          renderer->ResetCameraClippingRange();
+        }
+        const auto t0 = std::chrono::steady_clock::now();
+        window->Render();
+        r.frame.push_back(secondsSince(t0));
+        r.core.push_back(pass->GetLastCoreSeconds());
+        r.error = std::max(r.error, pass->GetLastErrorEstimate());
+      }
+      if (o.frames > 1) {  // back where it started
         camera->Azimuth(step);
         renderer->ResetCameraClippingRange();
       }
-      const auto t0 = std::chrono::steady_clock::now();
-      window->Render();
-      frame.push_back(secondsSince(t0));
-      core.push_back(pass->GetLastCoreSeconds());
-      error = std::max(error, pass->GetLastErrorEstimate());
-    }
+      return r;
+    };
+    const Run moving = o.interactiveReduction > 1 ? turn(o.interactiveReduction) : Run{};
+    const Run still = turn(1);
+    const std::string what = o.input.empty() ? "built-in scene" : o.input;
     std::printf("view: %s at %dx%d, %d frames: median frame %.1f ms (%.1f frames/s), median A-buffer %.1f ms, "
                 "shading error estimate %.4g, coverage %.4g\n",
-                o.input.empty() ? "built-in scene" : o.input.c_str(), o.width, o.height, o.frames, 1000.0 * median(frame),
-                1.0 / std::max(1e-9, median(frame)), 1000.0 * median(core), error, pass->GetLastCoverageError());
+                what.c_str(), o.width, o.height, o.frames, 1000.0 * median(still.frame),
+                1.0 / std::max(1e-9, median(still.frame)), 1000.0 * median(still.core), still.error,
+                pass->GetLastCoverageError());
+    if (o.interactiveReduction > 1)
+      std::printf("view: %s moving (1/%d size, scaled up): median frame %.1f ms (%.1f frames/s), median A-buffer %.1f ms\n",
+                  what.c_str(), o.interactiveReduction, 1000.0 * median(moving.frame),
+                  1.0 / std::max(1e-9, median(moving.frame)), 1000.0 * median(moving.core));
     if (!o.png.empty()) {
       vtkNew<vtkWindowToImageFilter> grab;
       grab->SetInput(window);
@@ -246,6 +268,28 @@ int runView(const ViewOptions& o) {
     window->Render();
     return true;
   };
+  // While the camera moves (a mouse drag), frames at the interactive reduction; the frame after
+  // the drag is full size.
+  vtkNew<vtkCallbackCommand> startMove, endMove;
+  struct Moves {
+    vtkWireFurRenderPass* pass;
+    vtkRenderWindow* window;
+    int reduction;
+  } moves{pass, window, o.interactiveReduction};
+  startMove->SetClientData(&moves);
+  startMove->SetCallback([](vtkObject*, unsigned long, void* cd, void*) {
+    auto* m = static_cast<Moves*>(cd);
+    m->pass->SetImageReductionFactor(m->reduction);
+  });
+  endMove->SetClientData(&moves);
+  endMove->SetCallback([](vtkObject*, unsigned long, void* cd, void*) {
+    auto* m = static_cast<Moves*>(cd);
+    if (m->pass->GetImageReductionFactor() == 1) return;
+    m->pass->SetImageReductionFactor(1);
+    m->window->Render();
+  });
+  style->AddObserver(vtkCommand::StartInteractionEvent, startMove);
+  style->AddObserver(vtkCommand::EndInteractionEvent, endMove);
   interactor->SetInteractorStyle(style);
   interactor->SetRenderWindow(window);
   interactor->Initialize();

@@ -30,10 +30,14 @@
 #include "vtkTextureObject.h"
 #include "vtk_glew.h"
 
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -83,6 +87,8 @@ public:
   std::vector<vtkProp*> DelegateProps, OverlayProps;
   std::vector<vtkActor*> Marked;
   std::vector<float> WindowDepth, ViewDepth;
+  std::vector<float> ReducedDepth;  ///< ViewDepth at the reduced size (ImageReductionFactor)
+  wf::ImageRGBA Upscaled;           ///< a reduced render scaled up to the viewport
   std::vector<unsigned char> Colour;
   float SrgbToLinear[256];
   /// Linear [0, 1] in steps of 1 / 65535 to 8-bit sRGB: within 0.05 of a step of the exact
@@ -182,11 +188,66 @@ public:
     return ok;
   }
 
-  /// out = core + (1 - core alpha) x delegate, in linear light; untouched where the core drew
-  /// nothing (so those pixels stay bit for bit the delegate's).
-  void Composite(const wf::ImageRGBA& core, int w, int h)
+  /// The reduced image's pixel coordinates (centres at integers) of the viewport's pixel centre
+  /// (x + 1/2, y + 1/2). Both images span the same view: the same vertical extent, and the
+  /// horizontal extent of each one's own aspect, so x scales by (w ch) / (h cw) about the centre.
+  static void ReducedCoordinates(int x, int y, int w, int h, int cw, int ch, double& u, double& v)
   {
+    const double k = (double(w) * ch) / (double(h) * cw);
+    u = (((2.0 * (x + 0.5) / w - 1.0) * k + 1.0) * 0.5) * cw - 0.5;
+    v = (y + 0.5) / h * ch - 0.5;
+  }
+
+  /// ViewDepth (w x h) scaled down to cw x ch: each reduced pixel the nearest depth of the
+  /// viewport pixels whose centres fall nearest to it, so that nothing opaque is lost.
+  void ReduceDepth(int w, int h, int cw, int ch)
+  {
+    this->ReducedDepth.assign(size_t(cw) * size_t(ch), std::numeric_limits<float>::infinity());
     for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+      {
+        double u, v;
+        ReducedCoordinates(x, y, w, h, cw, ch, u, v);
+        const int i = std::clamp(int(std::floor(u + 0.5)), 0, cw - 1);
+        const int j = std::clamp(int(std::floor(v + 0.5)), 0, ch - 1);
+        float& d = this->ReducedDepth[size_t(j) * size_t(cw) + size_t(i)];
+        d = std::min(d, this->ViewDepth[size_t(y) * size_t(w) + size_t(x)]);
+      }
+  }
+
+  /// The reduced render scaled up to w x h (bilinear in premultiplied RGBA, clamped at the
+  /// edges), on `threads` threads (0: all).
+  const wf::ImageRGBA& Upscale(const wf::ImageRGBA& small, int w, int h, int threads)
+  {
+    this->Upscaled = wf::ImageRGBA(w, h);
+    const int cw = small.width, ch = small.height;
+    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+    arena.execute([&] { tbb::parallel_for(0, h, [&](int y)
+    {
+      for (int x = 0; x < w; ++x)
+      {
+        double u, v;
+        ReducedCoordinates(x, y, w, h, cw, ch, u, v);
+        u = std::clamp(u, 0.0, double(cw - 1));
+        v = std::clamp(v, 0.0, double(ch - 1));
+        const int i0 = int(u), j0 = int(v);
+        const int i1 = std::min(i0 + 1, cw - 1), j1 = std::min(j0 + 1, ch - 1);
+        const float fu = float(u - i0), fv = float(v - j0);
+        const glm::vec4 top = small.at(i0, j0) * (1.0f - fu) + small.at(i1, j0) * fu;
+        const glm::vec4 bottom = small.at(i0, j1) * (1.0f - fu) + small.at(i1, j1) * fu;
+        this->Upscaled.at(x, y) = top * (1.0f - fv) + bottom * fv;
+      }
+    }); });
+    return this->Upscaled;
+  }
+
+  /// out = core + (1 - core alpha) x delegate, in linear light; untouched where the core drew
+  /// nothing (so those pixels stay bit for bit the delegate's). Rows in parallel (each row's
+  /// pixels depend on that row alone), on `threads` threads (0: all).
+  void Composite(const wf::ImageRGBA& core, int w, int h, int threads)
+  {
+    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+    arena.execute([&] { tbb::parallel_for(0, h, [&](int y)
     {
       unsigned char* row = this->Colour.data() + size_t(y) * size_t(w) * 4;  // bottom-up
       for (int x = 0; x < w; ++x)
@@ -205,7 +266,7 @@ public:
         const float a = c.w + t * (float(o[3]) / 255.0f);
         o[3] = static_cast<unsigned char>(std::lround(255.0f * std::clamp(a, 0.0f, 1.0f)));
       }
-    }
+    }); });
   }
 
   /// Draws Colour over the viewport (x, y, w, h): no blending, no depth test or write.
@@ -398,13 +459,20 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
         in.Scene.lights = wfvtk::convertLights(ren, camera, this->Ambient);
         in.Scene.lightsFollowCamera = false;
       }
+      // A reduced frame (ImageReductionFactor): the same view at 1/F of the size.
+      const int f = this->ImageReductionFactor;
+      const int cw = f > 1 ? std::max(1, (w + f - 1) / f) : w;
+      const int ch = f > 1 ? std::max(1, (h + f - 1) / f) : h;
+      if (depth && f > 1)
+        in.ReduceDepth(w, h, cw, ch);
       wf::RenderOptions options;
-      options.width = w;
-      options.height = h;
+      options.width = cw;
+      options.height = ch;
       options.mask = wf::MaskLayout{ this->MaskWidth, this->MaskHeight };
       options.budget = this->Budget;
       options.threads = this->Threads;
-      options.opaqueDepth = depth ? &in.ViewDepth : nullptr;
+      options.pixelScale = 1.0 / f;  // pixel widths stay widths in the scaled-up picture
+      options.opaqueDepth = depth ? (f > 1 ? &in.ReducedDepth : &in.ViewDepth) : nullptr;
       options.shadingCache = in.Tables;
       options.shading = this->Shading == 1 ? wf::ShadingPath::Maps
         : this->Shading == 2               ? wf::ShadingPath::Exact
@@ -420,7 +488,7 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
         this->LastTablesBuilt =
           r.stats.pseudoReflectanceMaps + r.stats.reflectanceSpheres + r.stats.lobeTables;
         this->LastTablesReused = int(r.stats.tablesReused);
-        in.Composite(r.image, w, h);
+        in.Composite(f > 1 ? in.Upscale(r.image, w, h, this->Threads) : r.image, w, h, this->Threads);
         in.WriteBack(renWin, x, y, w, h);
 
         this->NumberOfRenderedProps += int(in.Marked.size());

@@ -137,6 +137,17 @@ public:
   ///@}
 
   ///@{
+  /// Renders the A-buffer at 1/F of the viewport's width and height (rounded up) and scales the
+  /// result up bilinearly before the composite; the delegate's depth is scaled down to the
+  /// nearest depth of each reduced pixel. For frames while the camera moves: an interactive
+  /// viewer sets it when an interaction starts and back to 1 when it ends (as ParaView's image
+  /// reduction factor), so that the still frame is exact. 1 ... 8; default 1: every pixel
+  /// rendered.
+  vtkSetClampMacro(ImageReductionFactor, int, 1, 8);
+  vtkGetMacro(ImageReductionFactor, int);
+  ///@}
+
+  ///@{
   /// Ambient radiance of the core's light rig (linear RGB). Default (0, 0, 0).
   vtkSetVector3Macro(Ambient, double);
   vtkGetVector3Macro(Ambient, double);
@@ -172,6 +183,7 @@ protected:
   int Budget = 64;
   int Threads = 0;
   int Shading = 0;
+  int ImageReductionFactor = 1;
   double Ambient[3] = { 0.0, 0.0, 0.0 };
   double LastRenderSeconds = 0.0;
   double LastCoreSeconds = 0.0;

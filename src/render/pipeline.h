@@ -200,6 +200,7 @@ struct PreparedScene {
   /// Textures and grooves box-filtered over the pixel's footprint (the A-buffer), or point
   /// sampled (the reference renderer, which averages its sub-samples instead).
   bool filterTextures = true;
+  double pixelScale = 1.0;  ///< RenderOptions::pixelScale: on widths given in pixels
   std::uint32_t primitiveCount() const { return std::uint32_t(triangles.size() + segments.size()); }
   bool isSegment(std::uint32_t i) const { return i >= triangles.size(); }
   const SegmentPrim& segmentOf(std::uint32_t i) const { return segments[i - triangles.size()]; }
@@ -415,7 +416,8 @@ struct SimplificationPlan {
   size_t hairs = 0, kept = 0;
   double minLambda = 1.0;
 };
-SimplificationPlan planSimplification(const Scene& scene, const ViewTransform& view, const SimplifyOptions& options);
+SimplificationPlan planSimplification(const Scene& scene, const ViewTransform& view, const SimplifyOptions& options,
+                                      double pixelScale = 1.0);
 
 /// Counts of one set-up work item, added into RenderStats.
 struct SetupCounts {

@@ -193,6 +193,7 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
   ps.path = o.shading;
   ps.wireDepth = o.wireDepth;
   ps.filterTextures = o.filterTextures;
+  ps.pixelScale = o.pixelScale;
   const Camera camera = chooseCamera(scene, o, st);
   ps.view = ViewTransform::make(camera, o.width, o.height);
   ps.eyeLights = scene.lightsFollowCamera ? scene.lights.canonical()
@@ -215,7 +216,7 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
   ps.cueFar = std::min(cf, ps.view.farPlane);
 
   // Stochastic simplification of aggregate wires (off by default: every hair drawn as it is).
-  const SimplificationPlan simplification = planSimplification(scene, ps.view, o.simplify);
+  const SimplificationPlan simplification = planSimplification(scene, ps.view, o.simplify, o.pixelScale);
   st.simplifiedHairs = simplification.hairs;
   st.simplifiedKept = simplification.kept;
   st.simplifiedLambda = simplification.minLambda;

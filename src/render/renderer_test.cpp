@@ -430,6 +430,30 @@ TEST(Render, EndOnSegmentIsADisc) {
       }
 }
 
+TEST(Render, PixelScaleScalesWidthsGivenInPixels) {
+  // The end-on disc of EndOnSegmentIsADisc (r = 5 px) at pixel scale 0.5 has r = 2.5 px:
+  // coverage pi 2.5^2 (1%); a wire whose width is in world units keeps its coverage.
+  const int W = 64, H = 64;
+  Scene scene = baseScene(W, H);
+  SceneWire w;
+  w.style = WireStyle::Plain;
+  w.thickness = 10;
+  w.thicknessInPixels = true;
+  w.lines.add({{3.3, 2.1, 2}, {3.3, 2.1, -2}});
+  scene.wires = {w};
+  RenderOptions o = smallOptions(W, H);
+  o.pixelScale = 0.5;
+  const double want = std::numbers::pi * 2.5 * 2.5;
+  EXPECT_NEAR(sumAlpha(render(scene, o).image), want, 0.01 * want);
+  scene.wires[0].thicknessInPixels = false;
+  scene.wires[0].thickness = 0.2;
+  const double world = sumAlpha(render(scene, smallOptions(W, H)).image);
+  EXPECT_GT(world, 0.0);
+  EXPECT_EQ(sumAlpha(render(scene, o).image), world);
+  o.pixelScale = 0.0;
+  EXPECT_NE(o.problem().find("pixel scale"), std::string::npos);
+}
+
 TEST(Render, ZeroLengthSegmentIsDroppedAndDrawsNothing) {
   const int W = 32, H = 32;
   Scene scene = baseScene(W, H);

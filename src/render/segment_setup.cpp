@@ -210,8 +210,8 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       s.d1 = d1;
       s.p0 = view.project(e0);
       s.p1 = view.project(e1);
-      s.w0 = wire.thicknessInPixels ? halfT : halfT * view.pixelsPerWorld(d0);
-      s.w1 = wire.thicknessInPixels ? halfT : halfT * view.pixelsPerWorld(d1);
+      s.w0 = wire.thicknessInPixels ? halfT * ps.pixelScale : halfT * view.pixelsPerWorld(d0);
+      s.w1 = wire.thicknessInPixels ? halfT * ps.pixelScale : halfT * view.pixelsPerWorld(d1);
       const glm::dvec2 dv = s.p1 - s.p0;
       const double length = glm::length(dv);
       // Widths are stored as floats: one that rounds to 0 or overflows draws nothing.

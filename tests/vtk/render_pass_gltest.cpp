@@ -303,6 +303,60 @@ TEST(RenderPass, OpaquePlaneBehindKeepsTheWire)
   EXPECT_LE(maxErr, 2.0);
 }
 
+// (c2) A reduced frame (SetImageReductionFactor 2, for frames while the camera moves) is the
+// same view at half the size scaled up: the wire's centroid (weighted by its difference from the
+// background) within 0.5 px of the full frame's, the image within an RMS of 10/255 of it (the
+// wire is 3 px wide: at 1/2 size its antialiasing blurs over a pixel either side), and the plane
+// in front still hides it (the delegate's depth scaled down to the nearest): every pixel 3 px in
+// from the plane's edges exactly green. Factor 1 again gives the full frame bit for bit.
+TEST(RenderPass, ReducedFrameIsTheSameViewScaledUp)
+{
+  Window win;
+  win.AddWire(true);
+  win.AddPlane(1.0, 0.25, 0.3);  // x 83 ... 117, y 54 ... 96 at 70 px per unit
+  const std::vector<unsigned char> full = win.Render();
+  win.pass->SetImageReductionFactor(2);
+  const std::vector<unsigned char> reduced = win.Render();
+  win.pass->SetImageReductionFactor(1);
+  EXPECT_EQ(win.Render(), full);
+
+  auto centroid = [](const std::vector<unsigned char>& px, double& cx, double& cy) {
+    double sw = 0, sx = 0, sy = 0;
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x)
+      {
+        const unsigned char* p = &px[(size_t(y) * W + x) * 3];
+        if (p[1] == 255 && p[0] == 0 && p[2] == 0)
+          continue;  // the plane
+        const double w = p[0] + p[1] + p[2];
+        sw += w, sx += w * x, sy += w * y;
+      }
+    cx = sx / sw, cy = sy / sw;
+  };
+  double fx, fy, rx, ry;
+  centroid(full, fx, fy);
+  centroid(reduced, rx, ry);
+  double sq = 0;
+  for (size_t i = 0; i < full.size(); ++i)
+    sq += (double(full[i]) - reduced[i]) * (double(full[i]) - reduced[i]);
+  const double rms = std::sqrt(sq / double(full.size()));
+  int notGreen = 0;
+  for (int y = 57; y <= 93; ++y)
+    for (int x = 86; x <= 114; ++x)
+    {
+      const unsigned char* p = &reduced[(size_t(y) * W + x) * 3];
+      if (p[0] != 0 || p[1] != 255 || p[2] != 0)
+        ++notGreen;
+    }
+
+  std::printf("(c2) reduced 1/2: centroid moved (%.3f, %.3f) px, RMS %.2f/255, %d not green under the plane\n", rx - fx,
+              ry - fy, rms, notGreen);
+  EXPECT_LE(std::hypot(rx - fx, ry - fy), 0.5);
+  EXPECT_GT(rms, 0.0);
+  EXPECT_LE(rms, 10.0);
+  EXPECT_EQ(notGreen, 0);
+}
+
 // (d) Without marked props the pass is its delegate: bit-identical to a vtkRenderStepsPass.
 TEST(RenderPass, NoMarkedPropsIsTheDelegateBitForBit)
 {
