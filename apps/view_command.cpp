@@ -170,7 +170,7 @@ int runView(const ViewOptions& o) {
     s.precision(1);
     s << "frame " << 1000.0 * pass->GetLastRenderSeconds() << " ms (A-buffer " << 1000.0 * pass->GetLastCoreSeconds()
       << " ms";
-    if (pass->GetImageReductionFactor() > 1) s << ", moving: 1/" << pass->GetImageReductionFactor() << " size";
+    if (pass->GetLastImageReductionFactor() > 1) s << ", moving: 1/" << pass->GetLastImageReductionFactor() << " size";
     s << ")   ";
     s.unsetf(std::ios::fixed);
     s.precision(2);  // the shading bound is ~1e-9 on the default path: significant digits, not decimals
@@ -207,13 +207,14 @@ int runView(const ViewOptions& o) {
         r.core.push_back(pass->GetLastCoreSeconds());
         r.error = std::max(r.error, pass->GetLastErrorEstimate());
       }
-      if (o.frames > 1) {  // back where it started
-        camera->Azimuth(step);
-        renderer->ResetCameraClippingRange();
-      }
       return r;
     };
-    const Run moving = o.interactiveReduction > 1 ? turn(o.interactiveReduction) : Run{};
+    Run moving;
+    if (o.interactiveReduction > 1) {
+      moving = turn(o.interactiveReduction);
+      camera->Azimuth(step);  // back where it started: the still frames turn the same way
+      renderer->ResetCameraClippingRange();
+    }
     const Run still = turn(1);
     const std::string what = o.input.empty() ? "built-in scene" : o.input;
     std::printf("view: %s at %dx%d, %d frames: median frame %.1f ms (%.1f frames/s), median A-buffer %.1f ms, "
@@ -268,14 +269,13 @@ int runView(const ViewOptions& o) {
     window->Render();
     return true;
   };
-  // While the camera moves (a mouse drag), frames at the interactive reduction; the frame after
-  // the drag is full size.
+  // While the camera moves (a mouse drag, a wheel step), frames at the interactive reduction; the
+  // frame after it is full size (the style renders it itself after EndInteractionEvent).
   vtkNew<vtkCallbackCommand> startMove, endMove;
   struct Moves {
     vtkWireFurRenderPass* pass;
-    vtkRenderWindow* window;
     int reduction;
-  } moves{pass, window, o.interactiveReduction};
+  } moves{pass, o.interactiveReduction};
   startMove->SetClientData(&moves);
   startMove->SetCallback([](vtkObject*, unsigned long, void* cd, void*) {
     auto* m = static_cast<Moves*>(cd);
@@ -283,10 +283,7 @@ int runView(const ViewOptions& o) {
   });
   endMove->SetClientData(&moves);
   endMove->SetCallback([](vtkObject*, unsigned long, void* cd, void*) {
-    auto* m = static_cast<Moves*>(cd);
-    if (m->pass->GetImageReductionFactor() == 1) return;
-    m->pass->SetImageReductionFactor(1);
-    m->window->Render();
+    static_cast<Moves*>(cd)->pass->SetImageReductionFactor(1);
   });
   style->AddObserver(vtkCommand::StartInteractionEvent, startMove);
   style->AddObserver(vtkCommand::EndInteractionEvent, endMove);
@@ -295,6 +292,9 @@ int runView(const ViewOptions& o) {
   interactor->Initialize();
   window->Render();
   interactor->Start();
+  style->RemoveObserver(startMove);
+  style->RemoveObserver(endMove);
+  renderer->RemoveObserver(before);
   return 0;
 }
 

@@ -132,10 +132,11 @@ public:
       {
         this->Scene = wfvtk::assembleScene(this->Pieces, this->Core.get());
       }
-      catch (const std::exception& e)  // wf::SceneError: what the builder cannot make of them
+      catch (const std::exception& e)  // out of memory: nothing of ours is drawn this frame
       {
-        vtkGenericWarningMacro(<< "vtkWireFurRenderPass: the marked actors are left out: " << e.what());
-        this->Scene = wfvtk::assembleScene({}, this->Core.get());
+        vtkGenericWarningMacro(<< "vtkWireFurRenderPass: the marked actors cannot be built: " << e.what());
+        this->Scene = wf::Scene{};
+        this->Pieces.clear();  // tried again next frame
       }
     }
     return changed;
@@ -198,21 +199,43 @@ public:
     v = (y + 0.5) / h * ch - 0.5;
   }
 
-  /// ViewDepth (w x h) scaled down to cw x ch: each reduced pixel the nearest depth of the
-  /// viewport pixels whose centres fall nearest to it, so that nothing opaque is lost.
+  /// ViewDepth (w x h) scaled down to cw x ch: each reduced pixel the nearest depth of every
+  /// viewport pixel whose bilinear upscale (Upscale) reads it, so that no viewport pixel behind
+  /// an opaque surface gets colour from a reduced pixel in front of it: a marked prop is never
+  /// drawn over the delegate's geometry (it is hidden a little more near an occluder's edge).
   void ReduceDepth(int w, int h, int cw, int ch)
   {
     this->ReducedDepth.assign(size_t(cw) * size_t(ch), std::numeric_limits<float>::infinity());
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x)
       {
-        double u, v;
-        ReducedCoordinates(x, y, w, h, cw, ch, u, v);
-        const int i = std::clamp(int(std::floor(u + 0.5)), 0, cw - 1);
-        const int j = std::clamp(int(std::floor(v + 0.5)), 0, ch - 1);
-        float& d = this->ReducedDepth[size_t(j) * size_t(cw) + size_t(i)];
-        d = std::min(d, this->ViewDepth[size_t(y) * size_t(w) + size_t(x)]);
+        const float d = this->ViewDepth[size_t(y) * size_t(w) + size_t(x)];
+        if (!(d < std::numeric_limits<float>::infinity()))
+          continue;  // nothing opaque here (NaN too)
+        int i0, j0, i1, j1;
+        float fu, fv;
+        BilinearSupport(x, y, w, h, cw, ch, i0, j0, i1, j1, fu, fv);
+        for (int j : { j0, j1 })
+          for (int i : { i0, i1 })
+          {
+            float& r = this->ReducedDepth[size_t(j) * size_t(cw) + size_t(i)];
+            r = std::min(r, d);
+          }
       }
+  }
+
+  /// The reduced pixels (i0 | i1, j0 | j1) the upscale reads for viewport pixel (x, y), and the
+  /// weights of i1 and j1.
+  static void BilinearSupport(int x, int y, int w, int h, int cw, int ch, int& i0, int& j0, int& i1, int& j1,
+                              float& fu, float& fv)
+  {
+    double u, v;
+    ReducedCoordinates(x, y, w, h, cw, ch, u, v);
+    u = std::clamp(u, 0.0, double(cw - 1));
+    v = std::clamp(v, 0.0, double(ch - 1));
+    i0 = int(u), j0 = int(v);
+    i1 = std::min(i0 + 1, cw - 1), j1 = std::min(j0 + 1, ch - 1);
+    fu = float(u - i0), fv = float(v - j0);
   }
 
   /// The reduced render scaled up to w x h (bilinear in premultiplied RGBA, clamped at the
@@ -226,13 +249,9 @@ public:
     {
       for (int x = 0; x < w; ++x)
       {
-        double u, v;
-        ReducedCoordinates(x, y, w, h, cw, ch, u, v);
-        u = std::clamp(u, 0.0, double(cw - 1));
-        v = std::clamp(v, 0.0, double(ch - 1));
-        const int i0 = int(u), j0 = int(v);
-        const int i1 = std::min(i0 + 1, cw - 1), j1 = std::min(j0 + 1, ch - 1);
-        const float fu = float(u - i0), fv = float(v - j0);
+        int i0, j0, i1, j1;
+        float fu, fv;
+        BilinearSupport(x, y, w, h, cw, ch, i0, j0, i1, j1, fu, fv);
         const glm::vec4 top = small.at(i0, j0) * (1.0f - fu) + small.at(i1, j0) * fu;
         const glm::vec4 bottom = small.at(i0, j1) * (1.0f - fu) + small.at(i1, j1) * fu;
         this->Upscaled.at(x, y) = top * (1.0f - fv) + bottom * fv;
@@ -471,7 +490,7 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
       options.mask = wf::MaskLayout{ this->MaskWidth, this->MaskHeight };
       options.budget = this->Budget;
       options.threads = this->Threads;
-      options.pixelScale = 1.0 / f;  // pixel widths stay widths in the scaled-up picture
+      options.pixelScale = double(ch) / double(h);  // pixel widths stay widths in the scaled-up picture
       options.opaqueDepth = depth ? (f > 1 ? &in.ReducedDepth : &in.ViewDepth) : nullptr;
       options.shadingCache = in.Tables;
       options.shading = this->Shading == 1 ? wf::ShadingPath::Maps
@@ -481,6 +500,7 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
       {
         const wf::RenderResult r = wf::render(in.Scene, options);
         this->LastCoreSeconds = r.stats.total;
+        this->LastImageReductionFactor = f;
         this->LastErrorEstimate =
           std::max({ r.stats.mapError, r.stats.sphereError, r.stats.orthographicError, r.stats.lobeError });
         this->LastCoverageError = r.stats.coverageQuantisation;

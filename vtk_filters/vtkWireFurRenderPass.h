@@ -155,6 +155,8 @@ public:
 
   /// Seconds the last Render took in all (delegate, conversion, A-buffer, composite).
   vtkGetMacro(LastRenderSeconds, double);
+  /// The image reduction factor the last core render was drawn with.
+  vtkGetMacro(LastImageReductionFactor, int);
   /// Seconds of the last core A-buffer render alone (0 when no prop was marked).
   vtkGetMacro(LastCoreSeconds, double);
   /// The shading error bound of the last core render (radiance, linear): on the closed path
@@ -184,6 +186,7 @@ protected:
   int Threads = 0;
   int Shading = 0;
   int ImageReductionFactor = 1;
+  int LastImageReductionFactor = 1;
   double Ambient[3] = { 0.0, 0.0, 0.0 };
   double LastRenderSeconds = 0.0;
   double LastCoreSeconds = 0.0;

@@ -34,6 +34,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 
 namespace wfvtk {
 
@@ -251,10 +252,12 @@ ActorPiece convertActor(vtkActor* actor) {
         else add(ids->GetId(k + 1), ids->GetId(k), ids->GetId(k + 2));
       }
     if (burnished && !mesh.triangles.empty()) {
-      // The grain as dS/du, which the core's grain U shades along, and N x grain as dS/dv (the
-      // core uses a mesh's own derivatives only when it has both; the builder places both by
-      // the actor's matrix). Grooves dim diffuse and specular together, as the core's groove
-      // texture does.
+      // The grain as dS/du, which the core's grain U shades along, and N x grain (object space)
+      // as dS/dv: the core uses a mesh's own derivatives only when it has both, and the builder
+      // places both by the actor's linear part, as directions along the surface (under a
+      // non-uniform scale dS/dv is then no longer exactly N x grain; only bump maps and grain V
+      // read it, which an actor's surface has neither). Grooves dim diffuse and specular
+      // together, as the core's groove texture does.
       vtkDataArray* t = pd->GetPointData()->GetTangents();
       std::vector<glm::dvec3> n = mesh.normals;
       if (n.size() != size_t(np)) {  // area-weighted face normals at the vertices
@@ -296,12 +299,15 @@ wf::SceneDescription describeActors(const std::vector<ActorPiece>& pieces, std::
   d.materials = std::move(firstMaterials);
   d.maxPrimitives = INFINITY;  // VTK's data is already made: the render's memory estimate bounds it
   d.camera.framed = false;     // the pass sets the vtkCamera's every frame
-  for (const ActorPiece& p : pieces) {
+  for (size_t k = 0; k < pieces.size(); ++k) {
+    const ActorPiece& p = pieces[k];
     if (!p.object.geometry) continue;
     const int mi = int(d.materials.size());
     d.materials.push_back(p.material);
     d.materials.push_back(p.wireMaterial);
     wf::ObjectDescription o = p.object;
+    if (o.name == "actor") o.name = o.where = "actor " + std::to_string(k);  // in the core's warnings
+    if (o.wire) o.wire->where = o.where + "/wire";
     o.surfaceMaterial = mi;
     if (o.wire) o.wire->wire.material = mi + 1;
     d.objects.push_back(std::move(o));
@@ -312,8 +318,25 @@ wf::SceneDescription describeActors(const std::vector<ActorPiece>& pieces, std::
 
 wf::Scene assembleScene(const std::vector<ActorPiece>& pieces, const wf::Scene* core) {
   // The core scene's materials first, so that its surfaces' and wires' indices hold.
-  wf::Scene scene =
-      wf::buildScene(describeActors(pieces, core ? core->materials : std::vector<wf::Material>{})).scene;
+  const std::vector<wf::Material> first = core ? core->materials : std::vector<wf::Material>{};
+  wf::Scene scene;
+  try {
+    scene = wf::buildScene(describeActors(pieces, first)).scene;
+  } catch (const wf::SceneError&) {
+    // An actor the builder cannot make is left out, with a warning; the others are drawn.
+    std::vector<ActorPiece> kept;
+    for (size_t k = 0; k < pieces.size(); ++k) {
+      ActorPiece p = pieces[k];
+      if (p.object.name == "actor") p.object.name = p.object.where = "actor " + std::to_string(k);
+      try {
+        wf::buildScene(describeActors({p}, first));
+        kept.push_back(std::move(p));
+      } catch (const wf::SceneError& e) {
+        vtkGenericWarningMacro(<< "vtkWireFurRenderPass: marked " << e.where << " is left out: " << e.what());
+      }
+    }
+    scene = wf::buildScene(describeActors(kept, first)).scene;
+  }
   if (core) {
     scene.surfaces.insert(scene.surfaces.begin(), core->surfaces.begin(), core->surfaces.end());
     scene.wires.insert(scene.wires.begin(), core->wires.begin(), core->wires.end());

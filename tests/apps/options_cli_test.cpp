@@ -31,7 +31,7 @@ const std::map<std::string, std::vector<std::string>> kOptions = {
                 "--isos", "--cad-timeout"}},
     {"export", {"INPUT", "--out", "--style", "--time", "--quiet", "--deflection", "--linear-deflection",
                 "--angular-deflection", "--isos", "--cad-timeout"}},
-    {"view", {"INPUT", "--style", "--size", "--mask", "--threads", "--frames", "--offscreen", "--png", "--quiet",
+    {"view", {"INPUT", "--style", "--size", "--mask", "--threads", "--frames", "--interactive-reduction", "--offscreen", "--png", "--quiet",
               "--deflection", "--linear-deflection", "--angular-deflection", "--isos", "--cad-timeout"}},
 };
 

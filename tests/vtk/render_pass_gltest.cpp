@@ -307,8 +307,9 @@ TEST(RenderPass, OpaquePlaneBehindKeepsTheWire)
 // same view at half the size scaled up: the wire's centroid (weighted by its difference from the
 // background) within 0.5 px of the full frame's, the image within an RMS of 10/255 of it (the
 // wire is 3 px wide: at 1/2 size its antialiasing blurs over a pixel either side), and the plane
-// in front still hides it (the delegate's depth scaled down to the nearest): every pixel 3 px in
-// from the plane's edges exactly green. Factor 1 again gives the full frame bit for bit.
+// in front still hides it (the delegate's depth scaled down to the nearest over each reduced
+// pixel's bilinear support): every pixel the plane covers in the full frame is exactly green at
+// factors 2, 3 and 4, up to the plane's edge. Factor 1 again gives the full frame bit for bit.
 TEST(RenderPass, ReducedFrameIsTheSameViewScaledUp)
 {
   Window win;
@@ -340,17 +341,24 @@ TEST(RenderPass, ReducedFrameIsTheSameViewScaledUp)
   for (size_t i = 0; i < full.size(); ++i)
     sq += (double(full[i]) - reduced[i]) * (double(full[i]) - reduced[i]);
   const double rms = std::sqrt(sq / double(full.size()));
-  int notGreen = 0;
-  for (int y = 57; y <= 93; ++y)
-    for (int x = 86; x <= 114; ++x)
-    {
-      const unsigned char* p = &reduced[(size_t(y) * W + x) * 3];
-      if (p[0] != 0 || p[1] != 255 || p[2] != 0)
-        ++notGreen;
-    }
+  auto isGreen = [](const unsigned char* p) { return p[0] == 0 && p[1] == 255 && p[2] == 0; };
+  int plane = 0, notGreen = 0;
+  for (int f : { 2, 3, 4 })
+  {
+    win.pass->SetImageReductionFactor(f);
+    const std::vector<unsigned char> px = f == 2 ? reduced : win.Render();
+    for (size_t i = 0; i < full.size(); i += 3)
+      if (isGreen(&full[i]))
+      {
+        ++plane;
+        notGreen += !isGreen(&px[i]);
+      }
+  }
+  win.pass->SetImageReductionFactor(1);
 
-  std::printf("(c2) reduced 1/2: centroid moved (%.3f, %.3f) px, RMS %.2f/255, %d not green under the plane\n", rx - fx,
-              ry - fy, rms, notGreen);
+  std::printf("(c2) reduced 1/2: centroid moved (%.3f, %.3f) px, RMS %.2f/255; factors 2, 3, 4: %d of %d plane pixels "
+              "not green\n", rx - fx, ry - fy, rms, notGreen, plane);
+  EXPECT_GT(plane, 3 * 1000);
   EXPECT_LE(std::hypot(rx - fx, ry - fy), 0.5);
   EXPECT_GT(rms, 0.0);
   EXPECT_LE(rms, 10.0);
