@@ -20,6 +20,10 @@ TEST(FastAtan2, WithinOneEMinus15OfTheLibrary) {
     worst = std::max(worst, std::abs(wf::fastAtan2(y, x) - std::atan2(y, x)));
   }
   const double t8 = std::tan(M_PI / 8);
+  // Extreme ratios (z underflows to 0 or is subnormal) and |x| + |y| overflowing (the library's path).
+  for (double y : {1e300, -1e300, 1e-300, 4.9e-324, 1e308, -1.7e308})
+    for (double x : {1e-300, -1e-300, 1e300, 1e308, -1.7e308, 4.9e-324})
+      worst = std::max(worst, std::abs(wf::fastAtan2(y, x) - std::atan2(y, x)));
   for (double z : {0.0, 1e-300, 1e-8, t8 * (1 - 1e-15), t8, t8 * (1 + 1e-15), 0.5, 1.0 - 1e-16, 1.0})
     for (double sx : {1.0, -1.0})
       for (double sy : {1.0, -1.0}) {

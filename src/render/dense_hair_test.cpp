@@ -160,6 +160,19 @@ TEST(Simplification, OffOrNothingToSimplifyIsTheSameImage) {
   EXPECT_EQ(wide.stats.simplifiedKept, wide.stats.simplifiedHairs);
 }
 
+// Pixel widths under RenderOptions::pixelScale: hairs 0.6 px wide given in pixels are 0.3 px in
+// an image at pixel scale 0.5, so the simplification (its target in pixels of the image) keeps
+// lambda = 0.3 / 1.5 of them, as it does for hairs of 0.3 px at scale 1.
+TEST(Simplification, PixelWidthsAreScaledBeforeLambda) {
+  const int W = 96, H = 72;
+  Scene s = furPatch(W, H, 20000, 0.6);
+  s.wires[0].thicknessInPixels = true;
+  RenderOptions o = simplifyOptions(W, H, 1.5);
+  EXPECT_NEAR(render(s, o).stats.simplifiedLambda, 0.4, 1e-6);
+  o.pixelScale = 0.5;
+  EXPECT_NEAR(render(s, o).stats.simplifiedLambda, 0.2, 1e-6);
+}
+
 // On: a fraction lambda = 0.3 / 1.5 of the hairs, widened: the total coverage of the patch and
 // the mean colour of every 24 x 24 block stay those of the full render within a few percent
 // (the expected values are equal; what is left is the sampling noise of 20,000 hairs).

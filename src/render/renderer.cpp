@@ -109,7 +109,7 @@ std::string optionsProblem(const RenderOptions& o) {
   if (o.sphereResolution < kMinSphereResolution || o.sphereResolution > kMaxSphereResolution)
     return "sphere resolution must be " + std::to_string(kMinSphereResolution) + " ... " + std::to_string(kMaxSphereResolution);
   if (o.viewGrid < 1 || o.viewGrid > kMaxViewGrid) return "view grid must be 1 ... " + std::to_string(kMaxViewGrid);
-  if (!(o.pixelScale > 0.0 && o.pixelScale <= 1e6)) return "pixel scale must be > 0 and <= 1e6";
+  if (!(o.pixelScale >= 1e-6 && o.pixelScale <= 1e6)) return "pixel scale must be 1e-6 ... 1e6";
   if (o.opaqueDepth && o.opaqueDepth->size() != size_t(o.width) * size_t(o.height))
     return "opaque depth must hold width x height values";
   return {};

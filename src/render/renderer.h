@@ -87,7 +87,9 @@ struct RenderOptions {
   /// Pixels of this image per pixel of the picture it stands for: widths given in pixels
   /// (SceneWire::thicknessInPixels) are multiplied by it. A render at 1/F of the size that is
   /// scaled up afterwards (vtkWireFurRenderPass's image reduction) sets 1/F, so that a 3-pixel
-  /// wire is still 3 pixels wide in the scaled-up picture. (0, 1e6]; default 1.
+  /// wire is still 3 pixels wide in the scaled-up picture. The simplification's target width and
+  /// cells stay in pixels of this image (a reduced frame simplifies more, as hairs of world
+  /// width do). 1e-6 ... 1e6; default 1.
   double pixelScale = 1.0;
   /// External opaque depth (optional, not owned): width * height view depths d = -z_eye, row 0
   /// at the top, +inf (or NaN) where nothing opaque lies. It stands for an opaque surface drawn

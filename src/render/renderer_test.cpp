@@ -450,8 +450,10 @@ TEST(Render, PixelScaleScalesWidthsGivenInPixels) {
   const double world = sumAlpha(render(scene, smallOptions(W, H)).image);
   EXPECT_GT(world, 0.0);
   EXPECT_EQ(sumAlpha(render(scene, o).image), world);
-  o.pixelScale = 0.0;
-  EXPECT_NE(o.problem().find("pixel scale"), std::string::npos);
+  for (double bad : {0.0, -1.0, 1e-7, 2e6, std::nan(""), double(INFINITY)}) {
+    o.pixelScale = bad;
+    EXPECT_NE(o.problem().find("pixel scale"), std::string::npos) << bad;
+  }
 }
 
 TEST(Render, ZeroLengthSegmentIsDroppedAndDrawsNothing) {
