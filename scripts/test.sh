@@ -17,7 +17,7 @@ sanitize="${WIREFUR_TEST_SANITIZE:-}"
 if [ -z "$sanitize" ] && [ "${CI:-}" = "true" ]; then sanitize=1; fi
 if [ "$sanitize" = "1" ]; then
   echo "== the test suite under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/) =="
-  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" -DWIREFUR_SANITIZE=ON -DWIREFUR_BUILD_BENCH=OFF >/dev/null
+  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" -DWIREFUR_SANITIZE=ON -DWIREFUR_BUILD_BENCH=OFF -DWIREFUR_WRAP_PYTHON=OFF >/dev/null
   if ! cmake --build build-asan -j"$jobs" >build-asan/build.log 2>&1; then
     grep -E -B2 -A8 "error|Error" build-asan/build.log | tail -60
     echo "test.sh: the sanitizer build failed (build-asan/build.log)" >&2
