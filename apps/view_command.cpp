@@ -117,6 +117,9 @@ int runView(const ViewOptions& o) {
   pass->SetBudget(sf.budget);
   pass->SetThreads(o.threads);
   pass->SetAmbient(scene.lights.ambient.x, scene.lights.ambient.y, scene.lights.ambient.z);
+  // While the camera moves (a drag, a wheel step: VTK's styles raise the window's desired update
+  // rate), frames at 1/F of the size; the frame after it full size.
+  pass->SetInteractiveImageReductionFactor(o.interactiveReduction);
   renderer->SetPass(pass);
 
   // The scene as `wirefur render` draws it: every surface, wire, hair and scale through the
@@ -193,9 +196,10 @@ int runView(const ViewOptions& o) {
       double error = 0;
     };
     const double step = 360.0 / o.frames;
-    auto turn = [&](int reduction) {
+    auto turn = [&](bool moving) {
       Run r;
-      pass->SetImageReductionFactor(reduction);
+      // As an interaction does: the interactor's desired update rate, then the still rate.
+      window->SetDesiredUpdateRate(moving ? 15.0 : 0.0001);
       for (int i = 0; i < o.frames; ++i) {
         if (i > 0) {
           camera->Azimuth(step);
@@ -211,11 +215,11 @@ int runView(const ViewOptions& o) {
     };
     Run moving;
     if (o.interactiveReduction > 1) {
-      moving = turn(o.interactiveReduction);
+      moving = turn(true);
       camera->Azimuth(step);  // back where it started: the still frames turn the same way
       renderer->ResetCameraClippingRange();
     }
-    const Run still = turn(1);
+    const Run still = turn(false);
     const std::string what = o.input.empty() ? "built-in scene" : o.input;
     std::printf("view: %s at %dx%d, %d frames: median frame %.1f ms (%.1f frames/s), median A-buffer %.1f ms, "
                 "shading error estimate %.4g, coverage %.4g\n",
@@ -269,31 +273,11 @@ int runView(const ViewOptions& o) {
     window->Render();
     return true;
   };
-  // While the camera moves (a mouse drag, a wheel step), frames at the interactive reduction; the
-  // frame after it is full size (the style renders it itself after EndInteractionEvent).
-  vtkNew<vtkCallbackCommand> startMove, endMove;
-  struct Moves {
-    vtkWireFurRenderPass* pass;
-    int reduction;
-  } moves{pass, o.interactiveReduction};
-  startMove->SetClientData(&moves);
-  startMove->SetCallback([](vtkObject*, unsigned long, void* cd, void*) {
-    auto* m = static_cast<Moves*>(cd);
-    m->pass->SetImageReductionFactor(m->reduction);
-  });
-  endMove->SetClientData(&moves);
-  endMove->SetCallback([](vtkObject*, unsigned long, void* cd, void*) {
-    static_cast<Moves*>(cd)->pass->SetImageReductionFactor(1);
-  });
-  style->AddObserver(vtkCommand::StartInteractionEvent, startMove);
-  style->AddObserver(vtkCommand::EndInteractionEvent, endMove);
   interactor->SetInteractorStyle(style);
   interactor->SetRenderWindow(window);
   interactor->Initialize();
   window->Render();
   interactor->Start();
-  style->RemoveObserver(startMove);
-  style->RemoveObserver(endMove);
   renderer->RemoveObserver(before);
   return 0;
 }

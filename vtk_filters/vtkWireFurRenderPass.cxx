@@ -478,8 +478,11 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
         in.Scene.lights = wfvtk::convertLights(ren, camera, this->Ambient);
         in.Scene.lightsFollowCamera = false;
       }
-      // A reduced frame (ImageReductionFactor): the same view at 1/F of the size.
-      const int f = this->ImageReductionFactor;
+      // A reduced frame (ImageReductionFactor, or InteractiveImageReductionFactor while the
+      // window is in an interaction): the same view at 1/F of the size.
+      const int f = renWin->GetDesiredUpdateRate() > 1.0
+        ? std::max(this->ImageReductionFactor, this->InteractiveImageReductionFactor)
+        : this->ImageReductionFactor;
       const int cw = f > 1 ? std::max(1, (w + f - 1) / f) : w;
       const int ch = f > 1 ? std::max(1, (h + f - 1) / f) : h;
       if (depth && f > 1)

@@ -148,6 +148,18 @@ public:
   ///@}
 
   ///@{
+  /// The image reduction while the render window is in an interaction, as VTK's LOD actors
+  /// decide it: VTK's interactor styles raise the window's desired update rate to the
+  /// interactor's (15 frames per second by default) while the camera moves and lower it to the
+  /// still rate (0.0001) when it stops, then render the still frame. Above 1 frame per second
+  /// the pass renders at this reduction (or ImageReductionFactor when larger), so any VTK
+  /// application gets fast frames while moving and the exact frame when still. 1 ... 8;
+  /// default 1: off (`wirefur view` sets 2).
+  vtkSetClampMacro(InteractiveImageReductionFactor, int, 1, 8);
+  vtkGetMacro(InteractiveImageReductionFactor, int);
+  ///@}
+
+  ///@{
   /// Ambient radiance of the core's light rig (linear RGB). Default (0, 0, 0).
   vtkSetVector3Macro(Ambient, double);
   vtkGetVector3Macro(Ambient, double);
@@ -186,6 +198,7 @@ protected:
   int Threads = 0;
   int Shading = 0;
   int ImageReductionFactor = 1;
+  int InteractiveImageReductionFactor = 1;
   int LastImageReductionFactor = 1;
   double Ambient[3] = { 0.0, 0.0, 0.0 };
   double LastRenderSeconds = 0.0;

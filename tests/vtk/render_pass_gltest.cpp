@@ -16,6 +16,7 @@
 #include <vtkCellArray.h>
 #include <vtkInformation.h>
 #include <vtkInformationIntegerKey.h>
+#include <vtkInteractorStyleTrackballCamera.h>
 #include <vtkLight.h>
 #include <vtkNew.h>
 #include <vtkPoints.h>
@@ -24,6 +25,7 @@
 #include <vtkProperty.h>
 #include <vtkRenderStepsPass.h>
 #include <vtkRenderWindow.h>
+#include <vtkRenderWindowInteractor.h>
 #include <vtkRenderer.h>
 #include <vtkSmartPointer.h>
 #include <vtkUnsignedCharArray.h>
@@ -363,6 +365,30 @@ TEST(RenderPass, ReducedFrameIsTheSameViewScaledUp)
   EXPECT_GT(rms, 0.0);
   EXPECT_LE(rms, 10.0);
   EXPECT_EQ(notGreen, 0);
+}
+
+// (c3) InteractiveImageReductionFactor follows VTK's interaction protocol: between a trackball
+// style's StartRotate and EndRotate (which raise and lower the window's desired update rate) the
+// pass renders at 1/2 size, the image differs from the still frame, and after EndRotate the
+// frame is full size again, bit for bit the frame before the interaction.
+TEST(RenderPass, InteractionRendersReducedAndTheStillFrameFull)
+{
+  Window win;
+  win.AddWire(true);
+  win.pass->SetInteractiveImageReductionFactor(2);
+  vtkNew<vtkRenderWindowInteractor> interactor;
+  interactor->SetRenderWindow(win.window);
+  vtkNew<vtkInteractorStyleTrackballCamera> style;
+  interactor->SetInteractorStyle(style);
+  const std::vector<unsigned char> still = win.Render();
+  EXPECT_EQ(win.pass->GetLastImageReductionFactor(), 1);
+  style->StartRotate();
+  const std::vector<unsigned char> moving = win.Render();
+  EXPECT_EQ(win.pass->GetLastImageReductionFactor(), 2);
+  EXPECT_NE(moving, still);
+  style->EndRotate();
+  EXPECT_EQ(win.Render(), still);
+  EXPECT_EQ(win.pass->GetLastImageReductionFactor(), 1);
 }
 
 // (d) Without marked props the pass is its delegate: bit-identical to a vtkRenderStepsPass.
