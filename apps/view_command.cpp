@@ -171,14 +171,22 @@ int runView(const ViewOptions& o) {
     std::ostringstream s;
     s.setf(std::ios::fixed);
     s.precision(1);
-    s << "frame " << 1000.0 * pass->GetLastRenderSeconds() << " ms (A-buffer " << 1000.0 * pass->GetLastCoreSeconds()
-      << " ms";
-    if (pass->GetLastImageReductionFactor() > 1) s << ", moving: 1/" << pass->GetLastImageReductionFactor() << " size";
-    s << ")   ";
-    s.unsetf(std::ios::fixed);
-    s.precision(2);  // the shading bound is ~1e-9 on the default path: significant digits, not decimals
-    s << "error <= " << pass->GetLastErrorEstimate() << " (shading), " << pass->GetLastCoverageError() << " (coverage)   mask "
-      << pass->GetMaskWidth() << "x" << pass->GetMaskHeight() << (plainWires ? "   plain wire" : "   shaded wire")
+    // The frame about to be drawn: reduced while the camera moves (its figures are not shown:
+    // they would be the render at the reduced size, not the picture); still, the last frame's
+    // time and error bounds.
+    const int coming = pass->GetImageReductionFactorFor(window);
+    if (coming > 1) {
+      s << "moving: 1/" << coming << " size, scaled up (the still frame is full size)";
+    } else {
+      s << "last frame " << 1000.0 * pass->GetLastRenderSeconds() << " ms (A-buffer " << 1000.0 * pass->GetLastCoreSeconds()
+        << " ms";
+      if (pass->GetLastImageReductionFactor() > 1) s << ", at 1/" << pass->GetLastImageReductionFactor() << " size";
+      s << ")   ";
+      s.unsetf(std::ios::fixed);
+      s.precision(2);  // the shading bound is ~1e-9 on the default path: significant digits, not decimals
+      s << "error <= " << pass->GetLastErrorEstimate() << " (shading), " << pass->GetLastCoverageError() << " (coverage)";
+    }
+    s << "   mask " << pass->GetMaskWidth() << "x" << pass->GetMaskHeight() << (plainWires ? "   plain wire" : "   shaded wire")
       << "\nkeys: w plain/shaded wire  f fur  s scales  m mask  q quit";
     text->SetInput(s.str().c_str());
   };

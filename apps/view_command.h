@@ -17,7 +17,7 @@ struct ViewOptions {
   int width = 800, height = 600;
   int frames = 0;         ///< > 0: benchmark N frames turning the camera, then exit
   /// While the camera moves the A-buffer renders at 1/F of the size, scaled up
-  /// (vtkWireFurRenderPass::SetImageReductionFactor); the still frame is full size. 1: off.
+  /// (vtkWireFurRenderPass::SetInteractiveImageReductionFactor); the still frame is full size. 1: off.
   int interactiveReduction = 2;
   bool offscreen = false;
   std::string png;        ///< --png FILE: the last benchmark frame as a PNG (for a person to look at)

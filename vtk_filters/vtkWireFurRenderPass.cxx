@@ -84,6 +84,7 @@ public:
   std::shared_ptr<const wf::Scene> Core;   ///< SetScene
   bool CoreChanged = false;
   wf::Scene Scene;                        ///< the pieces assembled (camera and lights per frame)
+  bool SceneFailed = false;               ///< the last build failed: nothing of ours is drawn
   std::vector<vtkProp*> DelegateProps, OverlayProps;
   std::vector<vtkActor*> Marked;
   std::vector<float> WindowDepth, ViewDepth;
@@ -131,12 +132,13 @@ public:
       try
       {
         this->Scene = wfvtk::assembleScene(this->Pieces, this->Core.get());
+        this->SceneFailed = false;
       }
-      catch (const std::exception& e)  // out of memory: nothing of ours is drawn this frame
+      catch (const std::exception& e)  // out of memory: nothing of ours is drawn until a prop changes
       {
         vtkGenericWarningMacro(<< "vtkWireFurRenderPass: the marked actors cannot be built: " << e.what());
         this->Scene = wf::Scene{};
-        this->Pieces.clear();  // tried again next frame
+        this->SceneFailed = true;
       }
     }
     return changed;
@@ -239,10 +241,11 @@ public:
   }
 
   /// The reduced render scaled up to w x h (bilinear in premultiplied RGBA, clamped at the
-  /// edges), on `threads` threads (0: all).
+  /// edges), on `threads` threads (0: all); the buffer is kept between frames.
   const wf::ImageRGBA& Upscale(const wf::ImageRGBA& small, int w, int h, int threads)
   {
-    this->Upscaled = wf::ImageRGBA(w, h);
+    if (this->Upscaled.width != w || this->Upscaled.height != h)
+      this->Upscaled = wf::ImageRGBA(w, h);
     const int cw = small.width, ch = small.height;
     tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
     arena.execute([&] { tbb::parallel_for(0, h, [&](int y)
@@ -425,6 +428,7 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
   }
   this->LastMarkedProps = int(in.Marked.size());
   this->LastCoreSeconds = 0.0;
+  this->LastImageReductionFactor = 1;
   if (in.Core)
     anyMarked = true;
 
@@ -457,6 +461,9 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
   if (renWin && camera && w > 0 && h > 0 && (!in.Marked.empty() || in.Core))
   {
     in.UpdateScene();
+  }
+  if (renWin && camera && w > 0 && h > 0 && (!in.Marked.empty() || in.Core) && !in.SceneFailed)
+  {
     // The delegate's depth matters only where it drew something: with no prop of its own (a
     // core scene alone, as in `wirefur view`) it only cleared, and nothing hides the A-buffer.
     const bool depth = !in.DelegateProps.empty() || ren->GetPreserveDepthBuffer();
@@ -480,9 +487,7 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
       }
       // A reduced frame (ImageReductionFactor, or InteractiveImageReductionFactor while the
       // window is in an interaction): the same view at 1/F of the size.
-      const int f = renWin->GetDesiredUpdateRate() > 1.0
-        ? std::max(this->ImageReductionFactor, this->InteractiveImageReductionFactor)
-        : this->ImageReductionFactor;
+      const int f = this->GetImageReductionFactorFor(renWin);
       const int cw = f > 1 ? std::max(1, (w + f - 1) / f) : w;
       const int ch = f > 1 ? std::max(1, (h + f - 1) / f) : h;
       if (depth && f > 1)
@@ -552,6 +557,13 @@ void vtkWireFurRenderPass::ReleaseGraphicsResources(vtkWindow* w)
     in.Resolve->ReleaseGraphicsResources(w);
 }
 
+int vtkWireFurRenderPass::GetImageReductionFactorFor(vtkRenderWindow* window) const
+{
+  return window && window->GetDesiredUpdateRate() > 1.0
+    ? std::max(this->ImageReductionFactor, this->InteractiveImageReductionFactor)
+    : this->ImageReductionFactor;
+}
+
 void vtkWireFurRenderPass::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
@@ -561,6 +573,9 @@ void vtkWireFurRenderPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Threads: " << this->Threads << "\n";
   os << indent << "Shading: " << (this->Shading == 1 ? "maps" : this->Shading == 2 ? "exact" : "closed") << "\n";
   os << indent << "Ambient: (" << this->Ambient[0] << ", " << this->Ambient[1] << ", " << this->Ambient[2] << ")\n";
+  os << indent << "ImageReductionFactor: " << this->ImageReductionFactor << "\n";
+  os << indent << "InteractiveImageReductionFactor: " << this->InteractiveImageReductionFactor << "\n";
+  os << indent << "LastImageReductionFactor: " << this->LastImageReductionFactor << "\n";
   os << indent << "LastRenderSeconds: " << this->LastRenderSeconds << "\n";
   os << indent << "LastCoreSeconds: " << this->LastCoreSeconds << "\n";
   os << indent << "LastErrorEstimate: " << this->LastErrorEstimate << "\n";

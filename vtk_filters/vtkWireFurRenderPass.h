@@ -61,6 +61,7 @@ struct Scene;
 class vtkInformationDoubleKey;
 class vtkInformationIntegerKey;
 class vtkProp;
+class vtkRenderWindow;
 
 class WIREFURFILTERS_EXPORT vtkWireFurRenderPass : public vtkRenderPass
 {
@@ -137,12 +138,13 @@ public:
   ///@}
 
   ///@{
-  /// Renders the A-buffer at 1/F of the viewport's width and height (rounded up) and scales the
-  /// result up bilinearly before the composite; the delegate's depth is scaled down to the
-  /// nearest depth of each reduced pixel. For frames while the camera moves: an interactive
-  /// viewer sets it when an interaction starts and back to 1 when it ends (as ParaView's image
-  /// reduction factor), so that the still frame is exact. 1 ... 8; default 1: every pixel
-  /// rendered.
+  /// Renders the A-buffer at 1/F of the viewport's width and height (rounded up), with widths
+  /// given in pixels scaled to match, and scales the result up bilinearly before the composite;
+  /// the delegate's depth is scaled down to the nearest depth over each reduced pixel's bilinear
+  /// support, so a marked prop is never drawn over the delegate's geometry (near an occluder's
+  /// edge it is hidden up to about 1.5 F pixels early). Every frame (as ParaView's image
+  /// reduction factor); for frames while the camera moves only, see
+  /// InteractiveImageReductionFactor. 1 ... 8; default 1: every pixel rendered.
   vtkSetClampMacro(ImageReductionFactor, int, 1, 8);
   vtkGetMacro(ImageReductionFactor, int);
   ///@}
@@ -159,6 +161,11 @@ public:
   vtkGetMacro(InteractiveImageReductionFactor, int);
   ///@}
 
+  /// The reduction the next Render will use in `window`: InteractiveImageReductionFactor (or
+  /// ImageReductionFactor when larger) while its desired update rate is above 1 frame per
+  /// second, else ImageReductionFactor.
+  int GetImageReductionFactorFor(vtkRenderWindow* window) const;
+
   ///@{
   /// Ambient radiance of the core's light rig (linear RGB). Default (0, 0, 0).
   vtkSetVector3Macro(Ambient, double);
@@ -167,7 +174,10 @@ public:
 
   /// Seconds the last Render took in all (delegate, conversion, A-buffer, composite).
   vtkGetMacro(LastRenderSeconds, double);
-  /// The image reduction factor the last core render was drawn with.
+  /// The image reduction factor the last core render was drawn with (1 when none ran). The
+  /// figures below (times, error estimates, fragments) are those of that render: at a factor
+  /// above 1 they describe the render at the reduced size, not its scaled-up picture, which
+  /// differs from the full-size frame by the upscale's blur (docs/vtk.md).
   vtkGetMacro(LastImageReductionFactor, int);
   /// Seconds of the last core A-buffer render alone (0 when no prop was marked).
   vtkGetMacro(LastCoreSeconds, double);

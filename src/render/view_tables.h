@@ -33,9 +33,10 @@ class ViewGrid {
   int nodes() const { return n_ * n_; }
   /// Rotation taking eye-space vectors into node k's frame (its view vector to +z).
   const glm::dmat3& frameFromEye(int k) const { return frames_[size_t(k)]; }
-  /// The same nodes and frames (tables built for one serve the other bit for bit).
+  /// The same nodes and frames (tables built for one serve the other bit for bit). One node
+  /// (the view axis) does not depend on the image size: the same grid for a reduced frame.
   bool sameAs(const ViewGrid& o) const {
-    return n_ == o.n_ && width_ == o.width_ && height_ == o.height_ && frames_ == o.frames_;
+    return n_ == o.n_ && (n_ == 1 || (width_ == o.width_ && height_ == o.height_)) && frames_ == o.frames_;
   }
   /// The four nodes around screen point (x, y) and their bilinear weights (some may be 0).
   void corners(double x, double y, int node[4], double weight[4]) const;

@@ -10,6 +10,17 @@
 namespace wf {
 namespace {
 
+// One node (the view axis) is the same grid at any image size, so the tables of a full-size frame
+// serve its reduced frames (vtkWireFurRenderPass's image reduction) and back; a grid of several
+// nodes over the image is not.
+TEST(ViewTablesReview, OneNodeIsTheSameGridAtAnySize) {
+  Camera c;
+  c.fovYDegrees = 30;
+  EXPECT_TRUE(ViewGrid(ViewTransform::make(c, 800, 600), 1).sameAs(ViewGrid(ViewTransform::make(c, 400, 300), 1)));
+  EXPECT_FALSE(ViewGrid(ViewTransform::make(c, 800, 600), 3).sameAs(ViewGrid(ViewTransform::make(c, 400, 300), 3)));
+  EXPECT_TRUE(ViewGrid(ViewTransform::make(c, 800, 600), 3).sameAs(ViewGrid(ViewTransform::make(c, 800, 600), 3)));
+}
+
 TEST(ViewTablesReview, CornersValidForEveryGridAndTinyOrHugeImages) {
   for (int n = 1; n <= 16; ++n)
     for (auto [w, h] : {std::pair{1, 1}, std::pair{1, 7}, std::pair{3000, 3000}, std::pair{16384, 1}}) {

@@ -370,25 +370,32 @@ TEST(RenderPass, ReducedFrameIsTheSameViewScaledUp)
 // (c3) InteractiveImageReductionFactor follows VTK's interaction protocol: between a trackball
 // style's StartRotate and EndRotate (which raise and lower the window's desired update rate) the
 // pass renders at 1/2 size, the image differs from the still frame, and after EndRotate the
-// frame is full size again, bit for bit the frame before the interaction.
+// frame is full size again, bit for bit the frame before the interaction. On the map path the
+// reduced frames and the still frame share the tables (one view node does not depend on the
+// image size): none is rebuilt while the camera does not turn.
 TEST(RenderPass, InteractionRendersReducedAndTheStillFrameFull)
 {
   Window win;
   win.AddWire(true);
+  win.pass->SetShadingToMaps();
   win.pass->SetInteractiveImageReductionFactor(2);
   vtkNew<vtkRenderWindowInteractor> interactor;
   interactor->SetRenderWindow(win.window);
   vtkNew<vtkInteractorStyleTrackballCamera> style;
   interactor->SetInteractorStyle(style);
   const std::vector<unsigned char> still = win.Render();
-  EXPECT_EQ(win.pass->GetLastImageReductionFactor(), 1);
+  EXPECT_EQ(win.pass->GetImageReductionFactorFor(win.window), 1);
   style->StartRotate();
+  EXPECT_EQ(win.pass->GetImageReductionFactorFor(win.window), 2);
   const std::vector<unsigned char> moving = win.Render();
   EXPECT_EQ(win.pass->GetLastImageReductionFactor(), 2);
+  EXPECT_EQ(win.pass->GetLastTablesBuilt(), 0);
+  EXPECT_GT(win.pass->GetLastTablesReused(), 0);
   EXPECT_NE(moving, still);
   style->EndRotate();
   EXPECT_EQ(win.Render(), still);
   EXPECT_EQ(win.pass->GetLastImageReductionFactor(), 1);
+  EXPECT_EQ(win.pass->GetLastTablesBuilt(), 0);
 }
 
 // (d) Without marked props the pass is its delegate: bit-identical to a vtkRenderStepsPass.
