@@ -406,10 +406,9 @@ TEST(Render, TriangleThroughTheNearPlaneDrawsOnlyItsFrontPart) {
   EXPECT_LE(worst, 1e-5);
 }
 
-TEST(Render, EndOnSegmentIsADisc) {
-  // A segment along the view axis (orthographic): its screen length is 0, so it is drawn as
-  // its end disc, a polygon scaled to the disc's area: coverage pi r^2, r = 5 px (1%).
-  const int W = 64, H = 64;
+// A plain wire 10 px wide along the view axis (orthographic): seen end-on, its disc of r = 5 px
+// centred at screen (35.3, 29.9).
+Scene endOnDiscScene(int W, int H) {
   Scene scene = baseScene(W, H);
   SceneWire w;
   w.style = WireStyle::Plain;
@@ -417,6 +416,14 @@ TEST(Render, EndOnSegmentIsADisc) {
   w.thicknessInPixels = true;
   w.lines.add({{3.3, 2.1, 2}, {3.3, 2.1, -2}});
   scene.wires = {w};
+  return scene;
+}
+
+TEST(Render, EndOnSegmentIsADisc) {
+  // A segment along the view axis (orthographic): its screen length is 0, so it is drawn as
+  // its end disc, a polygon scaled to the disc's area: coverage pi r^2, r = 5 px (1%).
+  const int W = 64, H = 64;
+  Scene scene = endOnDiscScene(W, H);
   const RenderResult r = render(scene, smallOptions(W, H));
   const double want = std::numbers::pi * 25;
   EXPECT_NEAR(sumAlpha(r.image), want, 0.01 * want);
@@ -434,13 +441,7 @@ TEST(Render, PixelScaleScalesWidthsGivenInPixels) {
   // The end-on disc of EndOnSegmentIsADisc (r = 5 px) at pixel scale 0.5 has r = 2.5 px:
   // coverage pi 2.5^2 (1%); a wire whose width is in world units keeps its coverage.
   const int W = 64, H = 64;
-  Scene scene = baseScene(W, H);
-  SceneWire w;
-  w.style = WireStyle::Plain;
-  w.thickness = 10;
-  w.thicknessInPixels = true;
-  w.lines.add({{3.3, 2.1, 2}, {3.3, 2.1, -2}});
-  scene.wires = {w};
+  Scene scene = endOnDiscScene(W, H);
   RenderOptions o = smallOptions(W, H);
   o.pixelScale = 0.5;
   const double want = std::numbers::pi * 2.5 * 2.5;
