@@ -46,7 +46,15 @@ struct MaskLayout {
   }
 };
 
-inline int maskCount(MaskBits m) { return std::popcount(m); }
+/// Set subpixels of a mask. std::popcount is a call into libgcc on the x86-64 baseline (no
+/// POPCNT instruction); the bit-parallel sum inline is several times cheaper in the hot loops.
+inline int maskCount(MaskBits m) {
+  std::uint64_t x = std::uint64_t(m);
+  x = x - ((x >> 1) & 0x5555555555555555ull);
+  x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
+  x = (x + (x >> 4)) & 0x0F0F0F0F0F0F0F0Full;
+  return int((x * 0x0101010101010101ull) >> 56);
+}
 
 /// ceil for |x| < 2^62 without a library call (the rasteriser's inner loops need many).
 inline std::int64_t ceilToInt(double x) {

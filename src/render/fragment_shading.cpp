@@ -185,7 +185,7 @@ glm::vec3 shadeFragment(const PreparedScene& ps, std::uint32_t i, double x, doub
       if (ps.path == ShadingPath::Maps && slot.wireTables) return slot.wireTables->lookup(T, x, y) * c;
       // Closed and exact paths: the cylinder integral at this fragment's own view vector.
       const glm::dvec3 P = ps.view.eyePoint(x, y, depth);
-      return glm::vec3(cylinderRadianceClosed(T, ps.view.viewVector(P), slot.phong, ps.eyeLights, slot.lobe.get())) * c;
+      return glm::vec3(cylinderRadianceClosedSanitized(T, ps.view.viewVector(P), slot.phong, ps.eyeLights, slot.lobe.get())) * c;
     }
   }
 }

@@ -45,8 +45,9 @@ struct TriangleDepth {
   }
   /// Where the polygon may lie across rows [ya, yb]: false, the whole rectangle being rasterised.
   bool bandSpan(double, double, double&, double&) const { return false; }
-  void range(int col, int row, double cx, double cy, float& zmin, float& zmax, float& zkey) const {
-    const double a = nearest(col, row, col + 1.0, row + 1.0), b = farthest(col, row, col + 1.0, row + 1.0);
+  /// zNear: nearest(col, row, col + 1, row + 1), which the rasteriser has already asked.
+  void range(int col, int row, double cx, double cy, double zNear, float& zmin, float& zmax, float& zkey) const {
+    const double a = zNear, b = farthest(col, row, col + 1.0, row + 1.0);
     zmin = float(a);
     zmax = float(b);
     zkey = float(std::clamp(depthAt(cx, cy), a, b));
@@ -63,7 +64,11 @@ struct SegmentDepth {
   WireDepth model;
   double fa, fb, fc, flo, fhi;  // front key plane, its depth range
   double aa, ab, ac, alo, ahi;  // axis key plane, its depth range
+  double ef0, ef1, ea0, ea1;  // the keys of the front and of the axis at the ends, as segmentFrontKey and segmentAxisKey form them
   SegmentDepth(const ViewTransform& v, const SegmentPrim& s, WireDepth m) : view(&v), seg(&s), frame(s), model(m) {
+    ef0 = v.depthKey(std::max(v.nearPlane, double(s.d0) - double(s.r0)));
+    ef1 = v.depthKey(std::max(v.nearPlane, double(s.d1) - double(s.r1)));
+    ea0 = v.depthKey(s.d0), ea1 = v.depthKey(s.d1);
     const double kf0 = segmentFrontKey(v, s, 0.0), kf1 = segmentFrontKey(v, s, 1.0);
     const double ka0 = segmentAxisKey(v, s, 0.0), ka1 = segmentAxisKey(v, s, 1.0);
     fa = (kf1 - kf0) * frame.ux, fb = (kf1 - kf0) * frame.uy, fc = kf0 - fa * frame.ax - fb * frame.ay;
@@ -99,21 +104,26 @@ struct SegmentDepth {
   /// where nearest less the largest radius (Round: the radius is interpolated along the screen,
   /// the axis depth perspective-correctly, so the front plane would not bound it).
   double nearest(double x0, double y0, double x1, double y1) const {
+    if (model == WireDepth::Round) return std::max(view->nearPlane, nearestAxis(x0, y0, x1, y1) - rmax);
     const bool big = view->perspective;
-    if (model == WireDepth::Round) {
-      const double k = aa * ((aa > 0) == big ? x1 : x0) + ab * ((ab > 0) == big ? y1 : y0) + ac;
-      return std::max(view->nearPlane, std::clamp(view->depthFromKey(k), alo, ahi) - rmax);
-    }
     const double k = fa * ((fa > 0) == big ? x1 : x0) + fb * ((fb > 0) == big ? y1 : y0) + fc;
     return std::clamp(view->depthFromKey(k), flo, fhi);
+  }
+  /// The axis's nearest depth over the rectangle (its key plane at the corner of the largest key
+  /// under perspective, of the smallest when orthographic).
+  double nearestAxis(double x0, double y0, double x1, double y1) const {
+    const bool big = view->perspective;
+    const double k = aa * ((aa > 0) == big ? x1 : x0) + ab * ((ab > 0) == big ? y1 : y0) + ac;
+    return std::clamp(view->depthFromKey(k), alo, ahi);
   }
   double farthest(double x0, double y0, double x1, double y1) const {
     const bool big = view->perspective;
     const double k = aa * ((aa > 0) == big ? x0 : x1) + ab * ((ab > 0) == big ? y0 : y1) + ac;
     return std::clamp(view->depthFromKey(k), alo, ahi);
   }
-  void range(int col, int row, double cx, double cy, float& zmin, float& zmax, float& zkey) const {
-    double a = nearest(col, row, col + 1.0, row + 1.0);
+  /// zNear: nearest(col, row, col + 1, row + 1), which the rasteriser has already asked.
+  void range(int col, int row, double cx, double cy, double zNear, float& zmin, float& zmax, float& zkey) const {
+    double a = zNear;
     double b = std::max(a, farthest(col, row, col + 1.0, row + 1.0));
     if (model == WireDepth::Round) {
       // The round surface over the pixel: between the axis a radius times sqrt(1 - q^2) nearer,
@@ -121,12 +131,14 @@ struct SegmentDepth {
       // corners (q is linear in the lateral distance; zero where the axis crosses the pixel).
       // Much tighter than [front, axis] inside the wire, where most of its pixels are, so that
       // what it hides is culled against its true depth there.
-      double tlo = 1e300, thi = -1e300, llo = 1e300, lhi = -1e300;
-      for (int k = 0; k < 4; ++k) {
-        const double x = col + (k & 1), y = row + (k >> 1);
-        const double t = frame.t(x, y), l = (x - frame.ax) * frame.nx + (y - frame.ay) * frame.ny;
-        tlo = std::min(tlo, t), thi = std::max(thi, t), llo = std::min(llo, l), lhi = std::max(lhi, l);
-      }
+      // t and l are linear: their extremes over the pixel are sums of the extremes of their x and
+      // y terms (each term is the same product the corner's own t and l would form).
+      const double tx0 = (col - frame.ax) * frame.ux, tx1 = (col + 1.0 - frame.ax) * frame.ux;
+      const double ty0 = (row - frame.ay) * frame.uy, ty1 = (row + 1.0 - frame.ay) * frame.uy;
+      const double lx0 = (col - frame.ax) * frame.nx, lx1 = (col + 1.0 - frame.ax) * frame.nx;
+      const double ly0 = (row - frame.ay) * frame.ny, ly1 = (row + 1.0 - frame.ay) * frame.ny;
+      const double tlo = std::min(tx0, tx1) + std::min(ty0, ty1), thi = std::max(tx0, tx1) + std::max(ty0, ty1);
+      const double llo = std::min(lx0, lx1) + std::min(ly0, ly1), lhi = std::max(lx0, lx1) + std::max(ly0, ly1);
       if (frame.length > 0 && tlo >= 0.0 && thi <= 1.0) {  // the caps (beyond the ends) keep [front, axis]
         const double wlo = std::min(double(seg->w0) + (double(seg->w1) - double(seg->w0)) * tlo,
                                     double(seg->w0) + (double(seg->w1) - double(seg->w0)) * thi);
@@ -136,19 +148,25 @@ struct SegmentDepth {
         const double lmin = (llo <= 0.0 && lhi >= 0.0) ? 0.0 : std::min(std::abs(llo), std::abs(lhi));
         const double lmax = std::max(std::abs(llo), std::abs(lhi));
         const double qmin = std::min(1.0, lmin / whi), qmax = std::min(1.0, lmax / wlo);
-        const double axisNear = std::clamp(view->depthFromKey(nearAxisKey(col, row)), alo, ahi);
+        const double axisNear = nearestAxis(col, row, col + 1.0, row + 1.0);
         a = std::max(a, std::max(view->nearPlane, axisNear - rhi * std::sqrt(1.0 - qmin * qmin)));
         b = std::max(a, std::min(b, b - rlo * std::sqrt(1.0 - qmax * qmax)));
       }
     }
     zmin = float(a);
     zmax = float(b);
-    zkey = float(std::clamp(segmentDepthAt(*view, *seg, frame, cx, cy, model), a, b));
+    zkey = float(std::clamp(depthAt(cx, cy), a, b));
   }
-  // The axis key over the pixel where it is nearest.
-  double nearAxisKey(int col, int row) const {
-    const bool big = view->perspective;
-    return aa * ((aa > 0) == big ? col + 1.0 : double(col)) + ab * ((ab > 0) == big ? row + 1.0 : double(row)) + ac;
+  /// segmentDepthAt (pipeline.h) with the end keys computed once: the same arithmetic, so the
+  /// same value to the bit.
+  double depthAt(double x, double y) const {
+    const double tc = std::clamp(frame.t(x, y), 0.0, 1.0);
+    if (model == WireDepth::Flat) return std::max(view->nearPlane, view->depthFromKey(ef0 + (ef1 - ef0) * tc));
+    const SegmentPrim& s = *seg;
+    const double w = double(s.w0) + (double(s.w1) - double(s.w0)) * tc;
+    const double q2 = w > 0 ? std::min(1.0, frame.distance2(x, y) / (w * w)) : 1.0;
+    const double r = double(s.r0) + (double(s.r1) - double(s.r0)) * tc;
+    return std::max(view->nearPlane, view->depthFromKey(ea0 + (ea1 - ea0) * tc) - r * std::sqrt(1.0 - q2));
   }
 };
 
@@ -241,16 +259,19 @@ void rasterizePolygon(const ScreenPolygon& poly, const Depth& depth, int rx0, in
   const int row0 = int(std::max<std::int64_t>(ry0, floorToInt(std::max(ymin, -1e15))));
   const int row1 = int(std::min<std::int64_t>(ry1, ceilToInt(std::min(ymax, 1e15)) - 1));
   struct SubEdge {
-    double xa, ya, xb, yb;  // the edge's part inside the band, in contour order
-    double invDx;           // 1 / (xb - xa), or 0 for a vertical edge
+    double xa, xb;    // the edge's part inside the band, in contour order (its ends' x)
+    double dy;        // its signed height
+    double lo, hi;    // min and max of xa, xb
+    double whole;     // the integral when X is right of it: 0.5 (xa + xb) dy
+    double invDx;     // 1 / (xb - xa), or 0 for a vertical edge
   };
   SubEdge sub[ScreenPolygon::kMaxVertices];
-  // Integral over one sub-edge of min(x, X) dy, oriented.
+  // Integral over one sub-edge of min(x, X) dy, oriented (what depends on the sub-edge alone is
+  // formed once per row).
   auto leftOf = [](const SubEdge& e, double X) {
-    const double dy = e.yb - e.ya;
-    const double lo = std::min(e.xa, e.xb), hi = std::max(e.xa, e.xb);
-    if (X >= hi) return 0.5 * (e.xa + e.xb) * dy;
-    if (X <= lo) return X * dy;
+    const double dy = e.dy;
+    if (X >= e.hi) return e.whole;
+    if (X <= e.lo) return X * dy;
     const double s = (X - e.xa) * e.invDx;  // where the edge crosses x = X
     const double mean = e.xa < e.xb ? s * 0.5 * (e.xa + X) + (1.0 - s) * X : s * X + (1.0 - s) * 0.5 * (X + e.xb);
     return mean * dy;
@@ -286,8 +307,8 @@ void rasterizePolygon(const ScreenPolygon& poly, const Depth& depth, int rx0, in
       auto xAt = [&](double y) { return xa + (y - ya) * slopes[i]; };
       const double ca = std::clamp(ya, y0, y1), cb = std::clamp(yb, y0, y1);
       const double xca = ca == ya ? xa : xAt(ca), xcb = cb == yb ? xb : xAt(cb);
-      sub[ns++] = {xca, ca, xcb, cb, xcb != xca ? 1.0 / (xcb - xca) : 0.0};
       const double lo = std::min(xca, xcb), hi = std::max(xca, xcb);
+      sub[ns++] = {xca, xcb, cb - ca, lo, hi, 0.5 * (xca + xcb) * (cb - ca), xcb != xca ? 1.0 / (xcb - xca) : 0.0};
       xmin = std::min(xmin, lo);
       xmax = std::max(xmax, hi);
       // Oriented downwards the contour runs along the polygon's right side, upwards its left.
@@ -376,7 +397,7 @@ void rasterizePolygon(const ScreenPolygon& poly, const Depth& depth, int rx0, in
           pc.subpixel = sj * layout.w + si;
         }
       }
-      depth.range(col, row, pc.cx, pc.cy, pc.zmin, pc.zmax, pc.zkey);
+      depth.range(col, row, pc.cx, pc.cy, zNear, pc.zmin, pc.zmax, pc.zkey);
       if (hidden(col, row, pc.mask, pc.subpixel, std::max(zNear, double(pc.zmin)))) {
         ++work.masksHidden;
         continue;

@@ -151,7 +151,7 @@ glm::vec3 shadeSurfaceFragment(const PreparedScene& ps, std::uint32_t triangle, 
       const EnvironmentMap& env = ps.scene->environment ? *ps.scene->environment : defaultEnvironment();
       return glm::vec3(chromeRadiance(env, slot.chromeReflectance, N, V)) * c;
     }
-    return glm::vec3(phongRadiance(N, V, slot.phong, ps.eyeLights)) * c;
+    return glm::vec3(phongRadianceSanitized(N, V, slot.phong, ps.eyeLights)) * c;
   }
 
   // The pixel's footprint, only when a filtered lookup needs it.
@@ -220,7 +220,7 @@ glm::vec3 shadeSurfaceFragment(const PreparedScene& ps, std::uint32_t triangle, 
       D = glm::dvec3(slot.wireTables->lookup(T, x, y));
       if (slot.split && slot.wireSpecular) S = glm::dvec3(slot.wireSpecular->lookup(T, x, y));
     } else {
-      exactParts(slot, [&](const PhongMaterial& m) { return cylinderRadianceClosed(T, V, m, ps.eyeLights, slot.lobe.get()); }, D, S);
+      exactParts(slot, [&](const PhongMaterial& m) { return cylinderRadianceClosedSanitized(T, V, m, ps.eyeLights, slot.lobe.get()); }, D, S);
     }
   } else if (slot.kind == ShaderSlot::Kind::SurfaceChrome) {
     if (maps && slot.surfaceTables) {
@@ -234,7 +234,7 @@ glm::vec3 shadeSurfaceFragment(const PreparedScene& ps, std::uint32_t triangle, 
       D = glm::dvec3(slot.surfaceTables->lookup(N, x, y));
       if (slot.split && slot.surfaceSpecular) S = glm::dvec3(slot.surfaceSpecular->lookup(N, x, y));
     } else {
-      exactParts(slot, [&](const PhongMaterial& m) { return phongRadiance(N, V, m, ps.eyeLights); }, D, S);
+      exactParts(slot, [&](const PhongMaterial& m) { return phongRadianceSanitized(N, V, m, ps.eyeLights); }, D, S);
     }
   }
   const glm::dvec3 L = g * (t * D + S);

@@ -91,5 +91,9 @@ double cylinderSpecularClosedForm(double a, double b, double u, double w, double
 /// V (need not be unit); end-on and undefined input as cylinderRadianceExact.
 glm::dvec3 cylinderRadianceClosed(const glm::dvec3& T, const glm::dvec3& V, const PhongMaterial& m,
                                   const LightRig& rig, const CylinderLobeTable* table = nullptr);
+/// cylinderRadianceClosed for a material that is already PhongMaterial::sanitized (a prepared
+/// scene's ShaderSlot::phong, and its parts): the same value, without re-sanitising per call.
+glm::dvec3 cylinderRadianceClosedSanitized(const glm::dvec3& T, const glm::dvec3& V, const PhongMaterial& m,
+                                           const LightRig& rig, const CylinderLobeTable* table = nullptr);
 
 }  // namespace wf

@@ -282,7 +282,11 @@ glm::dvec3 cylinderRadianceSampled(const glm::dvec3& T, const glm::dvec3& V, con
 
 glm::dvec3 cylinderRadianceClosed(const glm::dvec3& T, const glm::dvec3& V, const PhongMaterial& material,
                                   const LightRig& rig, const CylinderLobeTable* table) {
-  const PhongMaterial m = material.sanitized();
+  return cylinderRadianceClosedSanitized(T, V, material.sanitized(), rig, table);
+}
+
+glm::dvec3 cylinderRadianceClosedSanitized(const glm::dvec3& T, const glm::dvec3& V, const PhongMaterial& m,
+                                           const LightRig& rig, const CylinderLobeTable* table) {
   const CylinderFrame fr = cylinderFrame(T, V);
   if (fr.endOn) return endOnFallback(T, V, m, rig);
   glm::dvec3 out = m.diffuse * rig.ambient;

@@ -39,7 +39,11 @@ double phongLobe(double x, double n) {
 
 glm::dvec3 phongRadiance(const glm::dvec3& N, const glm::dvec3& V, const PhongMaterial& material,
                          const LightRig& rig) {
-  const PhongMaterial m = material.sanitized();
+  return phongRadianceSanitized(N, V, material.sanitized(), rig);
+}
+
+glm::dvec3 phongRadianceSanitized(const glm::dvec3& N, const glm::dvec3& V, const PhongMaterial& m,
+                                  const LightRig& rig) {
   glm::dvec3 out = m.diffuse * rig.ambient;
   const double ln = glm::length(N), lv = glm::length(V);
   if (!(ln > 0.0) || !(lv > 0.0) || !std::isfinite(ln) || !std::isfinite(lv)) return out;
