@@ -3,6 +3,7 @@
 #include "core/limits.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 

@@ -64,11 +64,8 @@ struct SegmentDepth {
   WireDepth model;
   double fa, fb, fc, flo, fhi;  // front key plane, its depth range
   double aa, ab, ac, alo, ahi;  // axis key plane, its depth range
-  double ef0, ef1, ea0, ea1;  // the keys of the front and of the axis at the ends, as segmentFrontKey and segmentAxisKey form them
-  SegmentDepth(const ViewTransform& v, const SegmentPrim& s, WireDepth m) : view(&v), seg(&s), frame(s), model(m) {
-    ef0 = v.depthKey(std::max(v.nearPlane, double(s.d0) - double(s.r0)));
-    ef1 = v.depthKey(std::max(v.nearPlane, double(s.d1) - double(s.r1)));
-    ea0 = v.depthKey(s.d0), ea1 = v.depthKey(s.d1);
+  SegmentEndKeys keys;
+  SegmentDepth(const ViewTransform& v, const SegmentPrim& s, WireDepth m) : view(&v), seg(&s), frame(s), model(m), keys(v, s) {
     const double kf0 = segmentFrontKey(v, s, 0.0), kf1 = segmentFrontKey(v, s, 1.0);
     const double ka0 = segmentAxisKey(v, s, 0.0), ka1 = segmentAxisKey(v, s, 1.0);
     fa = (kf1 - kf0) * frame.ux, fb = (kf1 - kf0) * frame.uy, fc = kf0 - fa * frame.ax - fb * frame.ay;
@@ -132,7 +129,9 @@ struct SegmentDepth {
       // Much tighter than [front, axis] inside the wire, where most of its pixels are, so that
       // what it hides is culled against its true depth there.
       // t and l are linear: their extremes over the pixel are sums of the extremes of their x and
-      // y terms (each term is the same product the corner's own t and l would form).
+      // y terms (each term is the same product the corner's own t and l would form, and rounding
+      // a sum is monotonic, so the bounds are the corners' own to the bit where nothing contracts
+      // the products into fused multiply-adds: the build enables none).
       const double tx0 = (col - frame.ax) * frame.ux, tx1 = (col + 1.0 - frame.ax) * frame.ux;
       const double ty0 = (row - frame.ay) * frame.uy, ty1 = (row + 1.0 - frame.ay) * frame.uy;
       const double lx0 = (col - frame.ax) * frame.nx, lx1 = (col + 1.0 - frame.ax) * frame.nx;
@@ -157,17 +156,8 @@ struct SegmentDepth {
     zmax = float(b);
     zkey = float(std::clamp(depthAt(cx, cy), a, b));
   }
-  /// segmentDepthAt (pipeline.h) with the end keys computed once: the same arithmetic, so the
-  /// same value to the bit.
-  double depthAt(double x, double y) const {
-    const double tc = std::clamp(frame.t(x, y), 0.0, 1.0);
-    if (model == WireDepth::Flat) return std::max(view->nearPlane, view->depthFromKey(ef0 + (ef1 - ef0) * tc));
-    const SegmentPrim& s = *seg;
-    const double w = double(s.w0) + (double(s.w1) - double(s.w0)) * tc;
-    const double q2 = w > 0 ? std::min(1.0, frame.distance2(x, y) / (w * w)) : 1.0;
-    const double r = double(s.r0) + (double(s.r1) - double(s.r0)) * tc;
-    return std::max(view->nearPlane, view->depthFromKey(ea0 + (ea1 - ea0) * tc) - r * std::sqrt(1.0 - q2));
-  }
+  /// segmentDepthAt (pipeline.h), with the end keys formed once.
+  double depthAt(double x, double y) const { return segmentDepthAt(*view, *seg, frame, keys, x, y, model); }
 };
 
 /// The centroid (sx, sy) in the pixel of the samples a non-empty mask covers, a mask row at a
