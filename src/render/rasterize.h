@@ -174,11 +174,20 @@ inline void maskCentroid(MaskBits mask, const MaskLayout& layout, double& sx, do
   };
   static constexpr RowTable kRows{};
   int n = 0, cols = 0, rows = 0;
-  for (int j = 0; j < layout.h; ++j) {
-    const unsigned bits = unsigned((mask >> (j * layout.w)) & layout.rowFull());
-    n += kRows.count[bits];
-    cols += kRows.columnSum[bits];
-    rows += kRows.count[bits] * j;
+  if (layout.w == 8) {  // the default layouts (8x4, 8x8): a byte per row
+    for (int j = 0; j < layout.h; ++j, mask >>= 8) {
+      const unsigned bits = unsigned(mask & 0xFFu);
+      n += kRows.count[bits];
+      cols += kRows.columnSum[bits];
+      rows += kRows.count[bits] * j;
+    }
+  } else {
+    for (int j = 0; j < layout.h; ++j) {
+      const unsigned bits = unsigned((mask >> (j * layout.w)) & layout.rowFull());
+      n += kRows.count[bits];
+      cols += kRows.columnSum[bits];
+      rows += kRows.count[bits] * j;
+    }
   }
   sx = n ? (cols + 0.5 * n) / (double(n) * layout.w) : 0.5;
   sy = n ? (rows + 0.5 * n) / (double(n) * layout.h) : 0.5;
@@ -217,11 +226,13 @@ void rasterizePolygon(const ScreenPolygon& poly, const Depth& depth, int rx0, in
   }
   if (edgeCount < 3) return;
   // The polygon's run of sample columns [lo, hi) along the sample row at height y (coverage_mask.h).
-  auto rowSpan = [&](double y, std::int64_t& lo, std::int64_t& hi) {
+  // `near` lists (in order) the edges that may meet the row: the others' y extents miss it.
+  auto rowSpan = [&](double y, const int* near, int nearCount, std::int64_t& lo, std::int64_t& hi) {
     lo = std::numeric_limits<std::int64_t>::min() / 2;
     hi = std::numeric_limits<std::int64_t>::max() / 2;
     bool any = false;
-    for (int k = 0; k < edgeCount; ++k) {
+    for (int q = 0; q < nearCount; ++q) {
+      const int k = near[q];
       if (y < edgeLo[k] || y > edgeHi[k]) continue;
       any = true;
       const EdgeFunction& e = edges[k];
@@ -362,7 +373,11 @@ void rasterizePolygon(const ScreenPolygon& poly, const Depth& depth, int rx0, in
         if (!(area > 1e-12)) continue;
         pc.area = area;
         if (!spansDone) {
-          for (int j = 0; j < layout.h; ++j) rowSpan(row + layout.sampleY(j), spanLo[j], spanHi[j]);
+          // The sample rows lie strictly inside the band (y0, y1): only edges reaching into it count.
+          int near[ScreenPolygon::kMaxVertices], nearCount = 0;
+          for (int k = 0; k < edgeCount; ++k)
+            if (edgeHi[k] > y0 && edgeLo[k] < y1) near[nearCount++] = k;
+          for (int j = 0; j < layout.h; ++j) rowSpan(row + layout.sampleY(j), near, nearCount, spanLo[j], spanHi[j]);
           spansDone = true;
         }
         pc.mask = 0;
