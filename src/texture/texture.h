@@ -38,6 +38,11 @@ class ScalarTexture {
  public:
   virtual ~ScalarTexture() = default;
   virtual double value(const glm::dvec2& uv) const = 0;
+  /// value() at n points into out[0 ... n-1] (the samples of one footprint): the same values; a
+  /// texture may share work between the points.
+  virtual void values(const glm::dvec2* uv, int n, double* out) const {
+    for (int k = 0; k < n; ++k) out[k] = value(uv[k]);
+  }
   /// (dh/du, dh/dv), finite.
   virtual glm::dvec2 gradient(const glm::dvec2& uv) const = 0;
   virtual std::string describe() const = 0;

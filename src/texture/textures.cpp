@@ -264,11 +264,14 @@ double fadeDerivative(double t) { return 30.0 * t * t * (t * (t - 2.0) + 1.0); }
 /// A corner's gradient is hashWords(seed, octave, i, j), built from the octave's chain
 /// `octaveKey` (core/hash.h, hashAppend): the prefix (seed, octave) is shared by every corner
 /// and sample of the octave, (seed, octave, i) by the corners of one column.
-template <bool WithDerivative>
-double gradientNoise(double x, double y, std::int64_t cellsX, std::int64_t cellsY, std::uint64_t octaveKey,
-                     glm::dvec2& d) {
-  const double fx0 = std::floor(x), fy0 = std::floor(y);
-  const double tx = x - fx0, ty = y - fy0;
+/// The lattice cell of an octave that holds a point: its floored corner and the gradients of
+/// its four corners (what depends on the cell alone; points in the same cell share it).
+struct NoiseCell {
+  double fx0 = NAN, fy0 = NAN;  // NaN: no cell yet
+  glm::dvec2 g00, g10, g01, g11;
+};
+void noiseCell(double fx0, double fy0, std::int64_t cellsX, std::int64_t cellsY, std::uint64_t octaveKey,
+               NoiseCell& c) {
   std::int64_t i0 = cellIndex(fx0), j0 = cellIndex(fy0);
   std::int64_t i1 = i0 + 1, j1 = j0 + 1;
   // positiveMod(i0 + 1, n) from positiveMod(i0, n): one division per axis, not two.
@@ -277,7 +280,23 @@ double gradientNoise(double x, double y, std::int64_t cellsX, std::int64_t cells
   const GradientTable& table = gradients();
   const std::uint64_t h0 = hashAppend(octaveKey, std::uint64_t(i0)), h1 = hashAppend(octaveKey, std::uint64_t(i1));
   auto grad = [&](std::uint64_t column, std::int64_t j) { return table.g[hashAppend(column, std::uint64_t(j)) & 15u]; };
-  const glm::dvec2 g00 = grad(h0, j0), g10 = grad(h1, j0), g01 = grad(h0, j1), g11 = grad(h1, j1);
+  c.fx0 = fx0, c.fy0 = fy0;
+  c.g00 = grad(h0, j0), c.g10 = grad(h1, j0), c.g01 = grad(h0, j1), c.g11 = grad(h1, j1);
+}
+
+/// One octave of gradient noise at lattice coordinates (x, y), value in [-sqrt(2)/2, sqrt(2)/2],
+/// with its analytic derivative in (x, y) when asked. Period (cellsX, cellsY) when non-zero.
+/// A corner's gradient is hashWords(seed, octave, i, j), built from the octave's chain
+/// `octaveKey` (core/hash.h, hashAppend): the prefix (seed, octave) is shared by every corner
+/// and sample of the octave, (seed, octave, i) by the corners of one column. `cell` is the
+/// cell of an earlier point, reused when this point lies in it (the same values, formed once).
+template <bool WithDerivative>
+double gradientNoise(double x, double y, std::int64_t cellsX, std::int64_t cellsY, std::uint64_t octaveKey,
+                     NoiseCell& cell, glm::dvec2& d) {
+  const double fx0 = std::floor(x), fy0 = std::floor(y);
+  const double tx = x - fx0, ty = y - fy0;
+  if (!(fx0 == cell.fx0 && fy0 == cell.fy0)) noiseCell(fx0, fy0, cellsX, cellsY, octaveKey, cell);
+  const glm::dvec2 g00 = cell.g00, g10 = cell.g10, g01 = cell.g01, g11 = cell.g11;
   const double a = g00.x * tx + g00.y * ty;
   const double b = g10.x * (tx - 1.0) + g10.y * ty;
   const double c = g01.x * tx + g01.y * (ty - 1.0);
@@ -340,21 +359,21 @@ double NoiseTexture::evaluate(const glm::dvec2& uv, glm::dvec2* gradient) const 
   if (gradient) *gradient = glm::dvec2(0.0);
   if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return 0.0;
   // Periodic axes fold into one period first (keeps precision for large u).
-  const double u = params_.periodicU ? uv.x - std::floor(uv.x / params_.periodU) * params_.periodU
-                                     : uv.x;
-  const double v = params_.periodicV ? uv.y - std::floor(uv.y / params_.periodV) * params_.periodV
-                                     : uv.y;
+  const double u = foldU(uv.x), v = foldV(uv.y);
   double sum = 0.0;
   glm::dvec2 g(0.0);
   if (!gradient) {  // the value alone (a colour ramp's samples): no derivatives
     glm::dvec2 unused;
-    for (size_t o = 0; o < weight_.size(); ++o)
-      sum += weight_[o] * gradientNoise<false>(u * freqU_[o], v * freqV_[o], cellsU_[o], cellsV_[o], octaveKey_[o], unused);
+    for (size_t o = 0; o < weight_.size(); ++o) {
+      NoiseCell cell;
+      sum += weight_[o] * gradientNoise<false>(u * freqU_[o], v * freqV_[o], cellsU_[o], cellsV_[o], octaveKey_[o], cell, unused);
+    }
     return std::isfinite(sum) ? sum : 0.0;
   }
   for (size_t o = 0; o < weight_.size(); ++o) {
     glm::dvec2 d;
-    const double n = gradientNoise<true>(u * freqU_[o], v * freqV_[o], cellsU_[o], cellsV_[o], octaveKey_[o], d);
+    NoiseCell cell;
+    const double n = gradientNoise<true>(u * freqU_[o], v * freqV_[o], cellsU_[o], cellsV_[o], octaveKey_[o], cell, d);
     sum += weight_[o] * n;
     g += weight_[o] * glm::dvec2(d.x * freqU_[o], d.y * freqV_[o]);
   }
@@ -364,6 +383,41 @@ double NoiseTexture::evaluate(const glm::dvec2& uv, glm::dvec2* gradient) const 
 }
 
 double NoiseTexture::value(const glm::dvec2& uv) const { return evaluate(uv, nullptr); }
+
+double NoiseTexture::foldU(double x) const {
+  return params_.periodicU ? x - std::floor(x / params_.periodU) * params_.periodU : x;
+}
+double NoiseTexture::foldV(double y) const {
+  return params_.periodicV ? y - std::floor(y / params_.periodV) * params_.periodV : y;
+}
+
+void NoiseTexture::values(const glm::dvec2* uv, int n, double* out) const {
+  // value() point by point, an octave at a time over all points, so that the points of one
+  // footprint, which mostly share the coarse octaves' cells, form each cell's gradients once.
+  // Each point's sum adds the same terms in the same order: the same values to the bit.
+  constexpr int kBatch = 64;
+  double u[kBatch], v[kBatch];
+  for (int first = 0; first < n; first += kBatch) {
+    const int m = std::min(kBatch, n - first);
+    for (int p = 0; p < m; ++p) {
+      const glm::dvec2& q = uv[first + p];
+      const bool finite = std::isfinite(q.x) && std::isfinite(q.y);  // others are 0, as value() gives
+      out[first + p] = 0.0;
+      u[p] = finite ? foldU(q.x) : 0.0, v[p] = finite ? foldV(q.y) : 0.0;
+    }
+    glm::dvec2 unused;
+    for (size_t o = 0; o < weight_.size(); ++o) {
+      NoiseCell cell;
+      for (int p = 0; p < m; ++p)
+        out[first + p] +=
+            weight_[o] * gradientNoise<false>(u[p] * freqU_[o], v[p] * freqV_[o], cellsU_[o], cellsV_[o], octaveKey_[o], cell, unused);
+    }
+    for (int p = 0; p < m; ++p) {
+      const glm::dvec2& q = uv[first + p];
+      if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(out[first + p])) out[first + p] = 0.0;
+    }
+  }
+}
 
 glm::dvec2 NoiseTexture::gradient(const glm::dvec2& uv) const {
   glm::dvec2 g;
@@ -412,12 +466,16 @@ glm::vec3 RampTexture::sample(const glm::dvec2& uv, const UvFootprint& footprint
   if (!std::isfinite(half.x) || !std::isfinite(half.y)) half = glm::dvec2(0.0);
   if (half.x == 0.0 && half.y == 0.0) return colourAt(scalar_->value(uv));
   const int n = samplesPerAxis_;
-  glm::dvec3 sum(0.0);
+  glm::dvec2 points[16 * 16] = {};  // (every one used is set below)
+  double value[16 * 16];
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       const glm::dvec2 offset(-1.0 + (2.0 * i + 1.0) / n, -1.0 + (2.0 * j + 1.0) / n);
-      sum += glm::dvec3(colourAt(scalar_->value(uv + offset * half)));
+      points[j * n + i] = uv + offset * half;
     }
+  scalar_->values(points, n * n, value);
+  glm::dvec3 sum(0.0);
+  for (int k = 0; k < n * n; ++k) sum += glm::dvec3(colourAt(value[k]));
   return glm::vec3(sum / double(n * n));
 }
 

@@ -114,6 +114,9 @@ class NoiseTexture final : public ScalarTexture {
   /// Out-of-range parameters are clamped (octaves to [1, 16], non-finite values to defaults).
   explicit NoiseTexture(const NoiseParams& params);
   double value(const glm::dvec2& uv) const override;
+  /// value() at n points, an octave at a time: points in the same lattice cell of an octave
+  /// share its corners' gradients (the same values, formed once).
+  void values(const glm::dvec2* uv, int n, double* out) const override;
   glm::dvec2 gradient(const glm::dvec2& uv) const override;
   /// Value and gradient in one pass.
   double evaluate(const glm::dvec2& uv, glm::dvec2* gradient) const;
@@ -121,6 +124,8 @@ class NoiseTexture final : public ScalarTexture {
   const NoiseParams& params() const { return params_; }
 
  private:
+  double foldU(double x) const;  ///< periodic axes fold into one period (keeps precision for large u)
+  double foldV(double y) const;
   NoiseParams params_;
   std::vector<double> freqU_, freqV_, weight_;  ///< per octave (weights sum to amplitude)
   std::vector<std::int64_t> cellsU_, cellsV_;   ///< lattice period per octave (0: aperiodic)

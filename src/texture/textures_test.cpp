@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <vector>
 
 namespace wf {
 namespace {
@@ -296,6 +297,31 @@ TEST(NoiseTexture, RangeDeterminismAndHostileInput) {
   EXPECT_TRUE(std::isfinite(a.value({1e300, -1e300})));
   const glm::dvec2 g = a.gradient({1e18, 3e17});
   EXPECT_TRUE(std::isfinite(g.x) && std::isfinite(g.y));
+}
+
+// The batch (a footprint's samples, octave by octave, sharing each lattice cell's gradients)
+// against value() point by point: equal to the bit, for clustered points (most share cells),
+// scattered ones, batches longer than the 64-point block, periodic and aperiodic noise, and
+// hostile coordinates in between.
+TEST(NoiseTexture, BatchEqualsPointByPointToTheBit) {
+  for (const bool periodic : {false, true}) {
+    NoiseParams p;
+    p.octaves = 7;
+    p.frequency = 9.0;
+    p.periodicU = p.periodicV = periodic;
+    p.periodU = 1.3;
+    const NoiseTexture noise(p);
+    std::vector<glm::dvec2> pts;
+    for (int k = 0; k < 150; ++k) pts.push_back({0.31 + 1e-3 * (k % 13), -2.7 + 7e-4 * (k / 13)});  // one footprint
+    for (int k = 0; k < 50; ++k) pts.push_back({std::sin(k * 12.9898) * 40.0, std::cos(k * 78.233) * 1e5});
+    pts.insert(pts.begin() + 70, {kNaN, 0.5});
+    pts.insert(pts.begin() + 90, {0.25, kInf});
+    pts.push_back({1e300, -1e300});
+    std::vector<double> batch(pts.size());
+    noise.values(pts.data(), int(pts.size()), batch.data());
+    for (size_t k = 0; k < pts.size(); ++k) EXPECT_EQ(batch[k], noise.value(pts[k])) << k << " periodic " << periodic;
+    EXPECT_EQ(batch[70], 0.0);
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
