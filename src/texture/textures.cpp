@@ -3,6 +3,7 @@
 #include "core/hash.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -401,9 +402,9 @@ void NoiseTexture::values(const glm::dvec2* uv, int n, double* out) const {
     const int m = std::min(kBatch, n - first);
     for (int p = 0; p < m; ++p) {
       const glm::dvec2& q = uv[first + p];
-      const bool finite = std::isfinite(q.x) && std::isfinite(q.y);  // others are 0, as value() gives
+      const bool finite = std::isfinite(q.x) && std::isfinite(q.y);  // others: 0 below, as value() gives
       out[first + p] = 0.0;
-      u[p] = finite ? foldU(q.x) : 0.0, v[p] = finite ? foldV(q.y) : 0.0;
+      u[p] = finite ? foldU(q.x) : 0.5, v[p] = finite ? foldV(q.y) : 0.5;
     }
     glm::dvec2 unused;
     for (size_t o = 0; o < weight_.size(); ++o) {
@@ -466,14 +467,18 @@ glm::vec3 RampTexture::sample(const glm::dvec2& uv, const UvFootprint& footprint
   if (!std::isfinite(half.x) || !std::isfinite(half.y)) half = glm::dvec2(0.0);
   if (half.x == 0.0 && half.y == 0.0) return colourAt(scalar_->value(uv));
   const int n = samplesPerAxis_;
-  glm::dvec2 points[16 * 16] = {};  // (every one used is set below)
+  std::array<glm::dvec2, 16 * 16> points;
   double value[16 * 16];
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const glm::dvec2 offset(-1.0 + (2.0 * i + 1.0) / n, -1.0 + (2.0 * j + 1.0) / n);
-      points[j * n + i] = uv + offset * half;
-    }
-  scalar_->values(points, n * n, value);
+  for (int k = 0; k < n * n; ++k) {
+    const int i = k % n, j = k / n;
+    const glm::dvec2 offset(-1.0 + (2.0 * i + 1.0) / n, -1.0 + (2.0 * j + 1.0) / n);
+    points[size_t(k)] = uv + offset * half;
+  }
+  // values() reads the n * n points set above (GCC cannot see that through the virtual call).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+  scalar_->values(points.data(), n * n, value);
+#pragma GCC diagnostic pop
   glm::dvec3 sum(0.0);
   for (int k = 0; k < n * n; ++k) sum += glm::dvec3(colourAt(value[k]));
   return glm::vec3(sum / double(n * n));

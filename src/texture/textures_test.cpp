@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <vector>
@@ -314,13 +315,26 @@ TEST(NoiseTexture, BatchEqualsPointByPointToTheBit) {
     std::vector<glm::dvec2> pts;
     for (int k = 0; k < 150; ++k) pts.push_back({0.31 + 1e-3 * (k % 13), -2.7 + 7e-4 * (k / 13)});  // one footprint
     for (int k = 0; k < 50; ++k) pts.push_back({std::sin(k * 12.9898) * 40.0, std::cos(k * 78.233) * 1e5});
+    pts.push_back({-0.0, 0.37});
     pts.insert(pts.begin() + 70, {kNaN, 0.5});
     pts.insert(pts.begin() + 90, {0.25, kInf});
     pts.push_back({1e300, -1e300});
     std::vector<double> batch(pts.size());
     noise.values(pts.data(), int(pts.size()), batch.data());
-    for (size_t k = 0; k < pts.size(); ++k) EXPECT_EQ(batch[k], noise.value(pts[k])) << k << " periodic " << periodic;
+    for (size_t k = 0; k < pts.size(); ++k) {
+      const double one = noise.value(pts[k]);
+      EXPECT_EQ(std::memcmp(&batch[k], &one, sizeof one), 0) << k << " periodic " << periodic << ": " << batch[k] << " " << one;
+    }
     EXPECT_EQ(batch[70], 0.0);
+    // A batch in the cell (0, 0) of every octave: a cell kept from one octave to the next would
+    // give the next octave's points the last one's gradients.
+    const glm::dvec2 corner[3] = {{2e-4, 3e-4}, {5e-4, 1e-4}, {9e-4, 8e-4}};
+    double cornerValues[3];
+    noise.values(corner, 3, cornerValues);
+    for (int k = 0; k < 3; ++k) {
+      const double one = noise.value(corner[k]);
+      EXPECT_EQ(std::memcmp(&cornerValues[k], &one, sizeof one), 0) << k << " periodic " << periodic;
+    }
   }
 }
 
