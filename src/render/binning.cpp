@@ -101,6 +101,7 @@ class Binner {
     int tx0, ty0, tx1, ty1;
     if (!tileRange(bx0, by0, bx1, by1, tx0, ty0, tx1, ty1)) return;
     const float zlo = segmentZlo(view_, s);
+    const SegmentEndKeys keys(view_, s);
     for (int ty = ty0; ty <= ty1; ++ty)
       for (int tx = tx0; tx <= tx1; ++tx) {
         // The axis inside the tile grown by the reach: only that part can cover the tile.
@@ -114,8 +115,7 @@ class Binner {
                                        std::max(ax, bx) + reach, std::max(ay, by) + reach);
         // The axis depth is monotonic along the axis: its nearest is at one end of [ta, tb]; the
         // surface is at most the largest radius nearer (either WireDepth, segmentZlo).
-        const double k = view_.perspective ? std::max(segmentAxisKey(view_, s, ta), segmentAxisKey(view_, s, tb))
-                                           : std::min(segmentAxisKey(view_, s, ta), segmentAxisKey(view_, s, tb));
+        const double k = view_.perspective ? std::max(keys.axis(ta), keys.axis(tb)) : std::min(keys.axis(ta), keys.axis(tb));
         const double z = view_.depthFromKey(k) - std::max(double(s.r0), double(s.r1));
         item.zlo = z >= zlo ? float(z) : zlo;  // never nearer than the whole segment (nor NaN)
         f(ty * tilesX_ + tx, item);

@@ -244,16 +244,18 @@ struct SegmentFrame {
   }
 };
 
-/// The depth key (1/d, or d when orthographic) of a segment's front (the axis one radius
-/// nearer) and of its axis at axis parameter t in [0, 1]: both screen-linear in t.
-inline double segmentFrontKey(const ViewTransform& v, const SegmentPrim& s, double t) {
-  const double f0 = std::max(v.nearPlane, double(s.d0) - double(s.r0));
-  const double f1 = std::max(v.nearPlane, double(s.d1) - double(s.r1));
-  return v.depthKey(f0) + (v.depthKey(f1) - v.depthKey(f0)) * t;
-}
-inline double segmentAxisKey(const ViewTransform& v, const SegmentPrim& s, double t) {
-  return v.depthKey(s.d0) + (v.depthKey(s.d1) - v.depthKey(s.d0)) * t;
-}
+/// The depth keys (1/d, or d when orthographic) of a segment's front (the axis one radius
+/// nearer) and of its axis, at its ends and at axis parameter t in [0, 1]: both screen-linear in
+/// t. Formed once per segment wherever its depth is asked more than once.
+struct SegmentEndKeys {
+  double front0, front1, axis0, axis1;
+  SegmentEndKeys(const ViewTransform& v, const SegmentPrim& s)
+      : front0(v.depthKey(std::max(v.nearPlane, double(s.d0) - double(s.r0)))),
+        front1(v.depthKey(std::max(v.nearPlane, double(s.d1) - double(s.r1)))),
+        axis0(v.depthKey(s.d0)), axis1(v.depthKey(s.d1)) {}
+  double front(double t) const { return front0 + (front1 - front0) * t; }
+  double axis(double t) const { return axis0 + (axis1 - axis0) * t; }
+};
 /// The nearest and farthest depth of a segment's visible surface (for either WireDepth): no
 /// nearer than its nearest axis depth less its largest radius, no farther than its axis.
 inline float segmentZlo(const ViewTransform& v, const SegmentPrim& s) {
@@ -263,25 +265,15 @@ inline float segmentZhi(const SegmentPrim& s) { return std::max(s.d0, s.d1); }
 
 /// View depth of a segment's surface at screen point (x, y): the round cylinder (its depth
 /// across the wire, sqrt(1 - q^2), and a sphere at the ends), or the flat front of the paper's
-/// polygon (WireDepth::Flat). Never nearer than the near plane.
-/// The keys segmentFrontKey and segmentAxisKey interpolate: the front's and the axis's at the
-/// two ends (formed once per segment where a segment's depth is asked many times).
-struct SegmentEndKeys {
-  double front0, front1, axis0, axis1;
-  SegmentEndKeys(const ViewTransform& v, const SegmentPrim& s)
-      : front0(v.depthKey(std::max(v.nearPlane, double(s.d0) - double(s.r0)))),
-        front1(v.depthKey(std::max(v.nearPlane, double(s.d1) - double(s.r1)))),
-        axis0(v.depthKey(s.d0)), axis1(v.depthKey(s.d1)) {}
-};
-/// segmentDepthAt with the end keys given.
+/// polygon (WireDepth::Flat). Never nearer than the near plane. `k`: the segment's keys.
 inline double segmentDepthAt(const ViewTransform& v, const SegmentPrim& s, const SegmentFrame& fr,
                              const SegmentEndKeys& k, double x, double y, WireDepth model) {
   const double tc = std::clamp(fr.t(x, y), 0.0, 1.0);
-  if (model == WireDepth::Flat) return std::max(v.nearPlane, v.depthFromKey(k.front0 + (k.front1 - k.front0) * tc));
+  if (model == WireDepth::Flat) return std::max(v.nearPlane, v.depthFromKey(k.front(tc)));
   const double w = double(s.w0) + (double(s.w1) - double(s.w0)) * tc;
   const double q2 = w > 0 ? std::min(1.0, fr.distance2(x, y) / (w * w)) : 1.0;
   const double r = double(s.r0) + (double(s.r1) - double(s.r0)) * tc;
-  return std::max(v.nearPlane, v.depthFromKey(k.axis0 + (k.axis1 - k.axis0) * tc) - r * std::sqrt(1.0 - q2));
+  return std::max(v.nearPlane, v.depthFromKey(k.axis(tc)) - r * std::sqrt(1.0 - q2));
 }
 inline double segmentDepthAt(const ViewTransform& v, const SegmentPrim& s, const SegmentFrame& fr, double x,
                              double y, WireDepth model) {

@@ -66,8 +66,8 @@ struct SegmentDepth {
   double aa, ab, ac, alo, ahi;  // axis key plane, its depth range
   SegmentEndKeys keys;
   SegmentDepth(const ViewTransform& v, const SegmentPrim& s, WireDepth m) : view(&v), seg(&s), frame(s), model(m), keys(v, s) {
-    const double kf0 = segmentFrontKey(v, s, 0.0), kf1 = segmentFrontKey(v, s, 1.0);
-    const double ka0 = segmentAxisKey(v, s, 0.0), ka1 = segmentAxisKey(v, s, 1.0);
+    const double kf0 = keys.front(0.0), kf1 = keys.front(1.0);
+    const double ka0 = keys.axis(0.0), ka1 = keys.axis(1.0);
     fa = (kf1 - kf0) * frame.ux, fb = (kf1 - kf0) * frame.uy, fc = kf0 - fa * frame.ax - fb * frame.ay;
     aa = (ka1 - ka0) * frame.ux, ab = (ka1 - ka0) * frame.uy, ac = ka0 - aa * frame.ax - ab * frame.ay;
     const double f0 = v.depthFromKey(kf0), f1 = v.depthFromKey(kf1);
@@ -174,20 +174,12 @@ inline void maskCentroid(MaskBits mask, const MaskLayout& layout, double& sx, do
   };
   static constexpr RowTable kRows{};
   int n = 0, cols = 0, rows = 0;
-  if (layout.w == 8) {  // the default layouts (8x4, 8x8): a byte per row
-    for (int j = 0; j < layout.h; ++j, mask >>= 8) {
-      const unsigned bits = unsigned(mask & 0xFFu);
-      n += kRows.count[bits];
-      cols += kRows.columnSum[bits];
-      rows += kRows.count[bits] * j;
-    }
-  } else {
-    for (int j = 0; j < layout.h; ++j) {
-      const unsigned bits = unsigned((mask >> (j * layout.w)) & layout.rowFull());
-      n += kRows.count[bits];
-      cols += kRows.columnSum[bits];
-      rows += kRows.count[bits] * j;
-    }
+  const MaskBits rowFull = layout.rowFull();
+  for (int j = 0; j < layout.h; ++j, mask >>= layout.w) {
+    const unsigned bits = unsigned(mask & rowFull);
+    n += kRows.count[bits];
+    cols += kRows.columnSum[bits];
+    rows += kRows.count[bits] * j;
   }
   sx = n ? (cols + 0.5 * n) / (double(n) * layout.w) : 0.5;
   sy = n ? (rows + 0.5 * n) / (double(n) * layout.h) : 0.5;
@@ -432,8 +424,9 @@ class PreparedFragmentSource final : public FragmentSource {
       const SegmentFrame fr(s);
       d.kind = SurfaceDepth::Kind::Wire;
       d.round = ps_.wireDepth == WireDepth::Round;
-      const double k0 = d.round ? segmentAxisKey(v, s, 0.0) : segmentFrontKey(v, s, 0.0);
-      const double k1 = d.round ? segmentAxisKey(v, s, 1.0) : segmentFrontKey(v, s, 1.0);
+      const SegmentEndKeys keys(v, s);
+      const double k0 = d.round ? keys.axis(0.0) : keys.front(0.0);
+      const double k1 = d.round ? keys.axis(1.0) : keys.front(1.0);
       d.k0 = float(k0), d.kx = float(k1 - k0);
       if (fr.length > 0) {
         d.t0 = float(fr.t(x, y)), d.tx = float(fr.ux), d.ty = float(fr.uy);

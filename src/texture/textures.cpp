@@ -260,11 +260,6 @@ const GradientTable& gradients() {
 double fade(double t) { return t * t * t * (t * (t * 6.0 - 15.0) + 10.0); }
 double fadeDerivative(double t) { return 30.0 * t * t * (t * (t - 2.0) + 1.0); }
 
-/// One octave of gradient noise at lattice coordinates (x, y), value in [-sqrt(2)/2, sqrt(2)/2],
-/// with its analytic derivative in (x, y) when asked. Period (cellsX, cellsY) when non-zero.
-/// A corner's gradient is hashWords(seed, octave, i, j), built from the octave's chain
-/// `octaveKey` (core/hash.h, hashAppend): the prefix (seed, octave) is shared by every corner
-/// and sample of the octave, (seed, octave, i) by the corners of one column.
 /// The lattice cell of an octave that holds a point: its floored corner and the gradients of
 /// its four corners (what depends on the cell alone; points in the same cell share it).
 struct NoiseCell {
@@ -357,20 +352,17 @@ NoiseTexture::NoiseTexture(const NoiseParams& params) : params_(params) {
 }
 
 double NoiseTexture::evaluate(const glm::dvec2& uv, glm::dvec2* gradient) const {
-  if (gradient) *gradient = glm::dvec2(0.0);
+  if (!gradient) {  // the value alone: no derivatives
+    double value;
+    values(&uv, 1, &value);
+    return value;
+  }
+  *gradient = glm::dvec2(0.0);
   if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return 0.0;
   // Periodic axes fold into one period first (keeps precision for large u).
   const double u = foldU(uv.x), v = foldV(uv.y);
   double sum = 0.0;
   glm::dvec2 g(0.0);
-  if (!gradient) {  // the value alone (a colour ramp's samples): no derivatives
-    glm::dvec2 unused;
-    for (size_t o = 0; o < weight_.size(); ++o) {
-      NoiseCell cell;
-      sum += weight_[o] * gradientNoise<false>(u * freqU_[o], v * freqV_[o], cellsU_[o], cellsV_[o], octaveKey_[o], cell, unused);
-    }
-    return std::isfinite(sum) ? sum : 0.0;
-  }
   for (size_t o = 0; o < weight_.size(); ++o) {
     glm::dvec2 d;
     NoiseCell cell;

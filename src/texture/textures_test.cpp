@@ -301,7 +301,8 @@ TEST(NoiseTexture, RangeDeterminismAndHostileInput) {
 }
 
 // The batch (a footprint's samples, octave by octave, sharing each lattice cell's gradients)
-// against value() point by point: equal to the bit, for clustered points (most share cells),
+// against the value-and-gradient pass point by point (its own loop, a cell per point and
+// octave; value() itself is a batch of one): equal to the bit, for clustered points (most share cells),
 // scattered ones, batches longer than the 64-point block, periodic and aperiodic noise, and
 // hostile coordinates in between.
 TEST(NoiseTexture, BatchEqualsPointByPointToTheBit) {
@@ -322,7 +323,8 @@ TEST(NoiseTexture, BatchEqualsPointByPointToTheBit) {
     std::vector<double> batch(pts.size());
     noise.values(pts.data(), int(pts.size()), batch.data());
     for (size_t k = 0; k < pts.size(); ++k) {
-      const double one = noise.value(pts[k]);
+      glm::dvec2 g;
+      const double one = noise.evaluate(pts[k], &g);
       EXPECT_EQ(std::memcmp(&batch[k], &one, sizeof one), 0) << k << " periodic " << periodic << ": " << batch[k] << " " << one;
     }
     EXPECT_EQ(batch[70], 0.0);
@@ -332,7 +334,8 @@ TEST(NoiseTexture, BatchEqualsPointByPointToTheBit) {
     double cornerValues[3];
     noise.values(corner, 3, cornerValues);
     for (int k = 0; k < 3; ++k) {
-      const double one = noise.value(corner[k]);
+      glm::dvec2 g;
+      const double one = noise.evaluate(corner[k], &g);
       EXPECT_EQ(std::memcmp(&cornerValues[k], &one, sizeof one), 0) << k << " periodic " << periodic;
     }
   }
