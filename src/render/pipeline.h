@@ -133,7 +133,7 @@ struct SegmentPrim {
   glm::vec2 o0, o1;            ///< corner offsets at the two ends
   float w0, w1;                ///< half widths in pixels at the two ends
   float d0, d1;                ///< view depths of the axis at the two ends
-  float r0, r1;                ///< radii in world units at the two ends
+  float r0, r1;                ///< depth radii at the two ends: the world radius, times wireDepthScale unless end-on
   std::uint32_t tag;           ///< object id (the polyline): its pieces merge in the A-buffer
   std::uint32_t shader : 24;   ///< into PreparedScene::shaders (one per wire: up to kMaxShaders)
   std::uint32_t flags : 8;     ///< kSegment* bits
@@ -256,6 +256,46 @@ struct SegmentEndKeys {
   double front(double t) const { return front0 + (front1 - front0) * t; }
   double axis(double t) const { return axis0 + (axis1 - axis0) * t; }
 };
+// ---- a round wire seen in perspective (docs/abuffer.md, "The wire's footprint") -------------
+
+/// The half width on screen of a round wire of radius r about the eye-space axis through e0 and
+/// e1, over r * pixelsPerWorld(d) (the width of the same wire on the view axis, facing the eye):
+/// 1 / |n_xy|, n the unit normal of the plane through the eye and the axis. The wire's outline
+/// is where the two planes through the eye tangent to the cylinder meet the image; to first
+/// order in r / distance both lie that factor wider than r f / d at every point of the axis, so
+/// a wire off the view axis and across the radial direction is wider (1 / cos of the ray's
+/// angle at the image's edge). 1 where the axis passes through the eye or the view is
+/// orthographic (every ray parallel: r times the scale, exactly).
+inline double wireWidthFactor(const ViewTransform& v, const glm::dvec3& e0, const glm::dvec3& e1) {
+  if (!v.perspective) return 1.0;
+  const glm::dvec3 n = glm::cross(e0, e1);
+  const double nl = glm::length(n);
+  if (!(nl > 1e-12 * glm::length(e0) * glm::length(e1)) || !std::isfinite(nl)) return 1.0;
+  const double nz = n.z / nl;
+  return 1.0 / std::sqrt(std::max(1e-4, 1.0 - nz * nz));  // at most 100: rays within 89.4 degrees of the axis
+}
+
+/// The most a wire's round surface is taken to stand in front of its axis, in radii along the
+/// view axis (wireDepthScale's bound: axes within asin(0.2) = 11.5 degrees of the ray).
+inline constexpr double kMaxWireDepthScale = 5.0;
+
+/// How far the round surface of a wire stands in front of its axis along the view axis, per
+/// world radius, at eye-space point e of an axis of direction `axis`: cos(theta) / sin(beta),
+/// theta the ray's angle to the view axis and beta its angle to the wire's axis. The ray through
+/// a point q half widths from the axis's image crosses the cylinder on a chord of 2 r sqrt(1 -
+/// q^2) / sin(beta) whose middle is the axis point of the same screen parameter at the axis's
+/// depth; its entry lies half the chord nearer along the ray, cos(theta) of that in view depth.
+/// 1 for a wire across the view on the view axis (the paper's picture); bounded by
+/// kMaxWireDepthScale towards end-on, where the end caps, not the body, are what is seen.
+inline double wireDepthScale(const ViewTransform& v, const glm::dvec3& e, const glm::dvec3& axis) {
+  const glm::dvec3 view = v.viewVector(e);
+  const double al = glm::length(axis);
+  if (!(al > 0) || !std::isfinite(al)) return 1.0;
+  const double sinBeta = glm::length(glm::cross(view, axis / al));
+  const double cosTheta = std::clamp(view.z, 0.0, 1.0);
+  return cosTheta / std::max(sinBeta, 1.0 / kMaxWireDepthScale);
+}
+
 /// The nearest and farthest depth of a segment's visible surface (for either WireDepth): no
 /// nearer than its nearest axis depth less its largest radius, no farther than its axis.
 inline float segmentZlo(const ViewTransform& v, const SegmentPrim& s) {

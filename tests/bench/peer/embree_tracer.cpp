@@ -120,8 +120,11 @@ EmbreeResult renderEmbree(const wf::Scene& scene, const wf::RenderOptions& optio
     for (size_t k = 0; k < segOf.size(); ++k) {
       // The cylinder the segment's polygon stands for: its axis in eye space, its radius.
       const wf::SegmentPrim& sp = ps.segmentOf(segOf[k]);
-      const float r[2] = {sp.r0, sp.r1};
+      // (SegmentPrim holds depth radii: the world radius times wireDepthScale unless end-on.)
       const glm::dvec3 q[2] = {ps.view.eyePoint(sp.p0.x, sp.p0.y, sp.d0), ps.view.eyePoint(sp.p1.x, sp.p1.y, sp.d1)};
+      const bool endOn = sp.flags & wf::kSegmentEndOn;
+      const float r[2] = {float(endOn ? sp.r0 : sp.r0 / wf::wireDepthScale(ps.view, q[0], q[1] - q[0])),
+                          float(endOn ? sp.r1 : sp.r1 / wf::wireDepthScale(ps.view, q[1], q[1] - q[0]))};
       for (int c = 0; c < 2; ++c) {
         for (int a = 0; a < 3; ++a) v[8 * k + 4 * c + a] = float(q[c][a]);
         v[8 * k + 4 * c + 3] = r[c];
