@@ -101,7 +101,7 @@ struct SurfaceDepth {
   float l0 = 0, lx = 0, ly = 0;      ///< wire: lateral distance from the axis line (pixels)
   float length = 0;                  ///< wire: axis length (pixels), for the distance beyond its ends
   float tmax = 1;                    ///< wire: t is clamped to [0, tmax] (0: a point, seen end-on)
-  float w0 = 1, dw = 0, r0 = 0, dr = 0;  ///< wire: half width (pixels) and radius (world) at t, linear
+  float w0 = 1, dw = 0, r0 = 0, dr = 0;  ///< wire: half width (pixels) and depth radius (world: SegmentPrim::r0, r1) at t, linear
   /// The depth at n samples (sx[k], sy[k]) into out[k] (a loop the compiler vectorises).
   void atSamples(const float* sx, const float* sy, int n, float* out) const;
   float at(float sx, float sy) const {

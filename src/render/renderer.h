@@ -33,7 +33,7 @@ enum class ShadingPath {
 /// crossing hairs, or of a hair and the skin it grows from, is in front).
 enum class WireDepth {
   Round,  ///< the cylinder's own surface: sqrt(1 - q^2) across the wire, spheres at the ends
-  Flat,   ///< the paper's polygon: one plane at the wire's front, a radius before its axis
+  Flat,   ///< the paper's polygon: one plane at the wire's front, a depth radius (SegmentPrim::r0, r1) before its axis
 };
 
 /// Stochastic simplification of aggregate detail (Cook, Halstead, Planck and Ryu, "Stochastic

@@ -74,7 +74,8 @@ SimplificationPlan planSimplification(const Scene& scene, const ViewTransform& v
         const double d0 = -e0.z, d1 = -e1.z;
         if (!finite3(e0) || !finite3(e1) || !(d0 >= view.nearPlane) || !(d0 <= view.farPlane)) continue;
         const glm::dvec2 p0 = view.project(e0);
-        const double wpx = w.thicknessInPixels ? w.thickness * pixelScale : w.thickness * view.pixelsPerWorld(d0);
+        const double wpx = w.thicknessInPixels ? w.thickness * pixelScale
+                                               : w.thickness * view.pixelsPerWorld(d0) * wireWidthFactor(view, e0, e1);
         double len = 0.0;
         if (d1 >= view.nearPlane) len = glm::length(view.project(e1) - p0);
         if (!std::isfinite(wpx) || !std::isfinite(len) || !std::isfinite(p0.x) || !std::isfinite(p0.y)) continue;

@@ -134,8 +134,8 @@ TEST(WireFootprint, DepthScaleIsWhereTheRayEntersTheCylinder) {
   EXPECT_GT(worstWithout, 0.5);  // one radius is far off where the wire slants
 }
 
-// The set-up stores both: a wire of world thickness gets the outline's width, its end-on
-// neighbour one radius of depth; a wire of a thickness in pixels keeps its width as given.
+// The set-up stores both: a wire of world thickness gets the outline's width and depth radii;
+// a wire of a thickness in pixels keeps its width as given.
 TEST(WireFootprint, SetUpStoresTheOutlineAndTheDepthRadius) {
   const int W = 800, H = 600;
   Scene s = test::baseScene(W, H);
@@ -166,6 +166,7 @@ TEST(WireFootprint, SetUpStoresTheOutlineAndTheDepthRadius) {
   EXPECT_GT(wireWidthFactor(v, e0, e1), 1.05);
   EXPECT_NEAR(a.r0, 0.01 * wireDepthScale(v, e0, e1 - e0), 1e-7);
   EXPECT_NEAR(a.r1, 0.01 * wireDepthScale(v, e1, e1 - e0), 1e-7);
+  EXPECT_GT(wireDepthScale(v, e1, e1 - e0), 1.05);  // 1.10 here: r0 and r1 differ
   EXPECT_NEAR(ps.segments[1].w0, 1.5, 1e-6);
 }
 

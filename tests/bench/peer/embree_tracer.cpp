@@ -120,11 +120,13 @@ EmbreeResult renderEmbree(const wf::Scene& scene, const wf::RenderOptions& optio
     for (size_t k = 0; k < segOf.size(); ++k) {
       // The cylinder the segment's polygon stands for: its axis in eye space, its radius.
       const wf::SegmentPrim& sp = ps.segmentOf(segOf[k]);
-      // (SegmentPrim holds depth radii: the world radius times wireDepthScale unless end-on.)
+      // SegmentPrim holds depth radii (segment_setup.cpp): the world radius comes from the
+      // outline's half width instead (w = r f / d times wireWidthFactor; the peer scenes'
+      // wires all have a world thickness).
       const glm::dvec3 q[2] = {ps.view.eyePoint(sp.p0.x, sp.p0.y, sp.d0), ps.view.eyePoint(sp.p1.x, sp.p1.y, sp.d1)};
-      const bool endOn = sp.flags & wf::kSegmentEndOn;
-      const float r[2] = {float(endOn ? sp.r0 : sp.r0 / wf::wireDepthScale(ps.view, q[0], q[1] - q[0])),
-                          float(endOn ? sp.r1 : sp.r1 / wf::wireDepthScale(ps.view, q[1], q[1] - q[0]))};
+      const double widen = wf::wireWidthFactor(ps.view, q[0], q[1]);
+      const float r[2] = {float(sp.w0 / (ps.view.pixelsPerWorld(sp.d0) * widen)),
+                          float(sp.w1 / (ps.view.pixelsPerWorld(sp.d1) * widen))};
       for (int c = 0; c < 2; ++c) {
         for (int a = 0; a < 3; ++a) v[8 * k + 4 * c + a] = float(q[c][a]);
         v[8 * k + 4 * c + 3] = r[c];
