@@ -21,7 +21,6 @@ struct SegScreen {
   glm::dvec2 p0, p1;      // screen
   double d0 = 0, d1 = 0;  // depths
   double w0 = 0, w1 = 0;  // half widths, pixels
-  double widen = 1.0;     // wireWidthFactor (1 for a width in pixels)
   glm::dvec3 e0{0}, e1{0};  // eye-space ends (after clipping)
   glm::dvec2 nrm{0};
   glm::dvec3 tangent{0};  // eye-space unit direction (unclipped)
@@ -214,9 +213,9 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       s.p1 = view.project(e1);
       // A width in pixels is the user's; a world thickness is the cylinder's outline in the
       // perspective image (wireWidthFactor: off the view axis it is wider than r f / d).
-      s.widen = wire.thicknessInPixels ? 1.0 : wireWidthFactor(view, e0, e1);
-      s.w0 = wire.thicknessInPixels ? halfT * ps.pixelScale : halfT * view.pixelsPerWorld(d0) * s.widen;
-      s.w1 = wire.thicknessInPixels ? halfT * ps.pixelScale : halfT * view.pixelsPerWorld(d1) * s.widen;
+      const double widen = wire.thicknessInPixels ? 1.0 : wireWidthFactor(view, e0, e1);
+      s.w0 = wire.thicknessInPixels ? halfT * ps.pixelScale : halfT * view.pixelsPerWorld(d0) * widen;
+      s.w1 = wire.thicknessInPixels ? halfT * ps.pixelScale : halfT * view.pixelsPerWorld(d1) * widen;
       s.e0 = e0, s.e1 = e1;
       const glm::dvec2 dv = s.p1 - s.p0;
       const double length = glm::length(dv);
@@ -258,7 +257,8 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       sp.w1 = float(s.w1);
       // The world radius at each end (a pixel thickness turned into world units at its depth),
       // and the axis: the polyline, or one radius nearer when the wire rests on a surface.
-      const double r0 = s.w0 / s.widen / view.pixelsPerWorld(s.d0), r1 = s.w1 / s.widen / view.pixelsPerWorld(s.d1);
+      const double r0 = wire.thicknessInPixels ? s.w0 / view.pixelsPerWorld(s.d0) : halfT;
+      const double r1 = wire.thicknessInPixels ? s.w1 / view.pixelsPerWorld(s.d1) : halfT;
       // Depth across the wire: how far its round surface stands in front of the axis along
       // the view axis (wireDepthScale: more than a radius where the wire slants towards the
       // eye). Seen end-on, what shows is its end's sphere: one radius. (Near a free end that

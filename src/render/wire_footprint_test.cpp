@@ -170,5 +170,26 @@ TEST(WireFootprint, SetUpStoresTheOutlineAndTheDepthRadius) {
   EXPECT_NEAR(ps.segments[1].w0, 1.5, 1e-6);
 }
 
+// Degenerate axes give the plain footprint (1), never NaN: an axis through the eye, one of no
+// length, one with a NaN or infinite end; an orthographic view's width is exact as it is.
+TEST(WireFootprint, DegenerateAxesGiveThePlainFootprint) {
+  const ViewTransform v = wideView();
+  const double nan = std::nan(""), inf = INFINITY;
+  const glm::dvec3 e(0.3, -0.2, -2.0);
+  EXPECT_EQ(wireWidthFactor(v, e, 2.0 * e), 1.0);  // through the eye
+  EXPECT_EQ(wireWidthFactor(v, e, e), 1.0);
+  EXPECT_EQ(wireWidthFactor(v, glm::dvec3(nan, 0, -1), e), 1.0);
+  EXPECT_EQ(wireWidthFactor(v, glm::dvec3(inf, 0, -1), e), 1.0);
+  EXPECT_EQ(wireDepthScale(v, e, glm::dvec3(0.0)), 1.0);
+  EXPECT_EQ(wireDepthScale(v, e, glm::dvec3(nan, 0, 0)), 1.0);
+  EXPECT_EQ(wireDepthScale(v, e, glm::dvec3(inf, 0, 0)), 1.0);
+  // Along the ray: bounded, the end's sphere being what shows.
+  EXPECT_LE(wireDepthScale(v, e, e), kMaxWireDepthScale);
+  ViewTransform o = v;
+  o.perspective = false;
+  EXPECT_EQ(wireWidthFactor(o, e, glm::dvec3(2.0, 1.0, -3.0)), 1.0);
+  EXPECT_NEAR(wireDepthScale(o, e, glm::dvec3(1.0, 0.0, 1.0)), std::sqrt(2.0), 1e-12);  // 1 / sin(45 deg)
+}
+
 }  // namespace
 }  // namespace wf
