@@ -51,6 +51,29 @@ std::string byteSizeProblem(const std::string& value) {
   return "expected bytes or a size such as 512M, 2G (0: unlimited), got '" + value + "'";
 }
 
+std::string oneLine(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (const char ch : text) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\r') {
+      out += "\\r";
+    } else if (c == '\t') {
+      out += "\\t";
+    } else if (c < 0x20 || c == 0x7f) {
+      static const char* hex = "0123456789abcdef";
+      out += "\\x";
+      out += hex[c >> 4];
+      out += hex[c & 15];
+    } else {
+      out += ch;
+    }
+  }
+  return out;
+}
+
 std::size_t parseByteSize(const std::string& option, const std::string& value) {
   if (const std::optional<std::size_t> n = byteSize(value)) return *n;
   throw UsageError("option " + option + ": " + byteSizeProblem(value));

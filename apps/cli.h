@@ -12,9 +12,16 @@
 
 namespace wfapp {
 
-/// Bad input from the user: reported as one line on stderr, exit status 2.
+/// `text` with its control characters written out (\n, \r, \t, \xHH for the rest of C0 and DEL),
+/// so that a message quoting a file name, a JSON key or a value stays one line.
+std::string oneLine(const std::string& text);
+
+/// Bad input from the user: reported as one line on stderr, exit status 2. The message is made one
+/// line here (oneLine), whatever names or values it quotes: a file name or a scene key with a
+/// newline in it cannot split it.
 struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
+  explicit UsageError(const std::string& what) : std::runtime_error(oneLine(what)) {}
+  explicit UsageError(const char* what) : UsageError(std::string(what)) {}
 };
 
 /// Progress lines on stderr only when stderr is a terminal, not in CI and not --quiet.

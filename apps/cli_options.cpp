@@ -54,7 +54,7 @@ std::string withRange(const std::string& description, double lo, double hi) {
 }
 
 // One line from a CLI11 error: an option's error starts with its name.
-std::string oneLine(const std::string& what) {
+std::string cliErrorLine(const std::string& what) {
   std::string s = what;
   for (char& c : s)
     if (c == '\n' || c == '\r') c = ' ';
@@ -279,9 +279,9 @@ bool parseCommandLine(CLI::App& wirefur, const std::vector<std::string>& args) {
       const std::string name = what.substr(0, at);
       throw UsageError("option " + (name.starts_with("-") ? name : "--" + name) + " takes no value");
     }
-    throw UsageError(oneLine(what));
+    throw UsageError(cliErrorLine(what));
   } catch (const CLI::ParseError& e) {
-    throw UsageError(oneLine(e.what()));
+    throw UsageError(cliErrorLine(e.what()));
   }
   const CLI::App* command = chosenCommand(wirefur);
   CLI::Option* input = command ? wirefur.get_subcommands().front()->get_option_no_throw("INPUT") : nullptr;

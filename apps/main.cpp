@@ -195,7 +195,7 @@ int main(int argc, char** argv) {
     std::cerr << "wirefur: " << e.what() << "\n";
     return 2;
   } catch (const std::exception& e) {
-    std::cerr << "wirefur: internal error: " << e.what() << "\n";
+    std::cerr << "wirefur: internal error: " << wfapp::oneLine(e.what()) << "\n";
     return 1;
   }
 }

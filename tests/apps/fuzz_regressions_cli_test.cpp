@@ -180,3 +180,23 @@ TEST(FuzzRegressions, Scenes) {
   };
   for (const Case& c : cases) expectCleanFailure(c);
 }
+
+// A scene key with a newline in it (fuzz_scene, CI): the message quoting its JSON pointer was two
+// lines. Control characters in what a message quotes are written out (\n, \x01), in keys, values
+// and the file's own name.
+TEST(FuzzRegressions, ControlCharactersStayOnOneLine) {
+  const fs::path dir = wf::test::scratchDir("wirefur-fuzz-regressions-ctl");
+  const std::string scene = R"({"objects": [{"source": {"type": "torus"}, "fur": {"d\nx": 1}}]})";
+  expectCleanFailure({wf::test::writeFile(dir, "key_newline.json", scene), "/objects/0/fur/d\\nx: unknown key"});
+  const std::string value = R"({"objects": [{"source": {"type": "tor\u0001us"}}]})";
+  expectCleanFailure({wf::test::writeFile(dir, "value_control.json", value), "'tor\\x01us' is not one of"});
+
+  const fs::path png = dir / "out.png";
+  fs::remove(png);
+  const std::string named = wf::test::writeFile(dir, "two\nlines.json", scene);
+  const wf::test::CliResult r = wf::test::runWirefur("render '" + named + "' -o '" + png.string() + "' --size 32x24");
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_EQ(wf::test::lineCount(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("two\\nlines.json"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(png));
+}
