@@ -265,8 +265,12 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       // faces the eye the ray meets the end before the slanting body, so there the model stands
       // up to (scale - 1) r too far forward; keeping one radius at such ends, ramped along the
       // segment, measured worse: torus70k 1.63e-3 -> 1.83e-3 RGBA RMS. docs/abuffer.md.)
-      sp.r0 = float(s.endOn ? r0 : r0 * wireDepthScale(view, s.e0, s.e1 - s.e0));
-      sp.r1 = float(s.endOn ? r1 : r1 * wireDepthScale(view, s.e1, s.e1 - s.e0));
+      // The scale ramps to 1 as the segment nears end-on (screen length from two half widths
+      // down to one), so that its depth does not jump by up to (kMaxWireDepthScale - 1) r as it
+      // turns end-on while the camera moves.
+      const double towardEndOn = s.endOn ? 0.0 : std::clamp(glm::length(s.p1 - s.p0) / std::max(s.w0, s.w1) - 1.0, 0.0, 1.0);
+      sp.r0 = float(r0 * (1.0 + (wireDepthScale(view, s.e0, s.e1 - s.e0) - 1.0) * towardEndOn));
+      sp.r1 = float(r1 * (1.0 + (wireDepthScale(view, s.e1, s.e1 - s.e0) - 1.0) * towardEndOn));
       sp.d0 = float(wire.restsOnSurface ? std::max(nearP, s.d0 - r0) : s.d0);
       sp.d1 = float(wire.restsOnSurface ? std::max(nearP, s.d1 - r1) : s.d1);
       sp.tag = tag;

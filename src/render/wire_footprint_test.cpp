@@ -170,6 +170,52 @@ TEST(WireFootprint, SetUpStoresTheOutlineAndTheDepthRadius) {
   EXPECT_NEAR(ps.segments[1].w0, 1.5, 1e-6);
 }
 
+// A segment turning towards the eye: its depth radius goes from r times wireDepthScale (long on
+// the screen) to one r (end-on, its end's sphere) without a jump, ramped while its screen length
+// falls from two half widths to one. Without the ramp r0 jumped from 5 r to r at the turn.
+TEST(WireFootprint, DepthRadiusHasNoJumpAsTheSegmentTurnsEndOn) {
+  const int W = 800, H = 600;
+  Camera c;
+  c.eye = glm::dvec3(0.0);
+  c.target = glm::dvec3(0.0, 0.0, -1.0);
+  c.fovYDegrees = 90.0;
+  c.nearPlane = 0.01;
+  c.farPlane = 100.0;
+  const ViewTransform v = ViewTransform::make(c, W, H);
+  const double r = 0.01, L = 0.2;
+  double last = -1.0;
+  int endOn = 0, full = 0;
+  for (int i = 0; i <= 600; ++i) {
+    const double a = 0.6 * i / 600.0;  // the axis's angle to the view axis
+    Scene s = test::baseScene(W, H);
+    s.camera = c;
+    SceneWire wire;
+    wire.thickness = 2.0 * r;
+    wire.restsOnSurface = false;
+    const glm::dvec3 e1(0.0, 0.0, -3.0), e0 = e1 + L * glm::dvec3(std::sin(a), 0.0, std::cos(a));
+    wire.lines.add({e0, e1});
+    s.wires.push_back(wire);
+    RenderStats st;
+    const PreparedScene ps = prepareScene(s, test::smallOptions(W, H), st);
+    ASSERT_EQ(ps.segments.size(), 1u) << a;
+    const SegmentPrim& p = ps.segments[0];
+    const double ratio = glm::length(p.p1 - p.p0) / std::max(p.w0, p.w1);
+    if (p.flags & kSegmentEndOn) {
+      ++endOn;
+      EXPECT_NEAR(p.r0, r, 1e-7) << a;
+    } else if (ratio >= 2.0) {
+      ++full;
+      EXPECT_NEAR(p.r0, r * wireDepthScale(v, e0, e1 - e0), 1e-6) << a;
+    }
+    if (last >= 0.0) {
+      EXPECT_LT(std::abs(p.r0 - last), 0.1 * r) << "angle " << a << ", screen length / width " << ratio;
+    }
+    last = p.r0;
+  }
+  EXPECT_GT(endOn, 10);  // the sweep covers both sides of the turn
+  EXPECT_GT(full, 10);
+}
+
 // Degenerate axes give the plain footprint (1), never NaN: an axis through the eye, one of no
 // length, one with a NaN or infinite end; an orthographic view's width is exact as it is.
 TEST(WireFootprint, DegenerateAxesGiveThePlainFootprint) {
