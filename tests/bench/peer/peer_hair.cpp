@@ -17,6 +17,7 @@
 
 #include "render/renderer.h"
 
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include <unistd.h>
@@ -106,30 +107,36 @@ json coverageError(const std::vector<float>& a, const std::vector<float>& ref) {
 
 int main(int argc, char** argv) {
   Args a;
-  for (int i = 1; i < argc; ++i) {
-    const std::string s = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::cerr << "peer_hair: " << s << " needs a value\n";
-        std::exit(2);
+  CLI::App app{"peer_hair: the A-buffer against VTK's RenderLinesAsTubes on hair over a torus (docs/benchmarks.md)"};
+  bool noVtk = false;
+  std::vector<std::string> simplify;
+  app.add_option("--segments", a.segments, "hair segments")->check(CLI::Range(size_t(1), size_t(1) << 28));
+  app.add_option("--frames", a.frames, "timed frames (the median is reported)")->check(CLI::Range(1, 1000));
+  app.add_option("--samples", a.samples, "the reference's N x N samples per pixel")->check(CLI::Range(1, 64));
+  app.add_option("--threads", a.threads, "worker threads (0: all cores)")->check(CLI::Range(0, 4096));
+  app.add_flag("--no-vtk", noVtk, "leave out VTK's tubes");
+  app.add_option("--json", a.jsonPath, "write the report here");
+  app.add_option("--simplify", simplify, "stochastic simplification's densities to measure, or off")->delimiter(',');
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "peer_hair: " << e.what() << "\n";
+    return 2;
+  }
+  a.vtk = !noVtk;
+  if (app.count("--simplify")) {
+    a.simplify.clear();
+    for (const std::string& v : simplify) {
+      if (v.empty() || v == "off") continue;
+      char* end = nullptr;
+      const double d = std::strtod(v.c_str(), &end);
+      if (end == v.c_str() || *end != '\0' || !(d > 0.0) || !std::isfinite(d)) {
+        std::cerr << "peer_hair: --simplify: expected densities > 0 or off, got '" << v << "'\n";
+        return 2;
       }
-      return argv[++i];
-    };
-    if (s == "--segments") a.segments = std::stoul(next());
-    else if (s == "--frames") a.frames = std::max(1, std::stoi(next()));
-    else if (s == "--samples") a.samples = std::stoi(next());
-    else if (s == "--threads") a.threads = std::stoi(next());
-    else if (s == "--no-vtk") a.vtk = false;
-    else if (s == "--json") a.jsonPath = next();
-    else if (s == "--simplify") {
-      a.simplify.clear();
-      std::stringstream ss(next());
-      for (std::string v; std::getline(ss, v, ',');)
-        if (!v.empty() && v != "off") a.simplify.push_back(std::stod(v));
-    }
-    else {
-      std::cerr << "peer_hair: unknown option " << s << "\n";
-      return 2;
+      a.simplify.push_back(d);
     }
   }
   const int W = wfbench::kHairImageWidth, H = wfbench::kHairImageHeight;

@@ -34,6 +34,7 @@
 #include "render/pipeline.h"
 #include "render/renderer.h"
 
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -192,43 +193,51 @@ std::string fmt(double v, const char* f = "%.3g") {
 
 int main(int argc, char** argv) {
   Args a;
+  CLI::App app{"peer_raycast: the A-buffer against Embree's ray casting (and VTK's tubes) at equal RMS "
+               "against a many-ray truth (docs/benchmarks.md)"};
+  std::string size, masks, floors;
+  bool noVtk = false;
+  app.add_option("--scenes", a.scenes, "scenes: torus7k, torus70k, torus700k, spider, curved1m")->delimiter(',');
+  app.add_option("--size", size, "image size WxH (default: each scene's own)");
+  app.add_option("--samples", a.samples, "Embree's curve: N x N rays per pixel for each N given")
+      ->delimiter(',')
+      ->check(CLI::Range(1, 16));
+  app.add_option("--truth", a.truth, "Embree's truth: N x N rays per pixel")->check(CLI::Range(1, 32));
+  app.add_option("--masks", masks, "A-buffer mask layouts, e.g. 4x4,8x4,8x8");
+  app.add_option("--repeats", a.repeats, "timed runs per measurement (the median is reported)")->check(CLI::Range(1, 1000));
+  app.add_option("--threads", a.threads, "worker threads (0: all cores)")->check(CLI::Range(0, 4096));
+  app.add_flag("--no-vtk", noVtk, "leave out VTK's tubes");
+  app.add_flag("--check", a.check, "exit 1 when a scene misses its --floors speed-up or an error does not fall as it should");
+  app.add_flag("--reference", a.reference, "also render the A-buffer's brute-force reference (slow)");
+  app.add_option("--out", a.out, "output folder for the report, tables and plots");
+  app.add_option("--floors", floors, "SCENE=RATIO,...: the smallest speed-up each scene may show (--check)");
   try {
-    for (int i = 1; i < argc; ++i) {
-      const std::string s = argv[i];
-      auto next = [&]() -> std::string {
-        if (i + 1 >= argc) throw std::runtime_error(s + " needs a value");
-        return argv[++i];
-      };
-      if (s == "--scenes") a.scenes = split(next());
-      else if (s == "--size") {
-        const std::string v = next();
-        if (std::sscanf(v.c_str(), "%dx%d", &a.width, &a.height) != 2 || a.width < 1 || a.height < 1)
-          throw std::runtime_error("--size WxH");
-      } else if (s == "--samples") {
-        a.samples.clear();
-        for (const std::string& v : split(next())) a.samples.push_back(std::clamp(std::stoi(v), 1, 16));
-      } else if (s == "--truth") a.truth = std::clamp(std::stoi(next()), 1, 32);
-      else if (s == "--masks") {
-        a.masks.clear();
-        for (const std::string& v : split(next())) {
-          int w = 0, h = 0;
-          if (std::sscanf(v.c_str(), "%dx%d", &w, &h) != 2) throw std::runtime_error("--masks 4x4,8x4,8x8");
-          a.masks.push_back({w, h});
-        }
-      } else if (s == "--repeats") a.repeats = std::max(1, std::stoi(next()));
-      else if (s == "--threads") a.threads = std::stoi(next());
-      else if (s == "--no-vtk") a.vtk = false;
-      else if (s == "--check") a.check = true;
-      else if (s == "--reference") a.reference = true;
-      else if (s == "--out") a.out = next();
-      else if (s == "--floors") {
-        for (const std::string& v : split(next())) {
-          const size_t eq = v.find('=');
-          if (eq == std::string::npos) throw std::runtime_error("--floors SCENE=RATIO,...");
-          a.floors[v.substr(0, eq)] = std::stod(v.substr(eq + 1));
-        }
-      } else throw std::runtime_error("unknown option " + s);
+    app.parse(argc, argv);
+    a.vtk = !noVtk;
+    if (!size.empty() && (std::sscanf(size.c_str(), "%dx%d", &a.width, &a.height) != 2 || a.width < 1 || a.height < 1))
+      throw std::runtime_error("--size: expected WxH, got '" + size + "'");
+    if (!masks.empty()) {
+      a.masks.clear();
+      for (const std::string& v : split(masks)) {
+        int w = 0, h = 0;
+        if (std::sscanf(v.c_str(), "%dx%d", &w, &h) != 2 || w < 1 || h < 1)
+          throw std::runtime_error("--masks: expected layouts such as 4x4,8x4,8x8, got '" + v + "'");
+        a.masks.push_back({w, h});
+      }
     }
+    for (const std::string& v : split(floors)) {
+      const size_t eq = v.find('=');
+      char* end = nullptr;
+      const double ratio = eq == std::string::npos ? 0.0 : std::strtod(v.c_str() + eq + 1, &end);
+      if (eq == std::string::npos || end == v.c_str() + eq + 1 || *end != '\0' || !(ratio >= 0.0))
+        throw std::runtime_error("--floors: expected SCENE=RATIO, got '" + v + "'");
+      a.floors[v.substr(0, eq)] = ratio;
+    }
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "peer_raycast: " << e.what() << "\n";
+    return 2;
   } catch (const std::exception& e) {
     std::cerr << "peer_raycast: " << e.what() << "\n";
     return 2;
