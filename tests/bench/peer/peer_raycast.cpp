@@ -35,6 +35,11 @@
 #include "render/renderer.h"
 
 #include <CLI/CLI.hpp>
+#include <vtkFloatArray.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkXMLImageDataWriter.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -66,6 +71,7 @@ struct Args {
   bool check = false;
   bool reference = false;
   std::string out = "out/bench";
+  bool dump = false;  ///< --dump: the float images as .vti beside the report
   std::map<std::string, double> floors;  ///< --floors: the smallest speed-up a scene may show
 };
 
@@ -183,6 +189,31 @@ wf::ImageRGBA coverageImage(const std::vector<float>& cov, int W, int H) {
   return img;
 }
 
+// --dump: a float RGBA image (premultiplied, linear, as rendered) as VTK XML image data, rows
+// flipped so that ParaView and vtkXMLImageDataReader show it upright (VTK's y points up); the
+// array is "rgba". For error analyses finer than the PNGs' 8 bits.
+void dumpImage(const wf::ImageRGBA& img, const std::string& path) {
+  vtkNew<vtkFloatArray> rgba;
+  rgba->SetName("rgba");
+  rgba->SetNumberOfComponents(4);
+  rgba->SetNumberOfTuples(vtkIdType(img.pixels.size()));
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const glm::vec4& p = img.at(x, img.height - 1 - y);
+      const float v[4] = {p.x, p.y, p.z, p.w};
+      rgba->SetTypedTuple(vtkIdType(y) * img.width + x, v);
+    }
+  vtkNew<vtkImageData> data;
+  data->SetDimensions(img.width, img.height, 1);
+  data->GetPointData()->SetScalars(rgba);
+  vtkNew<vtkXMLImageDataWriter> writer;
+  writer->SetFileName(path.c_str());
+  writer->SetInputData(data);
+  writer->SetDataModeToAppended();
+  writer->EncodeAppendedDataOff();
+  if (!writer->Write()) throw std::runtime_error("cannot write " + path);
+}
+
 std::string fmt(double v, const char* f = "%.3g") {
   char b[64];
   std::snprintf(b, sizeof b, f, v);
@@ -210,6 +241,7 @@ int main(int argc, char** argv) {
   app.add_flag("--check", a.check, "exit 1 when a scene misses its --floors speed-up or an error does not fall as it should");
   app.add_flag("--reference", a.reference, "also render the A-buffer's brute-force reference (slow)");
   app.add_option("--out", a.out, "output folder for the report, tables and plots");
+  app.add_flag("--dump", a.dump, "also write the float images (truth, each mask, the reference) as .vti in --out");
   app.add_option("--floors", floors, "SCENE=RATIO,...: the smallest speed-up each scene may show (--check)");
   try {
     app.parse(argc, argv);
@@ -287,6 +319,7 @@ int main(int argc, char** argv) {
                    {"seconds", truth.secondsTotal}, {"curves", truth.curves}, {"triangles", truth.triangles},
                    {"translucent_drawn_opaque", truth.translucent}};
     wfapp::writePng(truth.image, a.out + "/peer_" + name + "_truth.png");
+    if (a.dump) dumpImage(truth.image, a.out + "/peer_" + name + "_truth.vti");
 
     // Embree at each sample count (the A-buffer's shading path, other jitter).
     md << "### " << name << ": " << b.description << ", " << W << "x" << H << "\n\n"
@@ -353,6 +386,7 @@ int main(int argc, char** argv) {
       std::string how;
       const double te = embreeTimeAt(curve, e.rms, how);
       const std::string mask = std::to_string(m.w) + "x" + std::to_string(m.h);
+      if (a.dump) dumpImage(r.image, a.out + "/peer_" + name + "_abuffer_" + mask + ".vti");
       abSeries.x.push_back(t);
       abSeries.y.push_back(std::max(e.rms, 1e-7));
       abSeries.labels.push_back(mask);
@@ -428,6 +462,7 @@ int main(int argc, char** argv) {
       const wf::RenderResult ab = wf::render(scene, ob);
       const wfapp::ImageError eRef = wfapp::imageError(ref.image, truth.image);
       const wfapp::ImageError eAb = wfapp::imageError(ab.image, ref.image);
+      if (a.dump) dumpImage(ref.image, a.out + "/peer_" + name + "_reference.vti");
       js["abuffer_reference"] = {{"seconds", ref.stats.total}, {"rgba_rms_against_truth", eRef.rms},
                                  {"coverage_rms_against_truth", eRef.coverageRms},
                                  {"abuffer_rgba_rms_against_reference", eAb.rms}};
