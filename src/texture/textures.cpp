@@ -31,9 +31,10 @@ double triangleWave(double x) {
 }
 
 /// Integer index of a lattice cell; coordinates beyond 2^52 (where every double is an integer)
-/// are folded into a 2^32 range first so the conversion cannot overflow.
+/// are folded into a 2^32 range first so the conversion cannot overflow, and NaN or an infinity
+/// (whose fmod is NaN, and converting NaN to an integer is undefined) is cell 0.
 std::int64_t cellIndex(double floored) {
-  if (!(std::fabs(floored) < 0x1.0p52)) floored = std::fmod(floored, 0x1.0p32);
+  if (!(std::fabs(floored) < 0x1.0p52)) floored = std::isfinite(floored) ? std::fmod(floored, 0x1.0p32) : 0.0;
   return std::int64_t(floored);
 }
 

@@ -296,6 +296,10 @@ TEST(NoiseTexture, RangeDeterminismAndHostileInput) {
   EXPECT_EQ(a.value({kNaN, 0.0}), 0.0);
   EXPECT_EQ(a.gradient({0.0, kInf}), glm::dvec2(0.0));
   EXPECT_TRUE(std::isfinite(a.value({1e300, -1e300})));
+  // Coordinates whose octaves overflow to infinity (1e308 times the frequencies): the cell index
+  // was fmod(inf) = NaN converted to an integer (undefined); now cell 0, and the value finite.
+  EXPECT_TRUE(std::isfinite(a.value({1.7e308, -1.7e308})));
+  EXPECT_TRUE(std::isfinite(a.gradient({1.7e308, 1.7e308}).x));
   const glm::dvec2 g = a.gradient({1e18, 3e17});
   EXPECT_TRUE(std::isfinite(g.x) && std::isfinite(g.y));
 }
