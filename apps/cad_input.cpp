@@ -111,7 +111,7 @@ CadGeometry readCadInProcess(const std::string& path, const CadOptions& o, bool 
       int was = st->shown.load();
       while (tenth > was)
         if (st->shown.compare_exchange_weak(was, tenth)) {
-          std::cerr << "wirefur: reading and meshing " + st->path + ": " + std::to_string(10 * tenth) + "%\n";
+          std::cerr << "wirefur: reading and meshing " + oneLine(st->path) + ": " + std::to_string(10 * tenth) + "%\n";
           break;
         }
     });
@@ -427,7 +427,7 @@ SceneFile sceneForCadFile(const std::string& path, const std::string& style, con
   wf::Style s;
   if (!wf::parseStyle(style, s)) throw UsageError("--style " + style + ": expected " + wf::styleNames());
   CadGeometry cad = readCad(path, options, s == wf::Style::Fur || s == wf::Style::Scales);
-  if (!cad.warning.empty()) std::cerr << "wirefur: warning: " << cad.warning << "\n";
+  if (!cad.warning.empty()) warn(cad.warning);
   SceneFile sf;
   sf.inputStats = cad.info;
   buildStyled(sf, path, cadGeometryData(std::move(cad)), s);

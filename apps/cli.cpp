@@ -18,8 +18,10 @@ Progress::Progress(bool quiet) {
 }
 
 void Progress::say(const std::string& line) const {
-  if (enabled_) std::cerr << "wirefur: " << line << "\n";
+  if (enabled_) std::cerr << "wirefur: " << oneLine(line) << "\n";
 }
+
+void warn(const std::string& what) { std::cerr << "wirefur: warning: " << oneLine(what) << "\n"; }
 
 std::optional<std::size_t> byteSize(const std::string& value) {
   std::string v = value;

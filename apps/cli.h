@@ -24,6 +24,10 @@ struct UsageError : std::runtime_error {
   explicit UsageError(const char* what) : UsageError(std::string(what)) {}
 };
 
+/// One "wirefur: warning: ..." line on stderr, made one line by oneLine (a warning quotes file
+/// and object names).
+void warn(const std::string& what);
+
 /// Progress lines on stderr only when stderr is a terminal, not in CI and not --quiet.
 class Progress {
  public:

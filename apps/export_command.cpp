@@ -191,8 +191,8 @@ int runExport(const ExportOptions& o) {
   const SceneFile sf = loadInput(input, o.style, o.overrides);
   const vtkSmartPointer<vtkPolyData> pd = sceneToPolyData(sf.scene);
   if (ext == ".ply" && pd->GetNumberOfLines() > 0)
-    std::cerr << "wirefur: warning: " << output << ": PLY holds no lines: " << pd->GetNumberOfLines()
-              << " wire and hair polylines are left out (use .vtp, .vtk or .obj)\n";
+    warn(output + ": PLY holds no lines: " + std::to_string(pd->GetNumberOfLines()) +
+         " wire and hair polylines are left out (use .vtp, .vtk or .obj)");
 
   // Written under a temporary name beside the target and renamed: nothing half-written.
   std::string tmpName = target.filename().string();

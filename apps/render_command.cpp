@@ -230,7 +230,7 @@ int runRender(const RenderCommandOptions& o) {
   progress.say("rendering " + (o.input.empty() ? std::string("the built-in scene") : o.input) + " at " +
                std::to_string(ro.width) + "x" + std::to_string(ro.height) + (o.reference ? " (reference)" : ""));
   const wf::RenderResult r = o.reference ? wf::renderReference(sf.scene, ro) : wf::render(sf.scene, ro);
-  for (const std::string& w : r.stats.warnings) std::cerr << "wirefur: warning: " << (o.input.empty() ? "built-in scene" : o.input) << ": " << w << "\n";
+  for (const std::string& w : r.stats.warnings) warn((o.input.empty() ? "built-in scene" : o.input) + ": " + w);
   json stats = statsJson(r.stats, ro, o.reference);
   if (o.measureError && !o.reference) {
     progress.say("rendering the brute-force reference for the error measurement");

@@ -346,7 +346,7 @@ wf::ObjectDescription readObject(const Reader& r, const json& j, const std::stri
       }
       try {
         CadGeometry c = readCad(p.string(), co, grows);
-        if (!c.warning.empty()) std::cerr << "wirefur: warning: " << c.warning << "\n";
+        if (!c.warning.empty()) warn(c.warning);
         // For --stats: the coarsest tessellation of the scene's CAD objects, in world units
         // after the object's transform (its largest scale).
         nlohmann::ordered_json info = c.info;

@@ -133,7 +133,7 @@ struct SegmentPrim {
   glm::vec2 o0, o1;            ///< corner offsets at the two ends
   float w0, w1;                ///< half widths in pixels at the two ends
   float d0, d1;                ///< view depths of the axis at the two ends
-  float r0, r1;                ///< depth radii at the two ends: the world radius, times wireDepthScale unless end-on
+  float r0, r1;                ///< depth radii at the two ends: the world radius times wireDepthScale, ramped to 1 towards end-on
   std::uint32_t tag;           ///< object id (the polyline): its pieces merge in the A-buffer
   std::uint32_t shader : 24;   ///< into PreparedScene::shaders (one per wire: up to kMaxShaders)
   std::uint32_t flags : 8;     ///< kSegment* bits

@@ -183,7 +183,7 @@ TEST(WireFootprint, DepthRadiusHasNoJumpAsTheSegmentTurnsEndOn) {
   c.farPlane = 100.0;
   const ViewTransform v = ViewTransform::make(c, W, H);
   const double r = 0.01, L = 0.2;
-  double last = -1.0;
+  double last0 = -1.0, last1 = -1.0;
   int endOn = 0, full = 0;
   for (int i = 0; i <= 600; ++i) {
     const double a = 0.6 * i / 600.0;  // the axis's angle to the view axis
@@ -207,10 +207,11 @@ TEST(WireFootprint, DepthRadiusHasNoJumpAsTheSegmentTurnsEndOn) {
       ++full;
       EXPECT_NEAR(p.r0, r * wireDepthScale(v, e0, e1 - e0), 1e-6) << a;
     }
-    if (last >= 0.0) {
-      EXPECT_LT(std::abs(p.r0 - last), 0.1 * r) << "angle " << a << ", screen length / width " << ratio;
+    if (last0 >= 0.0) {  // about 0.08 r per step at most here (20 sin(a) length / width, scale 5)
+      EXPECT_LT(std::abs(p.r0 - last0), 0.1 * r) << "angle " << a << ", screen length / width " << ratio;
+      EXPECT_LT(std::abs(p.r1 - last1), 0.1 * r) << "angle " << a << ", screen length / width " << ratio;
     }
-    last = p.r0;
+    last0 = p.r0, last1 = p.r1;
   }
   EXPECT_GT(endOn, 10);  // the sweep covers both sides of the turn
   EXPECT_GT(full, 10);
