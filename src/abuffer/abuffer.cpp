@@ -79,14 +79,24 @@ void wireDepths(const SurfaceDepth& m, const float* sx, const float* sy, int n, 
   const float lo = std::max(m.nearPlane, m.lo), hi = m.hi;
   const float t0 = m.t0, tx = m.tx, ty = m.ty, l0 = m.l0, lx = m.lx, ly = m.ly, len = m.length;
   const float w0 = m.w0, dw = m.dw, r0 = m.r0, dr = m.dr, k0 = m.k0, kx = m.kx, tmax = m.tmax;
+  const float tl = m.tl, ta = m.ta, tt = m.tt, s0 = m.s0, st = m.st;
   for (int k = 0; k < n; ++k) {
     const float t = t0 + tx * sx[k] + ty * sy[k];
     const float tc = std::min(tmax, std::max(0.0f, t));
-    float d = depthOfKey<Perspective>(k0 + kx * tc);
+    float d;
     if constexpr (Round) {
       const float lat = l0 + lx * sx[k] + ly * sy[k], along = (t - tc) * len, w = w0 + dw * tc;
       const float q2 = std::min(1.0f, (lat * lat + along * along) / (w * w));
+      if constexpr (Perspective) {  // the tilt across the wire (SegmentTilt: zero when orthographic)
+        const float lc = std::min(w, std::max(-w, lat));
+        d = depthOfKey<Perspective>(k0 + kx * std::min(tmax, std::max(0.0f, t + lc * (s0 + st * tc))));
+        d *= 1.0f + tl * lc + (ta + tt * tc) * std::min(w, std::max(-w, along));
+      } else {
+        d = depthOfKey<Perspective>(k0 + kx * tc);
+      }
       d -= (r0 + dr * tc) * std::sqrt(1.0f - q2);
+    } else {
+      d = depthOfKey<Perspective>(k0 + kx * tc);
     }
     out[k] = std::min(hi, std::max(lo, d));
   }

@@ -90,7 +90,8 @@ struct Fragment {
 /// in [0, 1]^2 from the pixel's top left corner: a plane of the depth key (triangles; 1/d under
 /// perspective, d when orthographic), or a round wire (render/pipeline.h, segmentDepthAt): its
 /// axis key along t, its surface sqrt(1 - q^2) radii before the axis, q the distance from the
-/// axis in half widths. In float: plain data the resolve evaluates at the subpixels it needs.
+/// axis in half widths, the axis depth tilted across the wire in perspective (render/pipeline.h,
+/// SegmentTilt). In float: plain data the resolve evaluates at the subpixels it needs.
 struct SurfaceDepth {
   enum class Kind : std::uint8_t { Plane, Wire } kind = Kind::Plane;
   bool perspective = true;
@@ -102,10 +103,14 @@ struct SurfaceDepth {
   float length = 0;                  ///< wire: axis length (pixels), for the distance beyond its ends
   float tmax = 1;                    ///< wire: t is clamped to [0, tmax] (0: a point, seen end-on)
   float w0 = 1, dw = 0, r0 = 0, dr = 0;  ///< wire: half width (pixels) and depth radius (world: SegmentPrim::r0, r1) at t, linear
+  /// wire: the axis depth times 1 + tl lat + (ta + tt tc) along, lat and along (the offset from
+  /// the axis, pixels) clamped to [-w, w], taken at parameter t + lat (s0 + st tc) clamped to
+  /// [0, tmax] (render/pipeline.h, SegmentTilt; all zero when orthographic)
+  float tl = 0, ta = 0, tt = 0, s0 = 0, st = 0;
   /// The depth at n samples (sx[k], sy[k]) into out[k] (a loop the compiler vectorises).
   void atSamples(const float* sx, const float* sy, int n, float* out) const;
   float at(float sx, float sy) const {
-    float key, cut = 0.0f;
+    float key, cut = 0.0f, tilt = 1.0f;
     if (kind == Kind::Plane) {
       key = k0 + kx * sx + ky * sy;
     } else {
@@ -115,10 +120,13 @@ struct SurfaceDepth {
       if (round) {
         const float lat = l0 + lx * sx + ly * sy, along = (t - tc) * length, w = w0 + dw * tc;
         const float q2 = std::min(1.0f, (lat * lat + along * along) / (w * w));
+        const float lc = std::min(w, std::max(-w, lat));
         cut = (r0 + dr * tc) * std::sqrt(1.0f - q2);
+        tilt = 1.0f + tl * lc + (ta + tt * tc) * std::min(w, std::max(-w, along));
+        key = k0 + kx * std::min(tmax, std::max(0.0f, t + lc * (s0 + st * tc)));
       }
     }
-    const float d = perspective ? (key > 0.0f ? 1.0f / key : INFINITY) : key;
+    const float d = (perspective ? (key > 0.0f ? 1.0f / key : INFINITY) : key) * tilt;
     return std::min(hi, std::max(std::max(nearPlane, lo), d - cut));
   }
 };

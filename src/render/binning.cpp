@@ -102,6 +102,9 @@ class Binner {
     if (!tileRange(bx0, by0, bx1, by1, tx0, ty0, tx1, ty1)) return;
     const float zlo = segmentZlo(view_, s);
     const SegmentEndKeys keys(view_, s);
+    const double tilt = segmentTiltBound(view_, s);
+    // The round model takes the axis depth up to `slide` along the axis from the pixel's foot.
+    const double slide = SegmentTilt(view_, s, SegmentFrame(s)).shiftBound;
     for (int ty = ty0; ty <= ty1; ++ty)
       for (int tx = tx0; tx <= tx1; ++tx) {
         // The axis inside the tile grown by the reach: only that part can cover the tile.
@@ -114,9 +117,10 @@ class Binner {
         TileBins::Item item = rectItem(i, tx, ty, std::min(ax, bx) - reach, std::min(ay, by) - reach,
                                        std::max(ax, bx) + reach, std::max(ay, by) + reach);
         // The axis depth is monotonic along the axis: its nearest is at one end of [ta, tb]; the
-        // surface is at most the largest radius nearer (either WireDepth, segmentZlo).
-        const double k = view_.perspective ? std::max(keys.axis(ta), keys.axis(tb)) : std::min(keys.axis(ta), keys.axis(tb));
-        const double z = view_.depthFromKey(k) - std::max(double(s.r0), double(s.r1));
+        // surface is at most the tilt and the largest radius nearer (either WireDepth, segmentZlo).
+        const double sa = std::max(0.0, ta - slide), sb = std::min(1.0, tb + slide);
+        const double k = view_.perspective ? std::max(keys.axis(sa), keys.axis(sb)) : std::min(keys.axis(sa), keys.axis(sb));
+        const double z = view_.depthFromKey(k) * (1.0 - tilt) - std::max(double(s.r0), double(s.r1));
         item.zlo = z >= zlo ? float(z) : zlo;  // never nearer than the whole segment (nor NaN)
         f(ty * tilesX_ + tx, item);
       }

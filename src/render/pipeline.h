@@ -256,6 +256,42 @@ struct SegmentEndKeys {
   double front(double t) const { return front0 + (front1 - front0) * t; }
   double axis(double t) const { return axis0 + (axis1 - axis0) * t; }
 };
+/// The perspective tilt of a wire's surface across it (docs/abuffer.md, "The wire's
+/// footprint"). The ray through a screen point offset o (pixels) from the nearest point X of the
+/// axis's image passes the axis at q = |o| / w radii (w the half width), and the middle of its
+/// chord through the cylinder lies q r from the axis along the normal n of the plane through the
+/// eye and the axis. That plane faces the eye only where it holds the view axis: elsewhere the
+/// chord's middle stands q r n_z nearer than the axis point, which is lat d L / (f^2 + L^2)
+/// (lat the signed offset across the axis, d the axis depth, f the focal length in pixels, L =
+/// (X - c) . n the axis line's signed distance from the image centre c). So the side of a wire
+/// towards the image centre lies farther and the other side nearer, by up to the radius times
+/// n_z; zero when orthographic (every ray parallel). Beyond an end (its sphere) the same form
+/// along the axis. The depth is the axis depth times factor(): 1 + lateral lat + (along0 + alongT
+/// tc) along, the offset's components across and along the axis clamped to a half width each;
+/// and the axis depth is taken a little along the axis (shift0, shiftT: see segment_setup.cpp).
+/// Against rays cast at the exact cylinder the whole model is within 0.02 r across the wire
+/// (WireFootprint.TiltedDepthIsWhereTheRayEntersTheCylinder; 0.82 r without the tilt).
+struct SegmentTilt {
+  double lateral = 0, along0 = 0, alongT = 0;
+  /// The axis point whose depth the chord's middle takes: parameter t + lat (shift0 + shiftT
+  /// tc), clamped to [0, 1] (lat clamped to a half width; t unclamped, so that beyond an end,
+  /// its sphere, the shift fades out within shiftBound and every depth the model takes in a
+  /// rectangle is the axis's in the rectangle grown by shiftBound times the length)
+  double shift0 = 0, shiftT = 0;
+  double bound = 0;       ///< |factor - 1| <= bound over the whole segment (segmentTiltBound)
+  double shiftBound = 0;  ///< |the parameter's shift| <= shiftBound
+  SegmentTilt(const ViewTransform& v, const SegmentPrim& s, const SegmentFrame& fr);
+  /// lat, along: the offset from the nearest axis point across and along the axis (pixels; for
+  /// a segment of no screen length, y and x from its end point); w the half width there.
+  double factor(double lat, double along, double tc, double w) const {
+    const double l = std::clamp(lat, -w, w), a = std::clamp(along, -w, w);
+    return 1.0 + lateral * l + (along0 + alongT * tc) * a;
+  }
+};
+/// A bound on |SegmentTilt::factor - 1| for segment s: its largest half width over the focal
+/// length (each of the two terms is at most w / (2 f)); 0 when orthographic.
+double segmentTiltBound(const ViewTransform& v, const SegmentPrim& s);
+
 // ---- a round wire seen in perspective (docs/abuffer.md, "The wire's footprint") -------------
 
 /// The half width on screen of a round wire of radius r about the eye-space axis through e0 and
@@ -296,28 +332,35 @@ inline double wireDepthScale(const ViewTransform& v, const glm::dvec3& e, const 
   return cosTheta / std::max(sinBeta, 1.0 / kMaxWireDepthScale);
 }
 
-/// The nearest and farthest depth of a segment's visible surface (for either WireDepth): no
-/// nearer than its nearest axis depth less its largest radius, no farther than its axis.
+/// The nearest depth of a segment's visible surface (for either WireDepth): no nearer than its
+/// nearest axis depth, less the tilt (SegmentTilt), less its largest radius.
 inline float segmentZlo(const ViewTransform& v, const SegmentPrim& s) {
-  return float(std::max(v.nearPlane, std::min(double(s.d0), double(s.d1)) - std::max(double(s.r0), double(s.r1))));
+  const double near = std::min(double(s.d0), double(s.d1)) * (1.0 - segmentTiltBound(v, s));
+  return float(std::max(v.nearPlane, near - std::max(double(s.r0), double(s.r1))));
 }
-inline float segmentZhi(const SegmentPrim& s) { return std::max(s.d0, s.d1); }
+
 
 /// View depth of a segment's surface at screen point (x, y): the round cylinder (its depth
-/// across the wire, sqrt(1 - q^2), and a sphere at the ends), or the flat front of the paper's
-/// polygon (WireDepth::Flat). Never nearer than the near plane. `k`: the segment's keys.
+/// across the wire, sqrt(1 - q^2) radii before the axis, tilted in perspective (SegmentTilt), and
+/// a sphere at the ends), or the flat front of the paper's polygon (WireDepth::Flat). Never
+/// nearer than the near plane. `k`, `tilt`: the segment's keys and tilt.
 inline double segmentDepthAt(const ViewTransform& v, const SegmentPrim& s, const SegmentFrame& fr,
-                             const SegmentEndKeys& k, double x, double y, WireDepth model) {
-  const double tc = std::clamp(fr.t(x, y), 0.0, 1.0);
+                             const SegmentEndKeys& k, const SegmentTilt& tilt, double x, double y, WireDepth model) {
+  const double t = fr.t(x, y), tc = std::clamp(t, 0.0, 1.0);
   if (model == WireDepth::Flat) return std::max(v.nearPlane, v.depthFromKey(k.front(tc)));
   const double w = double(s.w0) + (double(s.w1) - double(s.w0)) * tc;
-  const double q2 = w > 0 ? std::min(1.0, fr.distance2(x, y) / (w * w)) : 1.0;
+  double lat, along;  // as SurfaceDepth (abuffer.h) forms them
+  if (fr.length > 0) lat = (x - fr.ax) * fr.nx + (y - fr.ay) * fr.ny, along = (t - tc) * fr.length;
+  else lat = y - fr.ay, along = x - fr.ax;
+  const double q2 = w > 0 ? std::min(1.0, (lat * lat + along * along) / (w * w)) : 1.0;
   const double r = double(s.r0) + (double(s.r1) - double(s.r0)) * tc;
-  return std::max(v.nearPlane, v.depthFromKey(k.axis(tc)) - r * std::sqrt(1.0 - q2));
+  const double ts = std::clamp(t + std::clamp(lat, -w, w) * (tilt.shift0 + tilt.shiftT * tc), 0.0, fr.length > 0 ? 1.0 : 0.0);
+  const double d = v.depthFromKey(k.axis(ts)) * tilt.factor(lat, along, tc, w);
+  return std::max(v.nearPlane, d - r * std::sqrt(1.0 - q2));
 }
 inline double segmentDepthAt(const ViewTransform& v, const SegmentPrim& s, const SegmentFrame& fr, double x,
                              double y, WireDepth model) {
-  return segmentDepthAt(v, s, fr, SegmentEndKeys(v, s), x, y, model);
+  return segmentDepthAt(v, s, fr, SegmentEndKeys(v, s), SegmentTilt(v, s, fr), x, y, model);
 }
 
 /// View depth of primitive i's surface at screen point (x, y) (the triangle's plane, clamped to

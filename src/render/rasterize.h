@@ -65,7 +65,9 @@ struct SegmentDepth {
   double fa, fb, fc, flo, fhi;  // front key plane, its depth range
   double aa, ab, ac, alo, ahi;  // axis key plane, its depth range
   SegmentEndKeys keys;
-  SegmentDepth(const ViewTransform& v, const SegmentPrim& s, WireDepth m) : view(&v), seg(&s), frame(s), model(m), keys(v, s) {
+  SegmentTilt tilt;
+  SegmentDepth(const ViewTransform& v, const SegmentPrim& s, WireDepth m)
+      : view(&v), seg(&s), frame(s), model(m), keys(v, s), tilt(v, s, frame) {
     const double kf0 = keys.front(0.0), kf1 = keys.front(1.0);
     const double ka0 = keys.axis(0.0), ka1 = keys.axis(1.0);
     fa = (kf1 - kf0) * frame.ux, fb = (kf1 - kf0) * frame.uy, fc = kf0 - fa * frame.ax - fb * frame.ay;
@@ -76,7 +78,9 @@ struct SegmentDepth {
     reach = std::max({double(std::hypot(s.o0.x, s.o0.y)), double(std::hypot(s.o1.x, s.o1.y)),
                       1.5708 * double(std::max(s.w0, s.w1))});
     rmax = std::max(double(s.r0), double(s.r1));
+    slide = m == WireDepth::Round ? tilt.shiftBound * frame.length : 0.0;
   }
+  double slide;  // how far along the axis (pixels) the round model takes its axis depth (SegmentTilt)
   double reach;  // how far the polygon lies from the axis (see binning.cpp)
   double rmax;   // the largest radius
   /// The x extent of the polygon across rows [ya, yb]: the part of the axis within the reach of
@@ -98,10 +102,11 @@ struct SegmentDepth {
     return true;
   }
   /// The nearest depth over the rectangle: the paper's polygon's front plane (Flat); the axis
-  /// where nearest less the largest radius (Round: the radius is interpolated along the screen,
-  /// the axis depth perspective-correctly, so the front plane would not bound it).
+  /// where nearest, less the tilt, less the largest radius (Round: the radius is interpolated
+  /// along the screen, the axis depth perspective-correctly, so the front plane would not bound it).
   double nearest(double x0, double y0, double x1, double y1) const {
-    if (model == WireDepth::Round) return std::max(view->nearPlane, nearestAxis(x0, y0, x1, y1) - rmax);
+    if (model == WireDepth::Round)
+      return std::max(view->nearPlane, nearestAxis(x0, y0, x1, y1) * (1.0 - tilt.bound) - rmax);
     const bool big = view->perspective;
     const double k = fa * ((fa > 0) == big ? x1 : x0) + fb * ((fb > 0) == big ? y1 : y0) + fc;
     return std::clamp(view->depthFromKey(k), flo, fhi);
@@ -109,11 +114,19 @@ struct SegmentDepth {
   /// The axis's nearest depth over the rectangle (its key plane at the corner of the largest key
   /// under perspective, of the smallest when orthographic).
   double nearestAxis(double x0, double y0, double x1, double y1) const {
+    x0 -= slide, y0 -= slide, x1 += slide, y1 += slide;
     const bool big = view->perspective;
     const double k = aa * ((aa > 0) == big ? x1 : x0) + ab * ((ab > 0) == big ? y1 : y0) + ac;
     return std::clamp(view->depthFromKey(k), alo, ahi);
   }
+  /// The farthest depth over the rectangle: the axis where farthest (Flat: the front plane lies
+  /// before it), farther by the tilt (Round: the side of a wire towards the image centre).
   double farthest(double x0, double y0, double x1, double y1) const {
+    const double z = farthestAxis(x0, y0, x1, y1);
+    return model == WireDepth::Round ? z * (1.0 + tilt.bound) : z;
+  }
+  double farthestAxis(double x0, double y0, double x1, double y1) const {
+    x0 -= slide, y0 -= slide, x1 += slide, y1 += slide;
     const bool big = view->perspective;
     const double k = aa * ((aa > 0) == big ? x0 : x1) + ab * ((ab > 0) == big ? y0 : y1) + ac;
     return std::clamp(view->depthFromKey(k), alo, ahi);
@@ -147,9 +160,16 @@ struct SegmentDepth {
         const double lmin = (llo <= 0.0 && lhi >= 0.0) ? 0.0 : std::min(std::abs(llo), std::abs(lhi));
         const double lmax = std::max(std::abs(llo), std::abs(lhi));
         const double qmin = std::min(1.0, lmin / whi), qmax = std::min(1.0, lmax / wlo);
+        // The tilt (SegmentTilt) over the pixel: along is zero between the ends, lat in [llo, lhi]
+        // clamped to a half width.
+        const double la = std::clamp(llo, -whi, whi), lb = std::clamp(lhi, -whi, whi);
+        const double slack = 1e-6 * std::abs(tilt.lateral) * whi;
+        const double tiltLo = std::min(tilt.lateral * la, tilt.lateral * lb) - slack;
+        const double tiltHi = std::max(tilt.lateral * la, tilt.lateral * lb) + slack;
         const double axisNear = nearestAxis(col, row, col + 1.0, row + 1.0);
-        a = std::max(a, std::max(view->nearPlane, axisNear - rhi * std::sqrt(1.0 - qmin * qmin)));
-        b = std::max(a, std::min(b, b - rlo * std::sqrt(1.0 - qmax * qmax)));
+        const double axisFar = farthestAxis(col, row, col + 1.0, row + 1.0);
+        a = std::max(a, std::max(view->nearPlane, axisNear * (1.0 + tiltLo) - rhi * std::sqrt(1.0 - qmin * qmin)));
+        b = std::max(a, std::min(b, axisFar * (1.0 + tiltHi) - rlo * std::sqrt(1.0 - qmax * qmax)));
       }
     }
     zmin = float(a);
@@ -157,7 +177,7 @@ struct SegmentDepth {
     zkey = float(std::clamp(depthAt(cx, cy), a, b));
   }
   /// segmentDepthAt (pipeline.h), with the end keys formed once.
-  double depthAt(double x, double y) const { return segmentDepthAt(*view, *seg, frame, keys, x, y, model); }
+  double depthAt(double x, double y) const { return segmentDepthAt(*view, *seg, frame, keys, tilt, x, y, model); }
 };
 
 /// The centroid (sx, sy) in the pixel of the samples a non-empty mask covers, a mask row at a
@@ -440,6 +460,9 @@ class PreparedFragmentSource final : public FragmentSource {
         d.tmax = 0.0f;
       }
       d.w0 = s.w0, d.dw = s.w1 - s.w0, d.r0 = s.r0, d.dr = s.r1 - s.r0;
+      const SegmentTilt tilt(v, s, fr);
+      d.tl = float(tilt.lateral), d.ta = float(tilt.along0), d.tt = float(tilt.alongT);
+      d.s0 = float(tilt.shift0), d.st = float(tilt.shiftT);
       d.lo = 0.0f, d.hi = INFINITY;
       return true;
     }

@@ -102,6 +102,55 @@ void addStadium(const SegmentPrim& s, ScreenPolygon& poly) {
 
 }  // namespace
 
+SegmentTilt::SegmentTilt(const ViewTransform& v, const SegmentPrim& s, const SegmentFrame& fr) {
+  if (!v.perspective) return;
+  const double f2 = v.focal * v.focal;
+  const double ox = fr.ax - v.cx, oy = fr.ay - v.cy;  // p0 from the image centre
+  // X - c across the axis (constant along it) and along it at the two ends.
+  double across, a0, a1;
+  if (fr.length > 0) {
+    across = ox * fr.nx + oy * fr.ny;
+    a0 = (ox * fr.ux + oy * fr.uy) * fr.length;
+    a1 = a0 + fr.length;
+  } else {  // seen end-on: lat is the y offset, along the x offset, from p0
+    across = oy;
+    a0 = a1 = ox;
+  }
+  // Across: the plane through the eye and the axis has n_z = L / sqrt(f^2 + L^2) and |n_xy| =
+  // f / sqrt(f^2 + L^2), L = (X - c) . n, and the half width is w = r f / (d |n_xy|), so the
+  // chord's middle stands q r n_z = lat d L / (f^2 + L^2) nearer. Along (beyond an end, the end's
+  // sphere): the same form with L = (X - c) . u at that end; only the ends' values matter there
+  // (along is zero between them), so the coefficient runs linearly from one to the other.
+  lateral = -across / (f2 + across * across);
+  // The axis point the ray passes nearest is not the foot of the perpendicular from the screen
+  // point: offsets across the wire run towards the vanishing point of n, which lies across the
+  // axis line at -(f^2 + L^2) / L and along it at the image centre, so the ray through a point
+  // lat across meets the axis's plane lat L A / (f^2 + L^2) pixels nearer the centre along the
+  // axis (A = (X - c) . u). On a slanting wire the axis depth changes fast along it: there this
+  // term is as large as the tilt itself.
+  if (fr.length > 0) {
+    shiftT = -across / (f2 + across * across);
+    shift0 = shiftT * a0 / fr.length;
+  }
+  along0 = -a0 / (f2 + a0 * a0);
+  alongT = -a1 / (f2 + a1 * a1) - along0;
+  // |L| / (f^2 + L^2) <= 1 / (2 f): never more than a half width over f each (segmentTiltBound).
+  // A wire as wide as the focal length (touching the eye) would tilt its depth to zero: the
+  // first-order model is held to half the depth either way.
+  const double w = std::max(double(s.w0), double(s.w1));
+  const double raw = w * (std::abs(lateral) + std::max(std::abs(along0), std::abs(along0 + alongT)));
+  if (raw > 0.5) {
+    const double k = 0.5 / raw;
+    lateral *= k, along0 *= k, alongT *= k;
+  }
+  bound = std::min(raw, 0.5) * (1.0 + 1e-6);
+  shiftBound = w * std::max(std::abs(shift0), std::abs(shift0 + shiftT)) * (1.0 + 1e-6);
+}
+
+double segmentTiltBound(const ViewTransform& v, const SegmentPrim& s) {
+  return v.perspective ? std::min(0.5, std::max(double(s.w0), double(s.w1)) / v.focal) * (1.0 + 1e-6) : 0.0;
+}
+
 void segmentPolygon(const SegmentPrim& s, ScreenPolygon& poly) {
   poly.count = 0;
   if (s.flags & kSegmentEndOn) {
