@@ -29,14 +29,6 @@ struct Footprint {
   bool empty() const { return !(x1 > x0) || !(y1 > y0); }
 };
 
-// How far a segment's polygon reaches from its axis: mitres up to kMitreLimit half widths,
-// half discs up to pi / 2 half widths (their inner vertices sit outside the circle), end-on
-// discs a little over one.
-double segmentReach(const SegmentPrim& s) {
-  return std::max({double(std::hypot(s.o0.x, s.o0.y)), double(std::hypot(s.o1.x, s.o1.y)),
-                   1.5708 * double(std::max(s.w0, s.w1))});
-}
-
 // The part [ta, tb] of the axis p0 + t (p1 - p0), t in [0, 1], inside the rectangle (Liang and
 // Barsky); false when none.
 bool clipAxis(const SegmentPrim& s, double rx0, double ry0, double rx1, double ry1, double& ta, double& tb) {

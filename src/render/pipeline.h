@@ -146,6 +146,14 @@ inline constexpr std::uint8_t kSegmentEndOn = 4;        ///< shorter than wide: 
 inline constexpr std::uint8_t kSegmentMayMerge = 8;     ///< its polyline has other pieces
 inline constexpr std::uint8_t kSegmentPreshaded = 16;   ///< c0, c1 hold the radiance at the ends
 
+/// How far a segment's polygon reaches from its axis in pixels: mitres up to kMitreLimit half
+/// widths, half discs up to pi / 2 half widths (their inner vertices sit outside the circle),
+/// end-on discs a little over one. Every point the segment covers lies within it of the axis.
+inline double segmentReach(const SegmentPrim& s) {
+  return std::max({double(std::hypot(s.o0.x, s.o0.y)), double(std::hypot(s.o1.x, s.o1.y)),
+                   1.5708 * double(std::max(s.w0, s.w1))});
+}
+
 /// What shading a wire fragment needs, read only for fragments that survive to the resolve.
 struct SegmentShading {
   glm::vec3 t0, t1;  ///< eye-space unit tangents at the two ends (averaged at joints)

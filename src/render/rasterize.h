@@ -54,9 +54,12 @@ struct TriangleDepth {
   }
 };
 
-/// Depth of a wire segment over screen rectangles: its front (the plane a radius before the
-/// axis) bounds it from the near side, its axis from the far side; in between lies the round
-/// surface (segmentDepthAt), whose depth at the fragment's centroid orders it.
+/// Depth of a wire segment over screen rectangles. Flat: the paper's polygon, its front plane (a
+/// radius before the axis) bounding it from the near side, its axis from the far side. Round:
+/// the axis taken up to `slide` pixels along itself, less the largest radius, bounds it from the
+/// near side, and the same axis from the far side, both moved by the tilt across the wire
+/// (SegmentTilt, zero when orthographic); in between lies the round surface (segmentDepthAt),
+/// whose depth at the fragment's centroid orders it.
 struct SegmentDepth {
   const ViewTransform* view;
   const SegmentPrim* seg;
@@ -75,13 +78,12 @@ struct SegmentDepth {
     const double f0 = v.depthFromKey(kf0), f1 = v.depthFromKey(kf1);
     flo = std::min(f0, f1), fhi = std::max(f0, f1);
     alo = std::min(double(s.d0), double(s.d1)), ahi = std::max(double(s.d0), double(s.d1));
-    reach = std::max({double(std::hypot(s.o0.x, s.o0.y)), double(std::hypot(s.o1.x, s.o1.y)),
-                      1.5708 * double(std::max(s.w0, s.w1))});
+    reach = segmentReach(s);
     rmax = std::max(double(s.r0), double(s.r1));
     slide = m == WireDepth::Round ? tilt.shiftBound * frame.length : 0.0;
   }
   double slide;  // how far along the axis (pixels) the round model takes its axis depth (SegmentTilt)
-  double reach;  // how far the polygon lies from the axis (see binning.cpp)
+  double reach;  // how far the polygon lies from the axis (segmentReach)
   double rmax;   // the largest radius
   /// The x extent of the polygon across rows [ya, yb]: the part of the axis within the reach of
   /// those rows, widened by the reach.
@@ -139,7 +141,7 @@ struct SegmentDepth {
       // The round surface over the pixel: between the axis a radius times sqrt(1 - q^2) nearer,
       // q the distance from the axis in half widths, smallest and largest over the pixel's
       // corners (q is linear in the lateral distance; zero where the axis crosses the pixel).
-      // Much tighter than [front, axis] inside the wire, where most of its pixels are, so that
+      // Much tighter than [nearest, farthest] inside the wire, where most of its pixels are, so that
       // what it hides is culled against its true depth there.
       // t and l are linear: their extremes over the pixel are sums of the extremes of their x and
       // y terms (each term is the same product the corner's own t and l would form, and rounding
@@ -151,7 +153,7 @@ struct SegmentDepth {
       const double ly0 = (row - frame.ay) * frame.ny, ly1 = (row + 1.0 - frame.ay) * frame.ny;
       const double tlo = std::min(tx0, tx1) + std::min(ty0, ty1), thi = std::max(tx0, tx1) + std::max(ty0, ty1);
       const double llo = std::min(lx0, lx1) + std::min(ly0, ly1), lhi = std::max(lx0, lx1) + std::max(ly0, ly1);
-      if (frame.length > 0 && tlo >= 0.0 && thi <= 1.0) {  // the caps (beyond the ends) keep [front, axis]
+      if (frame.length > 0 && tlo >= 0.0 && thi <= 1.0) {  // the caps (beyond the ends) keep [nearest, farthest]
         const double wlo = std::min(double(seg->w0) + (double(seg->w1) - double(seg->w0)) * tlo,
                                     double(seg->w0) + (double(seg->w1) - double(seg->w0)) * thi);
         const double whi = std::max(double(seg->w0) + (double(seg->w1) - double(seg->w0)) * tlo,

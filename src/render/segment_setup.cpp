@@ -128,8 +128,16 @@ SegmentTilt::SegmentTilt(const ViewTransform& v, const SegmentPrim& s, const Seg
   // lat across meets the axis's plane lat L A / (f^2 + L^2) pixels nearer the centre along the
   // axis (A = (X - c) . u). On a slanting wire the axis depth changes fast along it: there this
   // term is as large as the tilt itself.
-  if (fr.length > 0) {
-    shiftT = -across / (f2 + across * across);
+  // In parameter units the slide is lat L A / ((f^2 + L^2) |p1 - p0|), which grows without
+  // bound as the segment shortens on screen and would vanish at once where it turns end-on
+  // (kSegmentEndOn: the hull of its end discs, no axis to slide along): it fades out with the
+  // depth radius's ramp (segment_setup below), from full at two half widths of screen length to
+  // none at one, so that a turning wire's depth changes continuously. In pixels it is then
+  // at most w |A| / (2 f) where it is whole, and a parameter shift of at most |A| / (2 f).
+  const double w = std::max(double(s.w0), double(s.w1));
+  if (fr.length > 0 && !(s.flags & kSegmentEndOn)) {
+    const double ramp = std::clamp(fr.length / w - 1.0, 0.0, 1.0);  // 1 when w = 0 (inf)
+    shiftT = -ramp * across / (f2 + across * across);
     shift0 = shiftT * a0 / fr.length;
   }
   along0 = -a0 / (f2 + a0 * a0);
@@ -137,14 +145,24 @@ SegmentTilt::SegmentTilt(const ViewTransform& v, const SegmentPrim& s, const Seg
   // |L| / (f^2 + L^2) <= 1 / (2 f): never more than a half width over f each (segmentTiltBound).
   // A wire as wide as the focal length (touching the eye) would tilt its depth to zero: the
   // first-order model is held to half the depth either way.
-  const double w = std::max(double(s.w0), double(s.w1));
   const double raw = w * (std::abs(lateral) + std::max(std::abs(along0), std::abs(along0 + alongT)));
   if (raw > 0.5) {
     const double k = 0.5 / raw;
     lateral *= k, along0 *= k, alongT *= k;
   }
   bound = std::min(raw, 0.5) * (1.0 + 1e-6);
-  shiftBound = w * std::max(std::abs(shift0), std::abs(shift0 + shiftT)) * (1.0 + 1e-6);
+  // The shift at axis parameter tc is shiftT A(tc) / |p1 - p0|, A(tc) = a0 + tc |p1 - p0|. Only
+  // points the segment covers inside the image take it, and their nearest axis point lies
+  // within the polygon's reach of the point, so within reach of the image: |A(tc)| <= R + reach,
+  // R the image's farthest corner from its centre. An end far off screen (a wire cut by the
+  // near plane: |a0| up to 1e5 pixels) would otherwise give a slide of hundreds of pixels and
+  // undo the rasteriser's and the binner's culling.
+  if (shiftT != 0.0) {
+    const double rx = std::max(std::abs(v.cx), std::abs(double(v.width) - v.cx));
+    const double ry = std::max(std::abs(v.cy), std::abs(double(v.height) - v.cy));
+    const double amax = std::min(std::max(std::abs(a0), std::abs(a1)), std::hypot(rx, ry) + segmentReach(s) + 1.0);
+    shiftBound = w * std::abs(shiftT) * amax / fr.length * (1.0 + 1e-6);
+  }
 }
 
 double segmentTiltBound(const ViewTransform& v, const SegmentPrim& s) {
@@ -346,9 +364,8 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
           }
         }
       }
-      // Nothing of it inside the image: dropped (its reach: mitres up to kMitreLimit half
-      // widths, caps up to pi / 2).
-      const double reach = std::max({double(glm::length(sp.o0)), double(glm::length(sp.o1)), 1.5708 * std::max(s.w0, s.w1)});
+      // Nothing of it inside the image: dropped.
+      const double reach = segmentReach(sp);
       if (std::max(s.p0.x, s.p1.x) + reach <= 0 || std::min(s.p0.x, s.p1.x) - reach >= view.width ||
           std::max(s.p0.y, s.p1.y) + reach <= 0 || std::min(s.p0.y, s.p1.y) - reach >= view.height) {
         ++counts.clipped;

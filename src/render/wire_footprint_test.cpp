@@ -369,5 +369,140 @@ TEST(WireFootprint, ResolveAndRasteriserBoundsFollowTheTiltedModel) {
   EXPECT_GT(pixels, 1000);
 }
 
+
+// One wire off the view's axis (so that the slide along it, SegmentTilt, is large) swept from
+// slanting to end-on: the slide's share of the depth at points 0.7 half widths either side of
+// the axis's middle (the model with the slide less the model without it) changes by a small part
+// of the radius per step and is zero once the segment is end-on. Here the share reaches 0.43 r
+// and changes by at most 0.016 r per step; before the slide faded with the depth radius's ramp
+// it jumped by 0.86 r in one step at the turn (the shift then reached across much of the short
+// segment, whose depth range is many radii when it points nearly at the eye).
+TEST(WireFootprint, SlideFadesAsTheSegmentTurnsEndOn) {
+  const int W = 800, H = 600;
+  const ViewTransform v = wideView();
+  const double r = 0.01, L = 0.2;
+  double last = 0.0, largest = 0.0, worstStep = 0.0;
+  int endOn = 0, full = 0;
+  bool first = true;
+  for (int i = 0; i <= 600; ++i) {
+    const double a = 0.6 * i / 600.0;  // the axis's angle to the ray through e1
+    Scene s = test::baseScene(W, H);
+    Camera c;
+    c.eye = glm::dvec3(0.0);
+    c.target = glm::dvec3(0.0, 0.0, -1.0);
+    c.fovYDegrees = 90.0;
+    c.nearPlane = 0.01;
+    c.farPlane = 100.0;
+    s.camera = c;
+    SceneWire wire;
+    wire.thickness = 2.0 * r;
+    wire.restsOnSurface = false;
+    // e1 a third of the way to the image's corner; e0 behind it, turning from the ray through e1
+    // sideways, so that the axis's image runs obliquely to the line from the image centre (both
+    // L and A of SegmentTilt nonzero).
+    const glm::dvec3 e1(1.0, 0.7, -3.0), toward = glm::normalize(e1), side = glm::normalize(glm::cross(toward, glm::dvec3(0, 1, 0)));
+    const glm::dvec3 e0 = e1 + L * (std::cos(a) * toward + std::sin(a) * side);
+    wire.lines.add({e0, e1});
+    s.wires.push_back(wire);
+    RenderStats st;
+    const PreparedScene ps = prepareScene(s, test::smallOptions(W, H), st);
+    ASSERT_EQ(ps.segments.size(), 1u) << a;
+    const SegmentPrim& p = ps.segments[0];
+    const SegmentFrame fr(p);
+    const SegmentEndKeys keys(v, p);
+    const SegmentTilt tilt(v, p, fr);
+    SegmentTilt still = tilt;
+    still.shift0 = still.shiftT = 0.0;
+    const glm::dvec2 mid = 0.5 * (p.p0 + p.p1);
+    const glm::dvec2 n(fr.nx, fr.ny);
+    const double w = 0.5 * (p.w0 + p.w1);
+    double share = 0.0;
+    for (double side : {-0.7, 0.7}) {
+      const glm::dvec2 at = mid + side * w * n;
+      share = std::max(share, std::abs(segmentDepthAt(v, p, fr, keys, tilt, at.x, at.y, WireDepth::Round) -
+                                       segmentDepthAt(v, p, fr, keys, still, at.x, at.y, WireDepth::Round)));
+    }
+    if (p.flags & kSegmentEndOn) {
+      ++endOn;
+      EXPECT_EQ(tilt.shift0, 0.0) << a;
+      EXPECT_EQ(tilt.shiftT, 0.0) << a;
+    } else if (glm::length(p.p1 - p.p0) >= 2.0 * std::max(p.w0, p.w1)) {
+      ++full;
+    }
+    largest = std::max(largest, share);
+    if (!first) worstStep = std::max(worstStep, std::abs(share - last));
+    last = share, first = false;
+  }
+  EXPECT_GT(endOn, 10);
+  EXPECT_GT(full, 10);
+  EXPECT_GT(largest, 0.3 * r);  // the slide matters here
+  EXPECT_LT(worstStep, 0.1 * r) << "largest share " << largest / r << " r";
+}
+
+// A wire through the near plane, one end cut there and its image far off screen: the slide's
+// bound counts only the part of the axis the image can show (|A| <= the image's farthest corner
+// from its centre, grown by the polygon's reach), so it stays within w (R + reach) / (2 f) pixels
+// rather than w |a0| / (2 f) (hundreds of pixels), and the rasteriser's ranges still hold the
+// model's depth at every pixel the segment can cover.
+TEST(WireFootprint, SlideBoundIgnoresTheAxisBeyondTheImage) {
+  const int W = 800, H = 600;
+  const ViewTransform v = wideView();
+  const double R = std::hypot(400.0, 300.0);
+  std::mt19937_64 rng(15);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  int pixels = 0, cut = 0;
+  for (int k = 0; k < 40; ++k) {
+    // From near the eye (beside it: partly behind the near plane) out to a point in the image.
+    const glm::dvec3 e1 = v.eyePoint(100 + 600 * U(rng), 100 + 400 * U(rng), 1.0 + 2.0 * U(rng));
+    const glm::dvec3 e0(0.3 * (U(rng) - 0.5), 0.3 * (U(rng) - 0.5), 0.02 - 0.03 * U(rng));
+    Scene s = test::baseScene(W, H);
+    Camera c;
+    c.eye = glm::dvec3(0.0);
+    c.target = glm::dvec3(0.0, 0.0, -1.0);
+    c.fovYDegrees = 90.0;
+    c.nearPlane = 0.01;
+    c.farPlane = 100.0;
+    s.camera = c;
+    SceneWire wire;
+    wire.thickness = 2.0 * 0.003;
+    wire.restsOnSurface = false;
+    wire.lines.add({e0, e1});
+    s.wires.push_back(wire);
+    RenderStats st;
+    const PreparedScene ps = prepareScene(s, test::smallOptions(W, H), st);
+    if (ps.segments.size() != 1u) continue;
+    const SegmentPrim& p = ps.segments[0];
+    if (p.flags & kSegmentEndOn) continue;
+    const SegmentFrame fr(p);
+    const SegmentTilt tilt(v, p, fr);
+    const double w = std::max(p.w0, p.w1), reach = segmentReach(p);
+    const double far = std::max(glm::length(p.p0 - glm::dvec2(v.cx, v.cy)), glm::length(p.p1 - glm::dvec2(v.cx, v.cy)));
+    if (far > 4.0 * R) ++cut;
+    EXPECT_LE(tilt.shiftBound * fr.length, w * (R + reach + 1.0) / (2.0 * v.focal) * (1.0 + 1e-5)) << k << " end " << far << " px out";
+    const SegmentDepth depth(v, p, WireDepth::Round);
+    for (int j = 0; j < 400; ++j) {
+      // Points within the reach of the axis, inside the image.
+      const double t = U(rng), q = 2.0 * U(rng) - 1.0;
+      const glm::dvec2 at = p.p0 + t * (p.p1 - p.p0) + q * reach * glm::dvec2(fr.nx, fr.ny);
+      const int col = int(std::floor(at.x)), row = int(std::floor(at.y));
+      if (col < 0 || row < 0 || col >= W || row >= H) continue;
+      const double zNear = depth.nearest(col, row, col + 1.0, row + 1.0);
+      float zmin, zmax, zkey;
+      depth.range(col, row, col + 0.5, row + 0.5, zNear, zmin, zmax, zkey);
+      for (int i = 0; i < 16; ++i) {
+        const double x = col + (i % 4 + 0.5) / 4, y = row + (i / 4 + 0.5) / 4;
+        if (fr.distance2(x, y) > reach * reach) continue;
+        const double exact = segmentDepthAt(v, p, fr, x, y, WireDepth::Round);
+        const double tol = 2e-6 * exact;
+        EXPECT_GE(exact, double(zmin) - tol) << k << " " << col << "," << row;
+        EXPECT_LE(exact, double(zmax) + tol) << k << " " << col << "," << row;
+      }
+      ++pixels;
+    }
+  }
+  EXPECT_GT(cut, 10);  // most wires had an end far off screen
+  EXPECT_GT(pixels, 2000);
+}
+
 }  // namespace
 }  // namespace wf
