@@ -54,6 +54,15 @@ struct TriangleDepth {
   }
 };
 
+/// [a, b]: every value clamp(l, -w, w) takes for l in [llo, lhi] and w in [wlo, whi], 0 <= wlo
+/// <= whi (the model clamps the offset across a wire to the half width where it is; over a
+/// pixel that half width varies, and a pixel wholly to one side beyond it clamps to the
+/// narrowest: clamping to the widest, as this did before, gave a tilt range that could miss it).
+inline void clampedRange(double llo, double lhi, double wlo, double whi, double& a, double& b) {
+  a = llo >= 0.0 ? std::min(llo, wlo) : std::max(llo, -whi);
+  b = lhi <= 0.0 ? std::max(lhi, -wlo) : std::min(lhi, whi);
+}
+
 /// Depth of a wire segment over screen rectangles. Flat: the paper's polygon, its front plane (a
 /// radius before the axis) bounding it from the near side, its axis from the far side. Round:
 /// the axis taken up to `slide` pixels along itself, less the largest radius, bounds it from the
@@ -164,7 +173,8 @@ struct SegmentDepth {
         const double qmin = std::min(1.0, lmin / whi), qmax = std::min(1.0, lmax / wlo);
         // The tilt (SegmentTilt) over the pixel: along is zero between the ends, lat in [llo, lhi]
         // clamped to a half width.
-        const double la = std::clamp(llo, -whi, whi), lb = std::clamp(lhi, -whi, whi);
+        double la, lb;
+        clampedRange(llo, lhi, wlo, whi, la, lb);
         const double slack = 1e-6 * std::abs(tilt.lateral) * whi;
         const double tiltLo = std::min(tilt.lateral * la, tilt.lateral * lb) - slack;
         const double tiltHi = std::max(tilt.lateral * la, tilt.lateral * lb) + slack;

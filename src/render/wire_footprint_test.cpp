@@ -504,5 +504,30 @@ TEST(WireFootprint, SlideBoundIgnoresTheAxisBeyondTheImage) {
   EXPECT_GT(pixels, 2000);
 }
 
+// clampedRange against brute force: every clamp(l, -w, w) over the boxes lies in [a, b], and a
+// and b are taken (the bound is the range itself, not a loose one).
+TEST(WireFootprint, ClampedRangeIsTheRangeOfTheClampedOffset) {
+  std::mt19937_64 rng(16);
+  std::uniform_real_distribution<double> U(-3.0, 3.0), P(0.0, 2.0);
+  for (int k = 0; k < 2000; ++k) {
+    double llo = U(rng), lhi = U(rng), wlo = P(rng), whi = P(rng);
+    if (llo > lhi) std::swap(llo, lhi);
+    if (wlo > whi) std::swap(wlo, whi);
+    double a, b;
+    clampedRange(llo, lhi, wlo, whi, a, b);
+    double lo = INFINITY, hi = -INFINITY;
+    for (int i = 0; i <= 40; ++i)
+      for (int j = 0; j <= 40; ++j) {
+        const double l = i == 40 ? lhi : llo + (lhi - llo) * i / 40.0, w = j == 40 ? whi : wlo + (whi - wlo) * j / 40.0;
+        const double c = std::clamp(l, -w, w);
+        lo = std::min(lo, c), hi = std::max(hi, c);
+      }
+    EXPECT_LE(a, lo) << llo << " " << lhi << " " << wlo << " " << whi;
+    EXPECT_GE(b, hi) << llo << " " << lhi << " " << wlo << " " << whi;
+    EXPECT_NEAR(a, lo, 1e-12);
+    EXPECT_NEAR(b, hi, 1e-12);
+  }
+}
+
 }  // namespace
 }  // namespace wf
