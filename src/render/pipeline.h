@@ -150,8 +150,10 @@ inline constexpr std::uint8_t kSegmentPreshaded = 16;   ///< c0, c1 hold the rad
 /// widths, half discs up to pi / 2 half widths (their inner vertices sit outside the circle),
 /// end-on discs a little over one. Every point the segment covers lies within it of the axis.
 inline double segmentReach(const SegmentPrim& s) {
-  return std::max({double(std::hypot(s.o0.x, s.o0.y)), double(std::hypot(s.o1.x, s.o1.y)),
-                   1.5708 * double(std::max(s.w0, s.w1))});
+  // (float offsets squared in double cannot overflow: no need of hypot's care, or its cost)
+  const double o0 = std::sqrt(double(s.o0.x) * s.o0.x + double(s.o0.y) * s.o0.y);
+  const double o1 = std::sqrt(double(s.o1.x) * s.o1.x + double(s.o1.y) * s.o1.y);
+  return std::max({o0, o1, 1.5708 * double(std::max(s.w0, s.w1))});
 }
 
 /// What shading a wire fragment needs, read only for fragments that survive to the resolve.

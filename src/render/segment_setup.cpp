@@ -160,7 +160,7 @@ SegmentTilt::SegmentTilt(const ViewTransform& v, const SegmentPrim& s, const Seg
   if (shiftT != 0.0) {
     const double rx = std::max(std::abs(v.cx), std::abs(double(v.width) - v.cx));
     const double ry = std::max(std::abs(v.cy), std::abs(double(v.height) - v.cy));
-    const double amax = std::min(std::max(std::abs(a0), std::abs(a1)), std::hypot(rx, ry) + segmentReach(s) + 1.0);
+    const double amax = std::min(std::max(std::abs(a0), std::abs(a1)), std::sqrt(rx * rx + ry * ry) + segmentReach(s) + 1.0);
     shiftBound = w * std::abs(shiftT) * amax / fr.length * (1.0 + 1e-6);
   }
 }
