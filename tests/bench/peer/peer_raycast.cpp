@@ -252,8 +252,8 @@ int main(int argc, char** argv) {
       a.masks.clear();
       for (const std::string& v : split(masks)) {
         int w = 0, h = 0;
-        if (std::sscanf(v.c_str(), "%dx%d", &w, &h) != 2 || w < 1 || h < 1)
-          throw std::runtime_error("--masks: expected layouts such as 4x4,8x4,8x8, got '" + v + "'");
+        if (std::sscanf(v.c_str(), "%dx%d", &w, &h) != 2 || !wf::MaskLayout{w, h}.valid())
+          throw std::runtime_error("--masks: expected layouts among 4x4, 8x4 and 8x8, got '" + v + "'");
         a.masks.push_back({w, h});
       }
     }
