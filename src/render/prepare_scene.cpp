@@ -166,13 +166,16 @@ void screenPolygonOf(const PreparedScene& ps, std::uint32_t i, ScreenPolygon& po
   }
 }
 
-double primitiveDepthAt(const PreparedScene& ps, std::uint32_t i, double x, double y) {
+double primitiveDepthAt(const PreparedScene& ps, std::uint32_t i, double x, double y) { return PrimitiveDepth(ps, i)(x, y); }
+
+PrimitiveDepth::PrimitiveDepth(const PreparedScene& ps, std::uint32_t i) : view_(&ps.view), model_(ps.wireDepth) {
   if (ps.isSegment(i)) {
-    const SegmentPrim& s = ps.segmentOf(i);
-    return segmentDepthAt(ps.view, s, SegmentFrame(s), x, y, ps.wireDepth);
+    seg_ = &ps.segmentOf(i);
+    const SegmentFrame fr(*seg_);
+    wire_.emplace(Wire{fr, SegmentEndKeys(ps.view, *seg_), SegmentTilt(ps.view, *seg_, fr)});
+  } else {
+    tri_ = &ps.triangles[i];
   }
-  const TrianglePrim& t = ps.triangles[i];
-  return std::clamp(ps.view.depthFromKey(t.depthKeyAt(x, y)), double(t.zlo), double(t.zhi));
 }
 
 size_t PreparedScene::bytes() const {

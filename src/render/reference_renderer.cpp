@@ -82,6 +82,7 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
       for (std::uint32_t b = b0; b < b1; ++b) {
         const std::uint32_t pi = bins.items[b].index;
         const float opacity = ps.opacityOf(pi);
+        const PrimitiveDepth depthAt(ps, pi);
         ScreenPolygon poly;
         screenPolygonOf(ps, pi, poly);
         EdgeFunction edges[ScreenPolygon::kMaxVertices];
@@ -105,7 +106,7 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
               bool in = true;
               for (int e = 0; e < ne && in; ++e) in = edges[e](x, y) >= 0.0;
               if (!in) continue;
-              const double d = primitiveDepthAt(ps, pi, x, y);
+              const double d = depthAt(x, y);
               if (opacity >= 1.0f) {
                 if (float(d) < buf.depth[base + s]) {
                   buf.depth[base + s] = float(d);
