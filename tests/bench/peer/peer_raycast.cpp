@@ -67,6 +67,7 @@ struct Args {
   std::vector<wf::MaskLayout> masks{{4, 4}, {8, 4}, {8, 8}};
   int repeats = 3;
   int threads = 0;
+  double epsilon = -1.0;  ///< --epsilon: occlusion culling's bound per pixel (< 0: the renderer's default)
   bool vtk = true;
   bool check = false;
   bool reference = false;
@@ -237,6 +238,7 @@ int main(int argc, char** argv) {
   app.add_option("--masks", masks, "A-buffer mask layouts, e.g. 4x4,8x4,8x8");
   app.add_option("--repeats", a.repeats, "timed runs per measurement (the median is reported)")->check(CLI::Range(1, 1000));
   app.add_option("--threads", a.threads, "worker threads (0: all cores)")->check(CLI::Range(0, 4096));
+  app.add_option("--epsilon", a.epsilon, "occlusion culling's error bound per pixel (default: the renderer's)")->check(CLI::Range(0.0, 1.0));
   app.add_flag("--no-vtk", noVtk, "leave out VTK's tubes");
   app.add_flag("--check", a.check, "exit 1 when a scene misses its --floors speed-up or an error does not fall as it should");
   app.add_flag("--reference", a.reference, "also render the A-buffer's brute-force reference (slow)");
@@ -301,6 +303,7 @@ int main(int argc, char** argv) {
     base.width = W;
     base.height = H;
     base.threads = a.threads;
+    if (a.epsilon >= 0.0) base.occlusionEpsilon = a.epsilon;
     json js;
     js["scene"] = name;
     js["description"] = b.description;
