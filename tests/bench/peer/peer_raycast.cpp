@@ -419,6 +419,7 @@ int main(int argc, char** argv) {
       ja.back()["ns_per_emitted_fragment_raster"] = nsEmitted;
       ja.back()["peak_bytes_per_segment"] = bytesSegment;
       ja.back()["fragments_emitted"] = r.stats.work.emitted;
+      ja.back()["budget_tail_share"] = r.stats.budgetTailShare;
       ja.back()["target_speedup"] = target;
       if (m.w == 8 && m.h == 4 && a.floors.count(name) && !(speedup >= a.floors[name])) {
         std::fprintf(stderr, "peer_raycast: %s: speed-up %.2fx below its floor %.2fx\n", name.c_str(), speedup, a.floors[name]);
