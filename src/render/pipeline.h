@@ -281,7 +281,9 @@ struct SegmentEndKeys {
 /// tc) along, the offset's components across and along the axis clamped to a half width each;
 /// and the axis depth is taken a little along the axis (shift0, shiftT: see segment_setup.cpp).
 /// Against rays cast at the exact cylinder the whole model is within 0.02 r across the wire
-/// (WireFootprint.TiltedDepthIsWhereTheRayEntersTheCylinder; 0.82 r without the tilt).
+/// (WireFootprint.TiltedDepthIsWhereTheRayEntersTheCylinder; 0.82 r without the tilt), for
+/// segments at least two half widths long on screen: below that the slide fades out, as the
+/// depth radius's scale does, towards the end-on hull.
 struct SegmentTilt {
   double lateral = 0, along0 = 0, alongT = 0;
   /// The axis point whose depth the chord's middle takes: parameter t + lat (shift0 + shiftT
@@ -290,7 +292,9 @@ struct SegmentTilt {
   /// rectangle is the axis's in the rectangle grown by shiftBound times the length)
   double shift0 = 0, shiftT = 0;
   double bound = 0;       ///< |factor - 1| <= bound over the whole segment (segmentTiltBound)
-  double shiftBound = 0;  ///< |the parameter's shift| <= shiftBound
+  /// |the parameter's shift| <= shiftBound at every point of the image within the polygon's
+  /// reach plus two pixels of the axis (segment_setup.cpp says why that is where it is asked)
+  double shiftBound = 0;
   SegmentTilt(const ViewTransform& v, const SegmentPrim& s, const SegmentFrame& fr);
   /// lat, along: the offset from the nearest axis point across and along the axis (pixels; for
   /// a segment of no screen length, y and x from its end point); w the half width there.

@@ -152,15 +152,18 @@ SegmentTilt::SegmentTilt(const ViewTransform& v, const SegmentPrim& s, const Seg
   }
   bound = std::min(raw, 0.5) * (1.0 + 1e-6);
   // The shift at axis parameter tc is shiftT A(tc) / |p1 - p0|, A(tc) = a0 + tc |p1 - p0|. Only
-  // points the segment covers inside the image take it, and their nearest axis point lies
-  // within the polygon's reach of the point, so within reach of the image: |A(tc)| <= R + reach,
-  // R the image's farthest corner from its centre. An end far off screen (a wire cut by the
+  // points inside the image take it, and where tc is strictly inside the segment |A(tc)| =
+  // |(P - c) . u| <= R, R the image's farthest corner from its centre; beyond an end, |A(tc)| <=
+  // R plus the point's distance from the axis: the polygon's reach for the samples it covers,
+  // and up to two pixels more for the resolve's other evaluations (stand-in subpixels within
+  // about 0.7 px of the outline, and a merged fragment's second segment taken at the first's
+  // samples, up to sqrt 2 px beyond its own outline). An end far off screen (a wire cut by the
   // near plane: |a0| up to 1e5 pixels) would otherwise give a slide of hundreds of pixels and
   // undo the rasteriser's and the binner's culling.
   if (shiftT != 0.0) {
     const double rx = std::max(std::abs(v.cx), std::abs(double(v.width) - v.cx));
     const double ry = std::max(std::abs(v.cy), std::abs(double(v.height) - v.cy));
-    const double amax = std::min(std::max(std::abs(a0), std::abs(a1)), std::sqrt(rx * rx + ry * ry) + segmentReach(s) + 1.0);
+    const double amax = std::min(std::max(std::abs(a0), std::abs(a1)), std::sqrt(rx * rx + ry * ry) + segmentReach(s) + 2.0);
     shiftBound = w * std::abs(shiftT) * amax / fr.length * (1.0 + 1e-6);
   }
 }
