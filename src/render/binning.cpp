@@ -96,7 +96,8 @@ class Binner {
     const SegmentEndKeys keys(view_, s);
     const double tilt = segmentTiltBound(view_, s);
     // The round model takes the axis depth up to `slide` along the axis from the pixel's foot.
-    const double slide = SegmentTilt(view_, s, SegmentFrame(s)).shiftBound;
+    const SegmentFrame frame(s);
+    const double slide = SegmentTilt(view_, s, frame).shiftBound(view_, s, frame);
     for (int ty = ty0; ty <= ty1; ++ty)
       for (int tx = tx0; tx <= tx1; ++tx) {
         // The axis inside the tile grown by the reach: only that part can cover the tile.

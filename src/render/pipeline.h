@@ -288,14 +288,16 @@ struct SegmentTilt {
   double lateral = 0, along0 = 0, alongT = 0;
   /// The axis point whose depth the chord's middle takes: parameter t + lat (shift0 + shiftT
   /// tc), clamped to [0, 1] (lat clamped to a half width; t unclamped, so that beyond an end,
-  /// its sphere, the shift fades out within shiftBound and every depth the model takes in a
-  /// rectangle is the axis's in the rectangle grown by shiftBound times the length)
+  /// its sphere, the shift fades out within shiftBound() and every depth the model takes in a
+  /// rectangle is the axis's in the rectangle grown by shiftBound() times the length)
   double shift0 = 0, shiftT = 0;
   double bound = 0;       ///< |factor - 1| <= bound over the whole segment (segmentTiltBound)
-  /// |the parameter's shift| <= shiftBound at every point of the image within the polygon's
-  /// reach plus two pixels of the axis (segment_setup.cpp says why that is where it is asked)
-  double shiftBound = 0;
   SegmentTilt(const ViewTransform& v, const SegmentPrim& s, const SegmentFrame& fr);
+  /// |the parameter's shift| <= shiftBound() at every point of the image within the polygon's
+  /// reach plus two pixels of the axis (segment_setup.cpp says why that is where it is asked).
+  /// Formed on demand: the rasteriser and the binner need it once per segment, the resolve's
+  /// subpixel depths, which build a SegmentTilt per fragment, never.
+  double shiftBound(const ViewTransform& v, const SegmentPrim& s, const SegmentFrame& fr) const;
   /// lat, along: the offset from the nearest axis point across and along the axis (pixels; for
   /// a segment of no screen length, y and x from its end point); w the half width there.
   double factor(double lat, double along, double tc, double w) const {

@@ -89,7 +89,7 @@ struct SegmentDepth {
     alo = std::min(double(s.d0), double(s.d1)), ahi = std::max(double(s.d0), double(s.d1));
     reach = segmentReach(s);
     rmax = std::max(double(s.r0), double(s.r1));
-    slide = m == WireDepth::Round ? tilt.shiftBound * frame.length : 0.0;
+    slide = m == WireDepth::Round ? tilt.shiftBound(v, s, frame) * frame.length : 0.0;
   }
   double slide;  // how far along the axis (pixels) the round model takes its axis depth (SegmentTilt)
   double reach;  // how far the polygon lies from the axis (segmentReach)

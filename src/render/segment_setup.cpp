@@ -151,6 +151,10 @@ SegmentTilt::SegmentTilt(const ViewTransform& v, const SegmentPrim& s, const Seg
     lateral *= k, along0 *= k, alongT *= k;
   }
   bound = std::min(raw, 0.5) * (1.0 + 1e-6);
+}
+
+double SegmentTilt::shiftBound(const ViewTransform& v, const SegmentPrim& s, const SegmentFrame& fr) const {
+  if (shiftT == 0.0) return 0.0;
   // The shift at axis parameter tc is shiftT A(tc) / |p1 - p0|, A(tc) = a0 + tc |p1 - p0|. Only
   // points inside the image take it, and where tc is strictly inside the segment |A(tc)| =
   // |(P - c) . u| <= R, R the image's farthest corner from its centre; beyond an end, |A(tc)| <=
@@ -160,12 +164,12 @@ SegmentTilt::SegmentTilt(const ViewTransform& v, const SegmentPrim& s, const Seg
   // samples, up to sqrt 2 px beyond its own outline). An end far off screen (a wire cut by the
   // near plane: |a0| up to 1e5 pixels) would otherwise give a slide of hundreds of pixels and
   // undo the rasteriser's and the binner's culling.
-  if (shiftT != 0.0) {
-    const double rx = std::max(std::abs(v.cx), std::abs(double(v.width) - v.cx));
-    const double ry = std::max(std::abs(v.cy), std::abs(double(v.height) - v.cy));
-    const double amax = std::min(std::max(std::abs(a0), std::abs(a1)), std::sqrt(rx * rx + ry * ry) + segmentReach(s) + 2.0);
-    shiftBound = w * std::abs(shiftT) * amax / fr.length * (1.0 + 1e-6);
-  }
+  const double a0 = ((fr.ax - v.cx) * fr.ux + (fr.ay - v.cy) * fr.uy) * fr.length, a1 = a0 + fr.length;
+  const double rx = std::max(std::abs(v.cx), std::abs(double(v.width) - v.cx));
+  const double ry = std::max(std::abs(v.cy), std::abs(double(v.height) - v.cy));
+  const double amax = std::min(std::max(std::abs(a0), std::abs(a1)), std::sqrt(rx * rx + ry * ry) + segmentReach(s) + 2.0);
+  const double w = std::max(double(s.w0), double(s.w1));
+  return w * std::abs(shiftT) * amax / fr.length * (1.0 + 1e-6);
 }
 
 double segmentTiltBound(const ViewTransform& v, const SegmentPrim& s) {

@@ -17,8 +17,9 @@
 namespace wf {
 namespace {
 
-// A wide perspective view (90 degrees across its height), so that wires far off its axis are in it.
-ViewTransform wideView() {
+// A wide perspective camera (90 degrees across its height), so that wires far off its axis are
+// in it; at the origin looking down -z, so that eye space is world space.
+Camera wideCamera() {
   Camera c;
   c.eye = glm::dvec3(0.0);
   c.target = glm::dvec3(0.0, 0.0, -1.0);
@@ -26,7 +27,21 @@ ViewTransform wideView() {
   c.fovYDegrees = 90.0;
   c.nearPlane = 0.01;
   c.farPlane = 100.0;
-  return ViewTransform::make(c, 800, 600);
+  return c;
+}
+ViewTransform wideView() { return ViewTransform::make(wideCamera(), 800, 600); }
+
+// An 800x600 scene under wideCamera holding one free wire of radius r from e0 to e1.
+Scene oneWireScene(const glm::dvec3& e0, const glm::dvec3& e1, double r, bool roundEnds = false) {
+  Scene s = test::baseScene(800, 600);
+  s.camera = wideCamera();
+  SceneWire wire;
+  wire.thickness = 2.0 * r;
+  wire.restsOnSurface = false;
+  wire.roundEnds = roundEnds;
+  wire.lines.add({e0, e1});
+  s.wires.push_back(wire);
+  return s;
 }
 
 // The eye-space ray through screen point (x, y), unit length.
@@ -142,14 +157,8 @@ TEST(WireFootprint, DepthScaleIsWhereTheRayEntersTheCylinder) {
 TEST(WireFootprint, SetUpStoresTheOutlineAndTheDepthRadius) {
   const int W = 800, H = 600;
   Scene s = test::baseScene(W, H);
-  Camera c;
-  c.eye = glm::dvec3(0.0);
-  c.target = glm::dvec3(0.0, 0.0, -1.0);
-  c.fovYDegrees = 90.0;
-  c.nearPlane = 0.01;
-  c.farPlane = 100.0;
-  s.camera = c;
-  const ViewTransform v = ViewTransform::make(c, W, H);
+  s.camera = wideCamera();
+  const ViewTransform v = wideView();
   // Near the image's upper right corner, across the radial direction, slanting away.
   const glm::dvec3 e0 = v.eyePoint(700, 80, 3.0), e1 = v.eyePoint(760, 140, 3.6);
   SceneWire wire;
@@ -178,26 +187,14 @@ TEST(WireFootprint, SetUpStoresTheOutlineAndTheDepthRadius) {
 // falls from two half widths to one. Without the ramp r0 jumped from 5 r to r at the turn.
 TEST(WireFootprint, DepthRadiusHasNoJumpAsTheSegmentTurnsEndOn) {
   const int W = 800, H = 600;
-  Camera c;
-  c.eye = glm::dvec3(0.0);
-  c.target = glm::dvec3(0.0, 0.0, -1.0);
-  c.fovYDegrees = 90.0;
-  c.nearPlane = 0.01;
-  c.farPlane = 100.0;
-  const ViewTransform v = ViewTransform::make(c, W, H);
+  const ViewTransform v = wideView();
   const double r = 0.01, L = 0.2;
   double last0 = -1.0, last1 = -1.0;
   int endOn = 0, full = 0;
   for (int i = 0; i <= 600; ++i) {
     const double a = 0.6 * i / 600.0;  // the axis's angle to the view axis
-    Scene s = test::baseScene(W, H);
-    s.camera = c;
-    SceneWire wire;
-    wire.thickness = 2.0 * r;
-    wire.restsOnSurface = false;
     const glm::dvec3 e1(0.0, 0.0, -3.0), e0 = e1 + L * glm::dvec3(std::sin(a), 0.0, std::cos(a));
-    wire.lines.add({e0, e1});
-    s.wires.push_back(wire);
+    const Scene s = oneWireScene(e0, e1, r);
     RenderStats st;
     const PreparedScene ps = prepareScene(s, test::smallOptions(W, H), st);
     ASSERT_EQ(ps.segments.size(), 1u) << a;
@@ -262,19 +259,7 @@ TEST(WireFootprint, TiltedDepthIsWhereTheRayEntersTheCylinder) {
     if (wireDepthScale(v, w.e0, w.e1 - w.e0) >= 0.99 * kMaxWireDepthScale ||
         wireDepthScale(v, w.e1, w.e1 - w.e0) >= 0.99 * kMaxWireDepthScale)
       continue;
-    Scene s = test::baseScene(W, H);
-    Camera c;
-    c.eye = glm::dvec3(0.0);
-    c.target = glm::dvec3(0.0, 0.0, -1.0);
-    c.fovYDegrees = 90.0;
-    c.nearPlane = 0.01;
-    c.farPlane = 100.0;
-    s.camera = c;
-    SceneWire wire;
-    wire.thickness = 2.0 * w.r;
-    wire.restsOnSurface = false;
-    wire.lines.add({w.e0, w.e1});  // eye space is world space here
-    s.wires.push_back(wire);
+    const Scene s = oneWireScene(w.e0, w.e1, w.r);
     RenderStats st;
     const PreparedScene ps = prepareScene(s, test::smallOptions(W, H), st);
     ASSERT_EQ(ps.segments.size(), 1u) << k;
@@ -320,19 +305,7 @@ TEST(WireFootprint, ResolveAndRasteriserBoundsFollowTheTiltedModel) {
   for (int k = 0; k < 60; ++k) {
     RandomWire w = randomWire(rng, v);
     w.r = 0.004 * -w.e0.z;  // 1 to 3 pixels wide
-    Scene s = test::baseScene(W, H);
-    Camera c;
-    c.eye = glm::dvec3(0.0);
-    c.target = glm::dvec3(0.0, 0.0, -1.0);
-    c.fovYDegrees = 90.0;
-    c.nearPlane = 0.01;
-    c.farPlane = 100.0;
-    s.camera = c;
-    SceneWire wire;
-    wire.thickness = 2.0 * w.r;
-    wire.restsOnSurface = false;
-    wire.lines.add({w.e0, w.e1});
-    s.wires.push_back(wire);
+    const Scene s = oneWireScene(w.e0, w.e1, w.r);
     RenderStats st;
     const PreparedScene ps = prepareScene(s, test::smallOptions(W, H), st);
     ASSERT_EQ(ps.segments.size(), 1u) << k;
@@ -387,24 +360,12 @@ TEST(WireFootprint, SlideFadesAsTheSegmentTurnsEndOn) {
   bool first = true;
   for (int i = 0; i <= 600; ++i) {
     const double a = 0.6 * i / 600.0;  // the axis's angle to the ray through e1
-    Scene s = test::baseScene(W, H);
-    Camera c;
-    c.eye = glm::dvec3(0.0);
-    c.target = glm::dvec3(0.0, 0.0, -1.0);
-    c.fovYDegrees = 90.0;
-    c.nearPlane = 0.01;
-    c.farPlane = 100.0;
-    s.camera = c;
-    SceneWire wire;
-    wire.thickness = 2.0 * r;
-    wire.restsOnSurface = false;
     // e1 a third of the way to the image's corner; e0 behind it, turning from the ray through e1
     // sideways, so that the axis's image runs obliquely to the line from the image centre (both
     // L and A of SegmentTilt nonzero).
     const glm::dvec3 e1(1.0, 0.7, -3.0), toward = glm::normalize(e1), side = glm::normalize(glm::cross(toward, glm::dvec3(0, 1, 0)));
     const glm::dvec3 e0 = e1 + L * (std::cos(a) * toward + std::sin(a) * side);
-    wire.lines.add({e0, e1});
-    s.wires.push_back(wire);
+    const Scene s = oneWireScene(e0, e1, r);
     RenderStats st;
     const PreparedScene ps = prepareScene(s, test::smallOptions(W, H), st);
     ASSERT_EQ(ps.segments.size(), 1u) << a;
@@ -456,19 +417,7 @@ TEST(WireFootprint, SlideBoundIgnoresTheAxisBeyondTheImage) {
     // From near the eye (beside it: partly behind the near plane) out to a point in the image.
     const glm::dvec3 e1 = v.eyePoint(100 + 600 * U(rng), 100 + 400 * U(rng), 1.0 + 2.0 * U(rng));
     const glm::dvec3 e0(0.3 * (U(rng) - 0.5), 0.3 * (U(rng) - 0.5), 0.02 - 0.03 * U(rng));
-    Scene s = test::baseScene(W, H);
-    Camera c;
-    c.eye = glm::dvec3(0.0);
-    c.target = glm::dvec3(0.0, 0.0, -1.0);
-    c.fovYDegrees = 90.0;
-    c.nearPlane = 0.01;
-    c.farPlane = 100.0;
-    s.camera = c;
-    SceneWire wire;
-    wire.thickness = 2.0 * 0.003;
-    wire.restsOnSurface = false;
-    wire.lines.add({e0, e1});
-    s.wires.push_back(wire);
+    const Scene s = oneWireScene(e0, e1, 0.003);
     RenderStats st;
     const PreparedScene ps = prepareScene(s, test::smallOptions(W, H), st);
     if (ps.segments.size() != 1u) continue;
@@ -479,7 +428,7 @@ TEST(WireFootprint, SlideBoundIgnoresTheAxisBeyondTheImage) {
     const double w = std::max(p.w0, p.w1), reach = segmentReach(p);
     const double far = std::max(glm::length(p.p0 - glm::dvec2(v.cx, v.cy)), glm::length(p.p1 - glm::dvec2(v.cx, v.cy)));
     if (far > 4.0 * R) ++cut;
-    EXPECT_LE(tilt.shiftBound * fr.length, w * (R + reach + 2.0) / (2.0 * v.focal) * (1.0 + 1e-5)) << k << " end " << far << " px out";
+    EXPECT_LE(tilt.shiftBound(v, p, fr) * fr.length, w * (R + reach + 2.0) / (2.0 * v.focal) * (1.0 + 1e-5)) << k << " end " << far << " px out";
     const SegmentDepth depth(v, p, WireDepth::Round);
     for (int j = 0; j < 400; ++j) {
       // Points within the reach of the axis (beyond the ends too), inside the image.
@@ -533,7 +482,7 @@ TEST(WireFootprint, ClampedRangeIsTheRangeOfTheClampedOffset) {
 // Beyond an end the slide takes the end's A, which may exceed the image's own radius R: wires
 // pointing at the image centre from beyond its corner, their near end 1 to 11 pixels outside,
 // their round cap reaching in. At every sample the polygon covers inside the image the slide is
-// within shiftBound. (It counts R plus the reach and two pixels; what a covered point can take
+// within shiftBound(). (It counts R plus the reach and two pixels; what a covered point can take
 // beyond R is second order, |lat| |A| <= w R + w^2 / (2 R) or so, so the margin is generous, and
 // a bound of R alone still passes here.)
 TEST(WireFootprint, SlideBoundHoldsForACapReachingInAtTheCorner) {
@@ -547,20 +496,7 @@ TEST(WireFootprint, SlideBoundHoldsForACapReachingInAtTheCorner) {
     // q1 at depth 1, q0 at depth 1.5, a little sideways so that the axis misses the centre (L != 0)
     const glm::dvec3 e1 = v.eyePoint(q1.x + 3 * perp.x, q1.y + 3 * perp.y, 1.0);
     const glm::dvec3 e0 = v.eyePoint(q0.x - 40 * perp.x, q0.y - 40 * perp.y, 1.5);
-    Scene s = test::baseScene(800, 600);
-    Camera c;
-    c.eye = glm::dvec3(0.0);
-    c.target = glm::dvec3(0.0, 0.0, -1.0);
-    c.fovYDegrees = 90.0;
-    c.nearPlane = 0.01;
-    c.farPlane = 100.0;
-    s.camera = c;
-    SceneWire wire;
-    wire.thickness = 2.0 * 0.02;
-    wire.restsOnSurface = false;
-    wire.roundEnds = true;
-    wire.lines.add({e0, e1});
-    s.wires.push_back(wire);
+    const Scene s = oneWireScene(e0, e1, 0.02, true);
     RenderStats st;
     const PreparedScene ps = prepareScene(s, test::smallOptions(800, 600), st);
     if (ps.segments.size() != 1u || (ps.segments[0].flags & kSegmentEndOn)) continue;
@@ -582,7 +518,7 @@ TEST(WireFootprint, SlideBoundHoldsForACapReachingInAtTheCorner) {
         const double w = p.w0 + (p.w1 - p.w0) * tc;
         const double lat = (x - fr.ax) * fr.nx + (y - fr.ay) * fr.ny;
         const double shift = std::clamp(lat, -w, w) * (tilt.shift0 + tilt.shiftT * tc);
-        worst = std::max(worst, std::abs(shift) / tilt.shiftBound);
+        worst = std::max(worst, std::abs(shift) / tilt.shiftBound(v, p, fr));
       }
   }
   EXPECT_GT(points, 1000);
