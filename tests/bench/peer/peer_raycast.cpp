@@ -238,7 +238,7 @@ int main(int argc, char** argv) {
   app.add_option("--masks", masks, "A-buffer mask layouts, e.g. 4x4,8x4,8x8");
   app.add_option("--repeats", a.repeats, "timed runs per measurement (the median is reported)")->check(CLI::Range(1, 1000));
   app.add_option("--threads", a.threads, "worker threads (0: all cores)")->check(CLI::Range(0, 4096));
-  app.add_option("--epsilon", a.epsilon, "occlusion culling's error bound per pixel (default: the renderer's)")->check(CLI::Range(0.0, 1.0));
+  CLI::Option* epsilon = app.add_option("--epsilon", a.epsilon, "occlusion culling's error bound per pixel, 0 ... 0.1 (default: the renderer's)");
   app.add_flag("--no-vtk", noVtk, "leave out VTK's tubes");
   app.add_flag("--check", a.check, "exit 1 when a scene misses its --floors speed-up or an error does not fall as it should");
   app.add_flag("--reference", a.reference, "also render the A-buffer's brute-force reference (slow)");
@@ -248,6 +248,9 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
     a.vtk = !noVtk;
+    // (CLI::Range lets NaN through; the renderer takes 0 ... 0.1, RenderOptions::occlusionEpsilon)
+    if (epsilon->count() && !(a.epsilon >= 0.0 && a.epsilon <= 0.1))
+      throw std::runtime_error("--epsilon: expected a number in 0 ... 0.1, got " + epsilon->as<std::string>());
     if (!size.empty() && (std::sscanf(size.c_str(), "%dx%d", &a.width, &a.height) != 2 || a.width < 1 || a.height < 1))
       throw std::runtime_error("--size: expected WxH, got '" + size + "'");
     if (!masks.empty()) {
