@@ -423,14 +423,15 @@ std::shared_ptr<wf::GeometryData> cadGeometryData(CadGeometry&& cad) {
   return g;
 }
 
-SceneFile sceneForCadFile(const std::string& path, const std::string& style, const CadOptions& options) {
+SceneFile sceneForCadFile(const std::string& path, const std::string& style, const CadOptions& options,
+                          const std::optional<wf::HiddenLines>& hidden) {
   wf::Style s;
   if (!wf::parseStyle(style, s)) throw UsageError("--style " + style + ": expected " + wf::styleNames());
   CadGeometry cad = readCad(path, options, s == wf::Style::Fur || s == wf::Style::Scales);
   if (!cad.warning.empty()) warn(cad.warning);
   SceneFile sf;
   sf.inputStats = cad.info;
-  buildStyled(sf, path, cadGeometryData(std::move(cad)), s);
+  buildStyled(sf, path, cadGeometryData(std::move(cad)), s, hidden);
   return sf;
 }
 

@@ -165,6 +165,50 @@ CLI::Option* addStyleOption(CLI::App& app, std::string& style, const std::vector
   return app.add_option("--style", style, description)->check(oneOf(styles))->type_name("STYLE")->trigger_on_parse();
 }
 
+std::string parseHidden(const std::string& text, wf::HiddenLines& h) {
+  const size_t eq = text.find('=');
+  const std::string mode = text.substr(0, eq);
+  const std::string expected = "expected off, hide, dashed[=DASH,GAP] or ghost[=OPACITY], got '" + text + "'";
+  if (!wf::parseHiddenMode(mode, h.mode)) return expected;
+  if (eq == std::string::npos) return {};
+  const std::string value = text.substr(eq + 1);
+  if (h.mode == wf::HiddenLines::Mode::Dashed) {
+    const size_t comma = value.find(',');
+    if (comma == std::string::npos) return "dashed=DASH,GAP: expected two lengths in pixels, got '" + value + "'";
+    const std::string dash = value.substr(0, comma), gap = value.substr(comma + 1);
+    if (std::string p = numberProblem(dash, 0.5, 1000); !p.empty()) return "dash length: " + p;
+    if (std::string p = numberProblem(gap, 0.5, 1000); !p.empty()) return "gap length: " + p;
+    h.dash = std::strtod(dash.c_str(), nullptr);
+    h.gap = std::strtod(gap.c_str(), nullptr);
+    return {};
+  }
+  if (h.mode == wf::HiddenLines::Mode::Ghost) {
+    if (std::string p = numberProblem(value, 0.01, 1); !p.empty()) return "ghost opacity: " + p;
+    h.ghost = float(std::strtod(value.c_str(), nullptr));
+    return {};
+  }
+  return expected;
+}
+
+CLI::Option* addHiddenOption(CLI::App& app, std::optional<wf::HiddenLines>& hidden) {
+  return app
+      .add_option_function<std::string>(
+          "--hidden",
+          [&hidden](const std::string& v) {
+            wf::HiddenLines h;
+            parseHidden(v, h);
+            hidden = h;
+          },
+          "edges behind surfaces: off (default: as today), hide (also in the wire style, against the "
+          "part's faces), dashed[=DASH,GAP] (pixels, default 6,4), ghost[=OPACITY] (default 0.3)")
+      ->check(checkedBy([](const std::string& v) {
+        wf::HiddenLines h;
+        return parseHidden(v, h);
+      }))
+      ->type_name("MODE")
+      ->trigger_on_parse();
+}
+
 CLI::Option* addMaskOption(CLI::App& app, std::string& mask) {
   return app.add_option("--mask", mask, "coverage mask: subsamples per pixel (default: the scene's, else 8x4)")
       ->check(oneOf({"4x4", "8x4", "8x8"}))

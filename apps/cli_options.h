@@ -68,6 +68,11 @@ CLI::Option* addSizeOption(CLI::App& app, int& width, int& height, const std::st
 CLI::Option* addStyleOption(CLI::App& app, std::string& style, const std::vector<std::string>& styles,
                             const std::string& description);
 /// --mask 4x4|8x4|8x8.
+/// Parses `--hidden`'s value: off, hide, dashed[=DASH,GAP] (pixels), ghost[=OPACITY]; the
+/// problem, or empty.
+std::string parseHidden(const std::string& text, wf::HiddenLines& hidden);
+/// --hidden MODE (HiddenLines: how wire-frames draw where surfaces hide them).
+CLI::Option* addHiddenOption(CLI::App& app, std::optional<wf::HiddenLines>& hidden);
 CLI::Option* addMaskOption(CLI::App& app, std::string& mask);
 /// --threads N: 1 ... wf::kMaxThreads.
 CLI::Option* addThreadsOption(CLI::App& app, int& threads);

@@ -100,6 +100,7 @@ void declareRender(CLI::App& wirefur, wfapp::RenderCommandOptions& o) {
       ->check(wfapp::oneOf({"round", "flat"}))
       ->type_name("round|flat")
       ->trigger_on_parse();
+  wfapp::addHiddenOption(*c, o.hidden);
   wfapp::addTimeOption(*c, o.time);
   wfapp::addQuietOption(*c, o.quiet);
   wfapp::addCadOptions(*c, o.cad);
@@ -133,6 +134,7 @@ void declareView(CLI::App& wirefur, wfapp::ViewOptions& o) {
                           "full size (1: off; default 2), {range}");
   wfapp::addFlag(*c, "--offscreen", o.offscreen, "with --frames: no window shown (still needs an X display)");
   c->add_option("--png", o.png, "with --frames: write the last frame as a PNG")->type_name("F")->trigger_on_parse();
+  wfapp::addHiddenOption(*c, o.hidden);
   wfapp::addQuietOption(*c, o.quiet);
   wfapp::addCadOptions(*c, o.cad);
 }

@@ -29,8 +29,8 @@ SceneFile loadInput(const std::string& input, const std::string& style, const Sc
     if (!style.empty()) throw UsageError("--style applies to a mesh or CAD input, not to the built-in scene");
     return defaultScene();
   }
-  if (isCadFile(input)) return sceneForCadFile(input, style.empty() ? "wire-over-surface" : style, overrides.cad);
-  if (isGeometryFile(input)) return sceneForGeometryFile(input, style.empty() ? "wire-over-surface" : style);
+  if (isCadFile(input)) return sceneForCadFile(input, style.empty() ? "wire-over-surface" : style, overrides.cad, overrides.hidden);
+  if (isGeometryFile(input)) return sceneForGeometryFile(input, style.empty() ? "wire-over-surface" : style, overrides.hidden);
   std::string e = std::filesystem::path(input).extension().string();
   if (e == ".json") {
     if (!style.empty()) throw UsageError("--style applies to mesh and CAD files, not to scene files");
@@ -169,6 +169,7 @@ int runRender(const RenderCommandOptions& o) {
   SceneOverrides overrides;
   overrides.time = o.time;
   overrides.cad = o.cad;
+  overrides.hidden = o.hidden;
   overrides.cad.threads = o.threads;
   overrides.cad.showProgress = progress.enabled();
   SceneFile sf = loadInput(o.input, o.style, overrides);

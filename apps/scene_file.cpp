@@ -280,7 +280,7 @@ int materialRef(const Reader& r, const json& j, const std::string& ptr, const st
 }
 
 wf::WireDescription readWire(const Reader& r, const json& j, const std::string& ptr, const std::map<std::string, int>& materials) {
-  r.keys(j, ptr, {"from", "lines", "style", "material", "thickness", "units", "colour", "opacity", "ends"});
+  r.keys(j, ptr, {"from", "lines", "style", "material", "thickness", "units", "colour", "opacity", "ends", "hidden"});
   wf::WireDescription w;
   w.where = ptr;
   if (j.contains("from")) {
@@ -305,6 +305,20 @@ wf::WireDescription readWire(const Reader& r, const json& j, const std::string& 
   if (j.contains("colour")) w.wire.colour = glm::vec3(r.colour(j["colour"], Reader::at(ptr, "colour")));
   if (j.contains("opacity")) w.wire.opacity = float(r.number(j["opacity"], Reader::at(ptr, "opacity"), 0, 1));
   if (j.contains("ends")) w.wire.roundEnds = r.choice(j["ends"], Reader::at(ptr, "ends"), {"square", "round"}) == "round";
+  if (j.contains("hidden")) {
+    // "dashed", or {"mode": "dashed", "dash": 6, "gap": 4} / {"mode": "ghost", "opacity": 0.3}
+    const std::string hp = Reader::at(ptr, "hidden");
+    const json& h = j["hidden"];
+    const json& mode = h.is_object() && h.contains("mode") ? h["mode"] : h;
+    if (h.is_object()) r.keys(h, hp, {"mode", "dash", "gap", "opacity"});
+    const std::string m = r.choice(mode, h.is_object() ? Reader::at(hp, "mode") : hp, {"off", "dashed", "ghost", "hide"});
+    wf::parseHiddenMode(m, w.wire.hidden.mode);
+    if (h.is_object()) {
+      if (h.contains("dash")) w.wire.hidden.dash = r.number(h["dash"], Reader::at(hp, "dash"), 0.5, 1000);
+      if (h.contains("gap")) w.wire.hidden.gap = r.number(h["gap"], Reader::at(hp, "gap"), 0.5, 1000);
+      if (h.contains("opacity")) w.wire.hidden.ghost = float(r.number(h["opacity"], Reader::at(hp, "opacity"), 0.01, 1));
+    }
+  }
   return w;
 }
 
@@ -379,8 +393,10 @@ wf::ObjectDescription readObject(const Reader& r, const json& j, const std::stri
       o.drawSurface = s.get<bool>();
       o.surfaceExplicit = o.drawSurface;  // `true` on an object without polygons is an error
     } else {
-      r.keys(s, o.surfaceWhere, {"material"});
+      r.keys(s, o.surfaceWhere, {"material", "holdout"});
       if (s.contains("material")) o.surfaceMaterial = materialRef(r, s["material"], Reader::at(o.surfaceWhere, "material"), materials);
+      // A hold-out: hides the wires behind it, draws nothing (hidden-line removal)
+      if (s.contains("holdout")) o.surfaceHoldout = r.boolean(s["holdout"], Reader::at(o.surfaceWhere, "holdout"));
     }
   }
   if (j.contains("wire")) o.wire = readWire(r, j["wire"], Reader::at(ptr, "wire"), materials);
@@ -493,6 +509,7 @@ SceneFile parseScene(const std::string& path, const std::string& text, const std
     d.objects.push_back(readObject(r, doc["objects"][i], Reader::at("/objects", i), folder, materials, overrides, budget,
                                    sf.inputStats));
   d.camera = readCamera(r, doc.contains("camera") ? doc["camera"] : json::object(), "/camera");
+  if (overrides.hidden) wf::applyHiddenLines(d, *overrides.hidden);
   build(sf, d, path);
   if (sf.title.empty()) sf.title = std::filesystem::path(path).stem().string();
   return sf;
@@ -517,7 +534,8 @@ SceneFile defaultScene() {
   return parseScene("built-in scene (data/scenes/cage_shaded.json)", kBuiltInSceneJson, ".");
 }
 
-void buildStyled(SceneFile& sf, const std::string& path, std::shared_ptr<const wf::GeometryData> geometry, wf::Style style) {
+void buildStyled(SceneFile& sf, const std::string& path, std::shared_ptr<const wf::GeometryData> geometry, wf::Style style,
+                 const std::optional<wf::HiddenLines>& hidden) {
   sf.title = std::filesystem::path(path).stem().string();
   sf.caption = path + " as " + wf::styleName(style);
   wf::SceneDescription d;
@@ -526,12 +544,13 @@ void buildStyled(SceneFile& sf, const std::string& path, std::shared_ptr<const w
   } catch (const wf::SceneError& e) {
     throw UsageError(path + ": " + e.where + ": " + e.what());
   }
+  if (hidden) wf::applyHiddenLines(d, *hidden);
   d.width = sf.width, d.height = sf.height;
   d.maxPrimitives = SceneBudget::kMaxPrimitives;
   build(sf, d, path);
 }
 
-SceneFile sceneForGeometryFile(const std::string& path, const std::string& style) {
+SceneFile sceneForGeometryFile(const std::string& path, const std::string& style, const std::optional<wf::HiddenLines>& hidden) {
   wf::Style s;
   if (!wf::parseStyle(style, s)) throw UsageError("--style " + style + ": expected " + wf::styleNames());
   LoadedGeometry lg = readGeometry(path);
@@ -539,7 +558,7 @@ SceneFile sceneForGeometryFile(const std::string& path, const std::string& style
   g->mesh = std::move(lg.mesh);
   g->lines = std::move(lg.lines);
   SceneFile sf;
-  buildStyled(sf, path, std::move(g), s);
+  buildStyled(sf, path, std::move(g), s, hidden);
   return sf;
 }
 

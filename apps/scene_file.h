@@ -53,6 +53,8 @@ struct SceneOverrides {
   CadOptions cad;
   /// Time of every fur's wind (`--time`): render an animation frame by frame.
   std::optional<double> time;
+  /// `--hidden`: hidden lines of every wire-frame (scene/style_presets.h, applyHiddenLines).
+  std::optional<wf::HiddenLines> hidden;
 };
 
 /// Refits an automatically framed camera to a width x height image (after --size).
@@ -71,10 +73,12 @@ SceneFile defaultScene();
 /// A scene around one mesh / polyline file, drawn in one of the contract's styles:
 /// "wire" (its edges or lines as shaded wire), "wire-over-surface" (shaded wire over the
 /// shaded surface). Throws UsageError for styles this version cannot draw.
-SceneFile sceneForGeometryFile(const std::string& path, const std::string& style);
+SceneFile sceneForGeometryFile(const std::string& path, const std::string& style,
+                               const std::optional<wf::HiddenLines>& hidden = {});
 
 /// Builds one file's geometry in a style preset (scene/style_presets.h) into sf: title, caption,
 /// scene, framed camera. Bad combinations: UsageError naming the file and the style.
-void buildStyled(SceneFile& sf, const std::string& path, std::shared_ptr<const wf::GeometryData> geometry, wf::Style style);
+void buildStyled(SceneFile& sf, const std::string& path, std::shared_ptr<const wf::GeometryData> geometry, wf::Style style,
+                 const std::optional<wf::HiddenLines>& hidden = {});
 
 }  // namespace wfapp

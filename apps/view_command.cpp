@@ -89,6 +89,7 @@ int runView(const ViewOptions& o) {
   if (o.offscreen && o.frames == 0) throw UsageError("view: --offscreen needs --frames N (there is no window to interact with)");
   SceneOverrides overrides;
   overrides.cad = o.cad;
+  overrides.hidden = o.hidden;
   SceneFile sf = loadInput(o.input, o.style, overrides);  // bad input first: exit 2, whatever the display
   // Debian's VTK 9.1 draws through X (GLX) even off-screen, and aborts the process when it
   // cannot open the display: check first, and say so in one line.

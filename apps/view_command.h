@@ -25,6 +25,7 @@ struct ViewOptions {
   int threads = 0;
   bool quiet = false;     ///< accepted as by every command (view prints no progress)
   CadOptions cad;         ///< --deflection, --angular-deflection, --isos (CAD input)
+  std::optional<wf::HiddenLines> hidden;  ///< --hidden, --dash, --ghost
 };
 
 /// Runs the command. Returns the exit status.

@@ -55,6 +55,7 @@ void ABufferCounters::add(const ABufferCounters& o) {
   maxListLength = std::max(maxListLength, o.maxListLength);
   peakBytes = std::max(peakBytes, o.peakBytes);
   peakFragmentsHeld = std::max(peakFragmentsHeld, o.peakFragmentsHeld);
+  xray += o.xray;
 }
 
 namespace {
@@ -142,6 +143,7 @@ void TileABuffer::reset(int w, int h, int x0, int y0, const FragmentSource* sour
   subpixelDepth_.clear();
   subpixelDepth_.reserve(2 * size_t(w) * size_t(h) * size_t(layout_.samples()));  // no regrowth while filling
   solids_.clear();
+  xray_.clear();
 }
 
 std::size_t TileABuffer::bytesFor(int w, int h, const MaskLayout& layout, int entriesPerPixel) {
@@ -162,7 +164,7 @@ std::size_t TileABuffer::bytes() const {
   return pixels_.capacity() * sizeof(Pixel) + nodes_.capacity() * sizeof(Node) +
          freeNodes_.capacity() * sizeof(std::int32_t) + tails_.capacity() * sizeof(Tail) +
          (subpixelDepth_.capacity() + occlusion_.capacity() + blockOcclusion_.capacity() + offered_.capacity()) * sizeof(float) +
-         solids_.capacity() * sizeof(Fragment);
+         solids_.capacity() * sizeof(Fragment) + xray_.capacity() * sizeof(XrayNode);
 }
 
 bool TileABuffer::isSolid(const Fragment& f) const {
@@ -171,7 +173,8 @@ bool TileABuffer::isSolid(const Fragment& f) const {
 
 void TileABuffer::shadeNow(Fragment& f, std::size_t pixelIndex) const {
   if (f.shaded) return;
-  if (source_)
+  if (f.holdout) f.colour = glm::vec3(0.0f);
+  else if (source_)
     f.colour = source_->shade(f, x0_ + int(pixelIndex % size_t(w_)), y0_ + int(pixelIndex / size_t(w_)));
   f.shaded = true;
 }
@@ -219,7 +222,7 @@ void TileABuffer::toTail(Pixel& p, const Fragment& in, bool evicted) {
   }
   Tail& t = tails_[size_t(p.tail)];
   const float w = f.opacity * f.area;
-  t.premultiplied += f.colour * w;
+  if (!f.holdout) t.premultiplied += f.colour * w;  // a hold-out darkens the tail's mean: an approximation
   t.weight += w;
   t.transmittance *= std::max(0.0f, 1.0f - w);
   t.zkeyMin = std::min(t.zkeyMin, f.zkey);
@@ -472,12 +475,42 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
   }
 }
 
+void TileABuffer::insertXray(int x, int y, Fragment f, float factor, int centroidSubpixel) {
+  if (!(f.area > 0.0f) || !(factor > 0.0f)) return;
+  f.area = std::min(f.area, 1.0f);
+  f.opacity = std::clamp(f.opacity, 0.0f, 1.0f);
+  if (f.mask == 0) {
+    f.mask = MaskBits(1) << std::clamp(centroidSubpixel, 0, layout_.samples() - 1);
+    f.standInBits = f.mask;
+  }
+  const std::uint32_t pixel = std::uint32_t(size_t(y) * size_t(w_) + size_t(x));
+  xray_.push_back(XrayNode{f, std::min(factor, 1.0f), std::uint32_t(xray_.size()), pixel});
+  ++local_.xray;
+}
+
+void TileABuffer::gatherXray() const {
+  if (xray_.empty()) return;
+  const size_t n = pixels_.size();
+  std::vector<std::uint32_t>& start = scratch_.xrayStart;
+  start.assign(n + 1, 0);
+  for (const XrayNode& x : xray_) ++start[x.pixel + 1];
+  for (size_t i = 0; i < n; ++i) start[i + 1] += start[i];
+  std::vector<const XrayNode*>& g = scratch_.xrayGathered;
+  g.resize(xray_.size());
+  std::vector<std::uint32_t> at(start.begin(), start.end() - 1);
+  for (const XrayNode& x : xray_) g[at[x.pixel]++] = &x;
+}
+
 glm::vec4 TileABuffer::resolve(int x, int y) const {
   const size_t pixelIndex = size_t(y) * size_t(w_) + size_t(x);
   std::vector<const Node*>& list = scratch_.gathered;
   list.clear();
   for (std::int32_t i = pixels_[pixelIndex].head; i >= 0; i = nodes_[size_t(i)].next) list.push_back(&nodes_[size_t(i)]);
-  return resolveEntries(pixelIndex, list.data(), int(list.size()));
+  std::vector<const XrayNode*>& xr = scratch_.xrayGathered;
+  xr.clear();
+  for (const XrayNode& n : xray_)
+    if (n.pixel == pixelIndex) xr.push_back(&n);
+  return resolveEntries(pixelIndex, list.data(), int(list.size()), xr.data(), int(xr.size()));
 }
 
 void TileABuffer::gatherLists() const {
@@ -497,14 +530,19 @@ void TileABuffer::gatherLists() const {
   start[0] = 0;
 }
 
-glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entries, int count) const {
+glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entries, int count,
+                                      const XrayNode* const* xray, int xrayCount) const {
   const Pixel& p = pixels_[pixelIndex];
   const int px = x0_ + int(pixelIndex % size_t(w_)), py = y0_ + int(pixelIndex / size_t(w_));
   auto colourOf = [&](const Fragment& f) {
     return f.shaded || !source_ ? f.colour : source_->shade(f, px, py);
   };
-  if (p.length == 0 && !p.hasTail()) {
-    if (p.hasSolid()) return glm::vec4(colourOf(solids_[size_t(p.solid)]), 1.0f);
+  // (x-ray fragments show only through an opaque surface: without one here, nothing to do)
+  if (p.length == 0 && !p.hasTail() && (xrayCount == 0 || !p.hasSolid())) {
+    if (p.hasSolid()) {
+      const Fragment& f = solids_[size_t(p.solid)];
+      return f.holdout ? glm::vec4(0.0f) : glm::vec4(colourOf(f), 1.0f);
+    }
     return glm::vec4(0.0f);
   }
   // Gather, sort front to back (depth, then arrival: deterministic).
@@ -635,18 +673,76 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
         sumT += T[s];
         T[s] *= 1.0f - hide;
       }
-      if (!(sumT > 0.0f)) continue;
+      if (!(sumT > 0.0f) || f.holdout) continue;
       const float w = f.opacity * f.area * (sumT / float(maskCount(f.mask)));
       rgb += colourOf(f) * w;
       alpha += w;
     }
+  // Hidden lines: each x-ray fragment (front to back), on the subpixels whose owner is an opaque
+  // surface in front of the wire there, just in front of that surface.
+  bool anyXray = false;
+  if (xrayCount > 0 && nw > 0) {
+    std::vector<const XrayNode*>& xo = scratch_.xrayOrder;
+    xo.assign(xray, xray + xrayCount);
+    for (size_t a = 1; a < xo.size(); ++a) {
+      const XrayNode* v = xo[a];
+      size_t b = a;
+      for (; b > 0 && (v->f.zkey < xo[b - 1]->f.zkey || (v->f.zkey == xo[b - 1]->f.zkey && v->seq < xo[b - 1]->seq)); --b)
+        xo[b] = xo[b - 1];
+      xo[b] = v;
+    }
+    std::vector<float>& xd = scratch_.xrayDepths;
+    xd.resize(size_t(N));
+    for (const XrayNode* x : xo) {
+      const Fragment& f = x->f;
+      MaskBits behind = 0;  // its subpixels owned by a surface in front of it
+      bool depthsDone = false;
+      for (int b = 0; b < nw; ++b) {
+        const int j = whole[size_t(b)];
+        const Fragment& o = order[size_t(j)]->f;
+        const MaskBits common = f.mask & owned[size_t(j)] & ~behind;
+        if (!common || o.occludesEarly) continue;  // not a surface (a wire's piece)
+        if (o.zmax <= f.zmin) {
+          behind |= common;
+          continue;
+        }
+        if (o.zmin >= f.zmax) continue;
+        if (!depthsDone) {
+          SurfaceDepth model;
+          if (source_ && f.prim != Fragment::kNoPrimitive && source_->surfaceDepth(f.prim, px, py, model))
+            model.atSamples(sampleX_, sampleY_, N, xd.data());
+          else
+            std::fill(xd.begin(), xd.end(), f.zkey);
+          depthsDone = true;
+        }
+        const float* od = depthsOf(j);
+        for (MaskBits m = common; m; m &= m - 1) {
+          const int s = std::countr_zero(m);
+          if (od[s] < xd[size_t(s)]) behind |= MaskBits(1) << s;
+        }
+      }
+      if (!behind) continue;
+      const float hide = x->factor * hideOf(f);
+      float sumT = 0;
+      for (MaskBits m = behind; m; m &= m - 1) {
+        const int s = std::countr_zero(m);
+        sumT += T[s];
+        T[s] *= 1.0f - hide;
+      }
+      anyXray = true;
+      const float w = x->factor * f.opacity * f.area * (sumT / float(maskCount(f.mask)));
+      rgb += colourOf(f) * w;
+      alpha += w;
+    }
+  }
   // The owners, through what lies in front of them.
   for (int i : whole) {
     const MaskBits mine = owned[size_t(i)];
     if (!mine) continue;
     const Fragment& f = order[size_t(i)]->f;
+    if (f.holdout) continue;
     float sumT;
-    if (anyPartial) {
+    if (anyPartial || anyXray) {
       sumT = 0;
       for (MaskBits m = mine; m; m &= m - 1) sumT += T[std::countr_zero(m)];
     } else {

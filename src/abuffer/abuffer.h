@@ -31,6 +31,12 @@
 // triangles, consecutive segments); the two become one fragment (masks or'ed, areas added), so
 // the seam is neither a crack nor covered twice.
 //
+// Hidden lines (x-ray fragments): a wire drawn dashed or ghosted where surfaces hide it also
+// gives copies of its fragments that no culling drops (insertXray). At the resolve, an x-ray
+// fragment adds its colour, times its factor (the dash's coverage, or the ghost's opacity), on
+// the subpixels where an opaque surface owns the subpixel and lies in front of the wire there:
+// composited just in front of that surface, behind whatever lies in front of it.
+//
 // Budget (as in TressFX's k-buffer): a list holds at most `budget` fragments; the nearest are
 // kept exactly, farther ones are blended into one order-independent tail per pixel, composited
 // behind the list, and counted in the stats.
@@ -74,6 +80,9 @@ struct Fragment {
   /// at joints). Pieces of a surface count only once merged whole: tiny ones would otherwise
   /// hide their own siblings' stand-in subpixels and the surface would never close.
   bool occludesEarly = false;
+  /// A hold-out (hidden-line removal): hides what lies behind it like any opaque surface and
+  /// adds no colour of its own (what it covers shows the background).
+  bool holdout = false;
   /// The least hide (opacity times covered share of its subpixels) the resolve gives this
   /// fragment. A wire's piece counts for occlusion on arrival at its own hide; a later piece
   /// merged into it may lower the merged fragment's hide, and what was culled meanwhile behind
@@ -158,6 +167,7 @@ struct ABufferCounters {
   /// list entries plus the tile's solid fragments; tails are accumulators and not counted).
   /// The renderer sums it over threads, like peakBytes.
   std::uint64_t peakFragmentsHeld = 0;
+  std::uint64_t xray = 0;        ///< x-ray fragments kept (hidden lines drawn dashed or ghosted)
   void add(const ABufferCounters& o);
 };
 
@@ -173,6 +183,9 @@ class TileABuffer {
   /// Adds a fragment to pixel (x, y) of the tile. `centroidSubpixel` is the sample index used as
   /// a stand-in when `f.mask` is empty.
   void insert(int x, int y, Fragment f, int centroidSubpixel);
+  /// Adds an x-ray copy of a wire fragment to pixel (x, y): drawn with weight `factor` (0 ... 1)
+  /// only where an opaque surface in front hides it (hidden lines; see above). Never culled.
+  void insertXray(int x, int y, Fragment f, float factor, int centroidSubpixel);
   /// Depth behind which everything in pixel (x, y) is hidden: every subpixel is covered by an
   /// opaque fragment (one that hides its subpixels wholly) nearer than this; +inf until then.
   /// A fragment with zmin >= this depth cannot change the pixel, so the rasteriser may skip it
@@ -219,10 +232,14 @@ class TileABuffer {
   template <class Out>
   void resolveTile(Out&& out) const {
     gatherLists();
+    gatherXray();
+    const bool xray = !xray_.empty();
     for (int y = 0; y < h_; ++y)
       for (int x = 0; x < w_; ++x) {
         const size_t i = size_t(y) * size_t(w_) + size_t(x);
-        out(x, y, resolveEntries(i, scratch_.gathered.data() + scratch_.gatherStart[i], pixels_[i].length));
+        const XrayNode* const* xr = xray ? scratch_.xrayGathered.data() + scratch_.xrayStart[i] : nullptr;
+        const int xn = xray ? int(scratch_.xrayStart[i + 1] - scratch_.xrayStart[i]) : 0;
+        out(x, y, resolveEntries(i, scratch_.gathered.data() + scratch_.gatherStart[i], pixels_[i].length, xr, xn));
       }
   }
   /// Folds the per-pixel counts into counters (call after resolving the tile).
@@ -244,6 +261,12 @@ class TileABuffer {
     std::uint32_t pixel;  ///< tile pixel index, kFreeNode once freed
   };
   static constexpr std::uint32_t kFreeNode = 0xFFFFFFFFu;
+  struct XrayNode {
+    Fragment f;
+    float factor;         ///< weight where hidden (dash coverage, ghost opacity)
+    std::uint32_t seq;    ///< arrival order within the tile
+    std::uint32_t pixel;  ///< tile pixel index
+  };
   struct Tail {
     glm::vec3 premultiplied{0.0f};
     float weight = 0;             ///< sum of alpha * area
@@ -276,10 +299,15 @@ class TileABuffer {
     std::vector<int> whole;                  ///< the fragments that hide their subpixels wholly
     std::vector<const Node*> gathered;      ///< every pixel's list, pixel after pixel (resolveTile)
     std::vector<std::uint32_t> gatherStart;  ///< pixel i's list begins at gathered[gatherStart[i]]
+    std::vector<const XrayNode*> xrayGathered, xrayOrder;  ///< x-ray fragments by pixel (gatherXray), one pixel's sorted
+    std::vector<std::uint32_t> xrayStart;    ///< pixel i's x-ray fragments: xrayGathered[xrayStart[i] ... xrayStart[i + 1])
+    std::vector<float> xrayDepths;
   };
   mutable ResolveScratch scratch_;
   void gatherLists() const;
-  glm::vec4 resolveEntries(size_t pixelIndex, const Node* const* entries, int count) const;
+  void gatherXray() const;
+  glm::vec4 resolveEntries(size_t pixelIndex, const Node* const* entries, int count, const XrayNode* const* xray = nullptr,
+                           int xrayCount = 0) const;
 
   bool isSolid(const Fragment& f) const;
   void setSolid(Pixel& p, const Fragment& f);
@@ -318,6 +346,7 @@ class TileABuffer {
   int bw_ = 0;
   std::vector<float> subpixelDepth_;  ///< per pixel with occluders: N depths D then N transmittances T (see occlude)
   std::vector<Fragment> solids_;
+  std::vector<XrayNode> xray_;        ///< hidden-line copies (insertXray): empty unless a wire asks for them
   std::size_t peakBytes_ = 0;
   ABufferCounters local_;
 };

@@ -190,7 +190,22 @@ struct ShaderSlot {
   /// such primitives at every sample instead of once per pixel.
   bool variesInPixel = false;
   glm::dvec3 axisPoint{0.0}, axisDirection{0.0, 0.0, 1.0};  ///< radial / circular grain, eye space
+  bool holdout = false;  ///< surfaces: hides, adds no colour (SceneSurface::holdout)
+  HiddenLines hidden;    ///< wires: where surfaces hide them (SceneWire::hidden)
 };
+
+/// The weight of a dashed hidden line at arc length s (pixels from the pattern's start): the
+/// share of [s - 0.5, s + 0.5] inside dashes of `dash` pixels separated by gaps of `gap`
+/// (a one-pixel box filter along the wire, so a dash's ends are antialiased).
+inline float dashCoverage(double s, double dash, double gap) {
+  const double period = dash + gap;
+  if (!(dash > 0.0) || !(period > 0.0) || !std::isfinite(s)) return 1.0f;
+  auto on = [&](double x) {  // measure of dashes in [0, x]
+    const double k = std::floor(x / period);
+    return k * dash + std::min(x - k * period, dash);
+  };
+  return float(std::clamp(on(s + 0.5) - on(s - 0.5), 0.0, 1.0));
+}
 
 /// Everything the stages after set-up read. Primitives are numbered triangles first, then
 /// segments: index i < triangles.size() is triangle i, otherwise segment i - triangles.size().
@@ -207,6 +222,10 @@ struct PreparedScene {
   PodVector<glm::dvec2> vertices;  ///< the triangles' screen polygons
   PodVector<SegmentPrim> segments;
   PodVector<SegmentShading> segmentShading;
+  /// Per segment, the dash pattern's phase at p0 (pixels, HiddenLines::Dashed): empty unless a
+  /// wire draws dashed hidden lines.
+  PodVector<float> dashPhase;
+  bool anyXray = false;  ///< some wire draws its hidden parts (HiddenLines::drawn)
   double cueNear = 0, cueFar = 1;  ///< depth range of the wires (depth cueing)
   /// Textures and grooves box-filtered over the pixel's footprint (the A-buffer), or point
   /// sampled (the reference renderer, which averages its sub-samples instead).
@@ -567,6 +586,7 @@ struct SegmentSink {
   SegmentPrim* prims;
   SegmentShading* shading;
   size_t count = 0;
+  float* dashPhase = nullptr;  ///< PreparedScene::dashPhase, when kept
 };
 /// Triangles [begin, end) of a surface: clipped to near / far, projected, depth plane, attributes.
 void setupTriangles(const PreparedScene& ps, const SceneSurface& surf, std::uint32_t surfaceIndex,

@@ -181,7 +181,8 @@ PrimitiveDepth::PrimitiveDepth(const PreparedScene& ps, std::uint32_t i) : view_
 size_t PreparedScene::bytes() const {
   size_t b = triangles.capacity() * sizeof(TrianglePrim) + vertices.capacity() * sizeof(glm::dvec2) +
              triangleAttributes.capacity() * sizeof(TriangleAttributes) +
-             segments.capacity() * sizeof(SegmentPrim) + segmentShading.capacity() * sizeof(SegmentShading);
+             segments.capacity() * sizeof(SegmentPrim) + segmentShading.capacity() * sizeof(SegmentShading) +
+             dashPhase.capacity() * sizeof(float);
   for (const ShaderSlot& s : shaders) {
     if (s.wireTables) b += s.wireTables->bytes();
     if (s.surfaceTables) b += s.surfaceTables->bytes();
@@ -270,10 +271,14 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
   ps.vertices.resize(5 * triangleRoom);
   ps.segments.resize(segmentRoom);
   ps.segmentShading.resize(segmentRoom);
+  bool dashed = false;
+  for (const SceneWire& w : scene.wires) dashed = dashed || w.hidden.mode == HiddenLines::Mode::Dashed;
+  if (dashed) ps.dashPhase.resize(segmentRoom);
   tbb::parallel_for(size_t(0), jobs.size(), [&](size_t i) {
     Job& j = jobs[i];
     if (j.wire) {
       SegmentSink sink{ps.segments.data() + j.offset, ps.segmentShading.data() + j.offset};
+      if (dashed) sink.dashPhase = ps.dashPhase.data() + j.offset;
       const WireSimplification& simp = simplification.wires[j.object];
       setupPolylines(ps, scene.wires[j.object], std::uint32_t(wireShader[j.object]), tagBase[j.object], j.begin,
                      j.end, sink, j.counts, simp.scale.empty() ? nullptr : &simp);
@@ -298,6 +303,7 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
         std::memmove(static_cast<void*>(ps.segments.data() + ns), ps.segments.data() + j.offset, j.count * sizeof(SegmentPrim));
         std::memmove(static_cast<void*>(ps.segmentShading.data() + ns), ps.segmentShading.data() + j.offset,
                      j.count * sizeof(SegmentShading));
+        if (dashed) std::memmove(ps.dashPhase.data() + ns, ps.dashPhase.data() + j.offset, j.count * sizeof(float));
       }
       ns += j.count;
     } else {
@@ -333,6 +339,7 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
   fit(ps.vertices, nv);
   fit(ps.segments, ns);
   fit(ps.segmentShading, ns);
+  if (dashed) fit(ps.dashPhase, ns);
   for (size_t i = 0; i < rejectedPerObject.size(); ++i) {
     if (!rejectedPerObject[i]) continue;
     const bool wire = i >= scene.surfaces.size();

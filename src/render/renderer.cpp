@@ -215,9 +215,12 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
         const TileBins::Item& item = order[oi];
         // Hierarchical occlusion first, from the bin item alone: is the primitive behind
         // everything over its rectangle in this tile?
-        if (item.zlo >= buf.regionOcclusionDepth(item.x0, item.y0, item.x1, item.y1) || item.zlo >= opaqueTileMax) {
+        // (A wire that draws its hidden parts still gives its x-ray copy.)
+        const bool occludedWhole =
+            item.zlo >= buf.regionOcclusionDepth(item.x0, item.y0, item.x1, item.y1) || item.zlo >= opaqueTileMax;
+        if (occludedWhole) {
           ++occludedPrims.local();
-          continue;
+          if (!ps.anyXray || item.index < triangleCount || !ps.shaderOf(item.index).hidden.drawn()) continue;
         }
         // Survivors are scattered through memory: fetch the next ones' data ahead.
         for (std::uint32_t ahead = oi + 1; ahead < std::min(n, oi + 4); ++ahead) {
@@ -226,11 +229,12 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
           else __builtin_prefetch(&ps.triangles[k]);
         }
         const std::uint32_t index = item.index;
-        const float opacity = ps.opacityOf(index);
+        const ShaderSlot& slot = ps.shaderOf(index);
+        const float opacity = slot.opacity;
         std::uint32_t tag;
         bool mayMerge;
         const bool segment = index >= triangleCount;
-        ++wk.items;
+        if (!occludedWhole) ++wk.items;
         auto emit = [&](const PixelCoverage& pc) {
           if (opaque && !(pc.zkey < opaqueAt(pc.x, pc.y))) return;  // behind the external surface
           Fragment f;
@@ -247,6 +251,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
           f.cx = Fragment::toPoint(pc.cx - pc.x);
           f.cy = Fragment::toPoint(pc.cy - pc.y);
           f.shaded = false;  // shaded only if it survives (PreparedFragmentSource)
+          f.holdout = slot.holdout;
           buf.insert(pc.x - tx0, pc.y - ty0, f, pc.subpixel);
         };
         const int rx0 = tx0 + item.x0, ry0 = ty0 + item.y0, rx1 = tx0 + item.x1, ry1 = ty0 + item.y1;
@@ -255,8 +260,42 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
           const SegmentPrim& s = ps.segments[index - triangleCount];
           tag = s.tag;
           mayMerge = s.flags & kSegmentMayMerge;
-          rasterizePolygon(poly, SegmentDepth(ps.view, s, ps.wireDepth), rx0, ry0, rx1, ry1, ty0, options.mask, wk,
-                           cullBand, cullRow, cullPixel, hidden, emit);
+          const SegmentDepth depth(ps.view, s, ps.wireDepth);
+          if (!occludedWhole)
+            rasterizePolygon(poly, depth, rx0, ry0, rx1, ry1, ty0, options.mask, wk, cullBand, cullRow, cullPixel, hidden,
+                             emit);
+          if (slot.hidden.drawn()) {
+            // Its x-ray copy (hidden lines): every fragment, whatever hides it; the resolve
+            // draws it where an opaque surface in front does (TileABuffer::insertXray).
+            const bool dashed = slot.hidden.mode == HiddenLines::Mode::Dashed && !ps.dashPhase.empty();
+            const double phase = dashed ? ps.dashPhase[index - triangleCount] : 0.0;
+            const SegmentFrame& fr = depth.frame;
+            RenderStats::RasterWork xw;
+            auto never = [](auto&&...) { return false; };
+            auto emitXray = [&](const PixelCoverage& pc) {
+              Fragment f;
+              f.zmin = pc.zmin;
+              f.zmax = pc.zmax;
+              f.zkey = pc.zkey;
+              f.area = float(pc.area);
+              f.mask = pc.mask;
+              f.opacity = opacity;
+              f.tag = tag;
+              f.occludesEarly = true;
+              f.prim = index;
+              f.cx = Fragment::toPoint(pc.cx - pc.x);
+              f.cy = Fragment::toPoint(pc.cy - pc.y);
+              f.shaded = false;
+              float factor = slot.hidden.ghost;
+              if (dashed) {
+                const double t = fr.length > 0 ? std::clamp(fr.t(pc.cx, pc.cy), 0.0, 1.0) : 0.0;
+                factor = dashCoverage(phase + t * fr.length, slot.hidden.dash, slot.hidden.gap);
+              }
+              buf.insertXray(pc.x - tx0, pc.y - ty0, f, factor, pc.subpixel);
+            };
+            rasterizePolygon(poly, depth, rx0, ry0, rx1, ry1, ty0, options.mask, xw, never, never, never, never,
+                             emitXray);
+          }
         } else {
           const TrianglePrim& t = ps.triangles[index];
           tag = t.tag;

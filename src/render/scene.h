@@ -92,6 +92,24 @@ struct SceneSurface {
   std::string name;
   TriangleMesh mesh;
   int material = 0;
+  /// Hides what lies behind it and draws nothing of its own (hidden-line removal of a
+  /// wire-frame: the part's faces decide which edges show, the background shows where they are).
+  bool holdout = false;
+};
+
+/// How a wire is drawn where an opaque surface hides it (CAD hidden lines). Off and Hide draw
+/// nothing there (Hide differs only in the styles, which then add the faces as hold-outs);
+/// Dashed draws dashes of `dash` pixels with gaps of `gap` along the polyline's screen arc length
+/// (from its first point, so the phase runs on across joints), box-filtered over a pixel along
+/// the wire; Ghost draws it at `ghost` opacity. Visibility is the A-buffer's, per subpixel, at
+/// the surface's exact depth: no depth offset.
+struct HiddenLines {
+  enum class Mode { Off, Dashed, Ghost, Hide };
+  Mode mode = Mode::Off;
+  double dash = 6.0, gap = 4.0;  ///< pixels
+  float ghost = 0.3f;
+  /// Draws hidden parts at all (dashed or ghosted).
+  bool drawn() const { return mode == Mode::Dashed || mode == Mode::Ghost; }
 };
 
 struct SceneWire {
@@ -116,6 +134,7 @@ struct SceneWire {
   /// Many similar strands (fur): RenderOptions::simplify may draw a fraction of them where they
   /// are much denser than the pixels resolve. False: every polyline is drawn as it is.
   bool aggregate = false;
+  HiddenLines hidden;  ///< where surfaces hide it
 };
 
 struct Scene {

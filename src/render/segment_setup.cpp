@@ -318,12 +318,22 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       offsets[j] = mh * (q.w0 / c);
       mitred[j] = 1;
     }
+    // Dashed hidden lines: the pattern's phase at each segment's start, from the screen arc
+    // length of the polyline before it (segments off screen or dropped count too, so the
+    // pattern does not jump as they come into view).
+    const double dashPeriod = slot.hidden.dash + slot.hidden.gap;
+    double arc = 0.0;
     const std::uint32_t tag = tagBase + std::uint32_t(li);
     size_t pieces = 0;
     for (const SegScreen& s : segs) pieces += s.valid;
     for (size_t j = 0; j < nseg; ++j) {
       const SegScreen& s = segs[j];
       if (!s.valid) continue;
+      const double arcHere = arc;
+      if (out.dashPhase) {
+        const double len = glm::length(s.p1 - s.p0);
+        if (std::isfinite(len)) arc = std::fmod(arc + len, dashPeriod);
+      }
       SegmentPrim sp;
       sp.p0 = s.p0;
       sp.p1 = s.p1;
@@ -412,6 +422,7 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       }
       out.prims[out.count] = sp;
       out.shading[out.count] = sh;
+      if (out.dashPhase) out.dashPhase[out.count] = float(arcHere);
       ++out.count;
     }
   }

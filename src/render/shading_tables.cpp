@@ -95,9 +95,22 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
   };
   // The environment is made only when a chrome material needs it.
   auto env = [&]() -> const EnvironmentMap& { return scene.environment ? *scene.environment : defaultEnvironment(); };
+  int holdoutSlot = -1;  // hold-outs share one slot, which needs no tables: they are never shaded
   for (const SceneSurface& s : scene.surfaces) {
     if (s.mesh.triangles.empty()) {
       surfaceShader.push_back(0);
+      continue;
+    }
+    if (s.holdout) {
+      if (holdoutSlot < 0) {
+        ShaderSlot slot;
+        slot.holdout = true;
+        slot.opacity = 1.0f;
+        slot.material = &material(s.material);
+        ps.shaders.push_back(slot);
+        holdoutSlot = int(ps.shaders.size()) - 1;
+      }
+      surfaceShader.push_back(holdoutSlot);
       continue;
     }
     const int mi = std::clamp(s.material, 0, int(scene.materials.size()) - 1);
@@ -182,6 +195,12 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
     slot.phong = material(mi).phong.sanitized();
     slot.colour = safeColour(w.colour);
     slot.opacity = safeOpacity(w.opacity);
+    slot.hidden = w.hidden;
+    HiddenLines& h = slot.hidden;  // out-of-range values fall back to the defaults
+    if (!(h.dash >= 0.1 && h.dash <= 1e4)) h.dash = HiddenLines{}.dash;
+    if (!(h.gap >= 0.0 && h.gap <= 1e4)) h.gap = HiddenLines{}.gap;
+    if (!(h.ghost >= 0.0f && h.ghost <= 1.0f)) h.ghost = HiddenLines{}.ghost;
+    if (slot.hidden.drawn() && w.lines.points.size() >= 2) ps.anyXray = true;
     slot.kind = w.style == WireStyle::Shaded  ? ShaderSlot::Kind::WireShaded
                 : w.style == WireStyle::Plain ? ShaderSlot::Kind::WirePlain
                                               : ShaderSlot::Kind::WireDepthCued;

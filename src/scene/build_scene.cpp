@@ -304,11 +304,12 @@ void buildObject(const SceneDescription& d, const ObjectDescription& o, std::uin
     if (g && o.splitParts && g->partNames.size() > 1 && g->trianglePart.size() == mesh.triangles.size()) {
       std::vector<TriangleMesh> parts = splitParts(mesh, g->trianglePart, g->partNames.size());
       for (size_t p = 0; p < parts.size(); ++p)
-        if (!parts[p].triangles.empty()) scene.surfaces.push_back({g->partNames[p], std::move(parts[p]), o.surfaceMaterial});
+        if (!parts[p].triangles.empty())
+          scene.surfaces.push_back({g->partNames[p], std::move(parts[p]), o.surfaceMaterial, o.surfaceHoldout});
     } else {
       std::string surfaceName = name;
       if (g && o.splitParts && g->partNames.size() == 1) surfaceName = g->partNames[0];
-      scene.surfaces.push_back({surfaceName, std::move(mesh), o.surfaceMaterial});
+      scene.surfaces.push_back({surfaceName, std::move(mesh), o.surfaceMaterial, o.surfaceHoldout});
     }
   }
 

@@ -101,6 +101,8 @@ struct ObjectDescription {
   bool drawSurface = true;
   bool surfaceExplicit = false;  ///< asked for (a scene file's `"surface": true`): no polygons is an error
   int surfaceMaterial = 0;
+  /// The surface hides the wires behind it and draws nothing (SceneSurface::holdout).
+  bool surfaceHoldout = false;
   std::string surfaceWhere;
   /// A CAD model's parts as surfaces of their own, named after them (else one surface).
   bool splitParts = false;

@@ -164,4 +164,27 @@ SceneDescription describeStyled(std::shared_ptr<const GeometryData> geometry, St
   return d;
 }
 
+void applyHiddenLines(SceneDescription& d, const HiddenLines& hidden) {
+  for (ObjectDescription& o : d.objects) {
+    if (!o.wire || o.wire->wire.aggregate) continue;
+    o.wire->wire.hidden = hidden;
+    const bool polygons = o.source || (o.geometry && !o.geometry->mesh.triangles.empty());
+    if (hidden.mode != HiddenLines::Mode::Off && !o.drawSurface && polygons) {
+      o.drawSurface = true;
+      o.surfaceHoldout = true;
+      o.keepColours = false;
+    }
+  }
+}
+
+bool parseHiddenMode(const std::string& name, HiddenLines::Mode& mode) {
+  using M = HiddenLines::Mode;
+  if (name == "off") mode = M::Off;
+  else if (name == "dashed") mode = M::Dashed;
+  else if (name == "ghost") mode = M::Ghost;
+  else if (name == "hide") mode = M::Hide;
+  else return false;
+  return true;
+}
+
 }  // namespace wf

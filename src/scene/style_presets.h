@@ -37,4 +37,13 @@ double modelSize(const GeometryData& geometry);
 /// the input (burnished, fur or scales without polygons).
 SceneDescription describeStyled(std::shared_ptr<const GeometryData> geometry, Style style);
 
+/// Hidden lines (`--hidden`, HiddenLines) for every object's wire-frame that is not hair-like
+/// (aggregate): its wire draws where surfaces hide it as `hidden` says. An object whose surface
+/// is not drawn (the wire style) gets it as a hold-out, unless `hidden` is off: its faces then
+/// decide which edges show (hidden-line removal) and draw nothing. Iso lines are hidden, not
+/// dashed.
+void applyHiddenLines(SceneDescription& description, const HiddenLines& hidden);
+/// "off", "dashed", "ghost", "hide"; false for anything else.
+bool parseHiddenMode(const std::string& name, HiddenLines::Mode& mode);
+
 }  // namespace wf
