@@ -70,6 +70,7 @@ json statsJson(const wf::RenderStats& st, const wf::RenderOptions& o, bool refer
   j["segments"] = st.segments;
   j["triangles"] = st.triangles;
   j["fragments"] = st.abuffer.fragments;
+  j["hidden_line_fragments"] = st.abuffer.xray;  // x-ray copies of wires drawn dashed or ghosted
   j["max_fragments_per_pixel"] = st.abuffer.maxFragmentsPerPixel;
   j["peak_bytes"] = st.peakBytes;
   json e;

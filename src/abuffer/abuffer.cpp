@@ -599,16 +599,21 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
   }
   // The depth of fragment i's surface at its subpixels, evaluated once, when two surfaces whose
   // depth ranges overlap share a subpixel (they interpenetrate in this pixel).
+  // Its models are kept (two for a wire's merged pieces) for edges judged at their axis.
+  std::vector<SurfaceDepth>& models = scratch_.models;
+  models.resize(2 * size_t(n));
   auto depthsOf = [&](int i) -> const float* {
     float* d = &depths[size_t(i) * size_t(N)];
     if (depthState[size_t(i)] == 0) {
       const Fragment& f = order[size_t(i)]->f;
-      SurfaceDepth model;
+      SurfaceDepth& model = models[2 * size_t(i)];
       if (source_ && f.prim != Fragment::kNoPrimitive && source_->surfaceDepth(f.prim, px, py, model)) {
         model.atSamples(sampleX_, sampleY_, N, d);
-        if (f.prim2 != Fragment::kNoPrimitive && source_->surfaceDepth(f.prim2, px, py, model)) {
+        SurfaceDepth& second = models[2 * size_t(i) + 1];
+        second.kind = SurfaceDepth::Kind::Plane;  // none unless a wire's merged piece
+        if (f.prim2 != Fragment::kNoPrimitive && source_->surfaceDepth(f.prim2, px, py, second)) {
           float d2[64];
-          model.atSamples(sampleX_, sampleY_, N, d2);
+          second.atSamples(sampleX_, sampleY_, N, d2);
           for (int s = 0; s < N; ++s) d[s] = std::min(d[s], d2[s]);
         }
         depthState[size_t(i)] = 1;
@@ -620,12 +625,38 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
     return d;
   };
   // The subpixels of `common` where fragment i lies in front of fragment j (i earlier in the
-  // order, which decides ties).
+  // order, which decides ties). An edge resting on a surface against a plane: at its axis
+  // (edgeFront).
+  // The subpixels of `common` where an edge (w[0], and w[1] too when it is a merged piece's wire)
+  // lies in front of plane p: each judged at the axis point nearest it, where the edge's front
+  // faces the plane's depth (SurfaceDepth::onSurface).
+  auto edgeFront = [&](const SurfaceDepth* w, const SurfaceDepth& p, MaskBits common) -> MaskBits {
+    MaskBits front = 0;
+    const int pieces = w[1].kind == SurfaceDepth::Kind::Wire ? 2 : 1;
+    for (MaskBits m = common; m; m &= m - 1) {
+      const int s = std::countr_zero(m);
+      for (int k = 0; k < pieces; ++k) {
+        float ax, ay;
+        w[k].axisPoint(sampleX_[s], sampleY_[s], ax, ay);
+        if (w[k].at(ax, ay) <= p.at(ax, ay)) {
+          front |= MaskBits(1) << s;
+          break;
+        }
+      }
+    }
+    return front;
+  };
+  auto isEdge = [&](int i) {
+    return depthState[size_t(i)] == 1 && models[2 * size_t(i)].kind == SurfaceDepth::Kind::Wire && models[2 * size_t(i)].onSurface;
+  };
+  auto isPlane = [&](int i) { return depthState[size_t(i)] == 1 && models[2 * size_t(i)].kind == SurfaceDepth::Kind::Plane; };
   auto frontOf = [&](int i, int j, MaskBits common) -> MaskBits {
     const Fragment &a = order[size_t(i)]->f, &b = order[size_t(j)]->f;
     if (a.zmax <= b.zmin) return common;  // apart (touching: the order decides)
     if (a.zmin >= b.zmax) return 0;
     const float *da = depthsOf(i), *db = depthsOf(j);
+    if (isEdge(i) && isPlane(j)) return edgeFront(&models[2 * size_t(i)], models[2 * size_t(j)], common);
+    if (isEdge(j) && isPlane(i)) return common & ~edgeFront(&models[2 * size_t(j)], models[2 * size_t(i)], common);
     MaskBits front = 0;
     for (MaskBits m = common; m; m &= m - 1) {
       const int s = std::countr_zero(m);
@@ -654,11 +685,37 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
   glm::vec3 rgb(0.0f);
   float alpha = 0.0f;
   // What only dims its subpixels, front to back, where it lies in front of their owner.
-  if (anyPartial)
-    for (int i = 0; i < n; ++i) {
+  if (anyPartial) {
+    // Front to back by zkey, but for an edge resting on a surface (SurfaceDepth::onSurface): it
+    // moves in front of the partial planes before it that it lies in front of, judged at its
+    // axis, at every subpixel they share (its own face seen at a grazing angle, whose part in
+    // the pixel has the nearer centroid, would otherwise dim it by nearly its whole hide).
+    std::vector<int>& po = scratch_.partialOrder;
+    po.clear();
+    for (int i = 0; i < n; ++i)
+      if (hides[size_t(i)] < 1.0f && order[size_t(i)]->f.mask != 0) po.push_back(i);
+    for (size_t a = 1; a < po.size(); ++a) {
+      const int e = po[a];
+      const Fragment& fe = order[size_t(e)]->f;
+      if (!fe.occludesEarly || !source_ || !source_->onSurface(fe.prim)) continue;
+      size_t b = a;
+      for (; b > 0; --b) {
+        const int q = po[b - 1];
+        const Fragment& fq = order[size_t(q)]->f;
+        const MaskBits common = fq.mask & fe.mask;
+        if (common) {
+          if (fq.occludesEarly || fq.zmax <= fe.zmin) break;  // a wire, or wholly in front
+          depthsOf(q);
+          depthsOf(e);
+          if (!isPlane(q) || !isEdge(e) || edgeFront(&models[2 * size_t(e)], models[2 * size_t(q)], common) != common) break;
+        }
+        po[b] = q;
+      }
+      po[b] = e;
+    }
+    for (int i : po) {
       const Fragment& f = order[size_t(i)]->f;
       const float hide = hides[size_t(i)];
-      if (hide >= 1.0f || f.mask == 0) continue;
       MaskBits seen = f.mask;
       for (int b = 0; b < nw && (seen & ownedAny); ++b) {
         const int j = whole[size_t(b)];
@@ -678,6 +735,7 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
       rgb += colourOf(f) * w;
       alpha += w;
     }
+  }
   // Hidden lines: each x-ray fragment (front to back), on the subpixels whose owner is an opaque
   // surface in front of the wire there, just in front of that surface.
   bool anyXray = false;
@@ -696,7 +754,8 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
     for (const XrayNode* x : xo) {
       const Fragment& f = x->f;
       MaskBits behind = 0;  // its subpixels owned by a surface in front of it
-      bool depthsDone = false;
+      bool depthsDone = false, edge = false;
+      SurfaceDepth xm[2];  // its model (an x-ray copy is one piece: xm[1] stays no wire)
       for (int b = 0; b < nw; ++b) {
         const int j = whole[size_t(b)];
         const Fragment& o = order[size_t(j)]->f;
@@ -708,14 +767,19 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
         }
         if (o.zmin >= f.zmax) continue;
         if (!depthsDone) {
-          SurfaceDepth model;
-          if (source_ && f.prim != Fragment::kNoPrimitive && source_->surfaceDepth(f.prim, px, py, model))
-            model.atSamples(sampleX_, sampleY_, N, xd.data());
-          else
+          if (source_ && f.prim != Fragment::kNoPrimitive && source_->surfaceDepth(f.prim, px, py, xm[0])) {
+            xm[0].atSamples(sampleX_, sampleY_, N, xd.data());
+            edge = xm[0].kind == SurfaceDepth::Kind::Wire && xm[0].onSurface;
+          } else {
             std::fill(xd.begin(), xd.end(), f.zkey);
+          }
           depthsDone = true;
         }
         const float* od = depthsOf(j);
+        if (edge && isPlane(j)) {
+          behind |= common & ~edgeFront(xm, models[2 * size_t(j)], common);
+          continue;
+        }
         for (MaskBits m = common; m; m &= m - 1) {
           const int s = std::countr_zero(m);
           if (od[s] < xd[size_t(s)]) behind |= MaskBits(1) << s;

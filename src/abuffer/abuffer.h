@@ -116,6 +116,19 @@ struct SurfaceDepth {
   /// the axis, pixels) clamped to [-w, w], taken at parameter t + lat (s0 + st tc) clamped to
   /// [0, tmax] (render/pipeline.h, SegmentTilt; all zero when orthographic)
   float tl = 0, ta = 0, tt = 0, s0 = 0, st = 0;
+  /// wire: rests on a surface (a CAD edge on its faces, SceneWire::restsOnSurface). Against a
+  /// plane it is judged at its axis, not at the subpixel: at subpixel s, the wire's depth at the
+  /// axis point nearest s against the plane's depth there (axisPoint). A line drawn on a face
+  /// seen at a grazing angle would otherwise be half hidden by that very face, whose depth
+  /// changes by more than the wire's radius across the wire's width.
+  bool onSurface = false;
+  /// The point of the axis nearest (sx, sy) (clamped to the ends), as the same pixel offsets.
+  void axisPoint(float sx, float sy, float& ax, float& ay) const {
+    const float t = t0 + tx * sx + ty * sy, tc = std::min(tmax, std::max(0.0f, t));
+    const float lat = l0 + lx * sx + ly * sy, back = (tc - t) * length * length;
+    ax = sx - lat * lx + back * tx;
+    ay = sy - lat * ly + back * ty;
+  }
   /// The depth at n samples (sx[k], sy[k]) into out[k] (a loop the compiler vectorises).
   void atSamples(const float* sx, const float* sy, int n, float* out) const;
   float at(float sx, float sy) const {
@@ -149,6 +162,9 @@ class FragmentSource {
   /// The depth of primitive `prim`'s surface across pixel (x, y); false when it has none (the
   /// fragment is flat, at its zkey).
   virtual bool surfaceDepth(std::uint32_t prim, int x, int y, SurfaceDepth& depth) const = 0;
+  /// Whether primitive `prim` is a wire resting on a surface (SurfaceDepth::onSurface), asked
+  /// before its depths are.
+  virtual bool onSurface(std::uint32_t) const { return false; }
 };
 
 struct ABufferCounters {
@@ -302,6 +318,8 @@ class TileABuffer {
     std::vector<const XrayNode*> xrayGathered, xrayOrder;  ///< x-ray fragments by pixel (gatherXray), one pixel's sorted
     std::vector<std::uint32_t> xrayStart;    ///< pixel i's x-ray fragments: xrayGathered[xrayStart[i] ... xrayStart[i + 1])
     std::vector<float> xrayDepths;
+    std::vector<SurfaceDepth> models;  ///< two per fragment (resolveEntries' depthsOf)
+    std::vector<int> partialOrder;
   };
   mutable ResolveScratch scratch_;
   void gatherLists() const;

@@ -192,6 +192,7 @@ struct ShaderSlot {
   glm::dvec3 axisPoint{0.0}, axisDirection{0.0, 0.0, 1.0};  ///< radial / circular grain, eye space
   bool holdout = false;  ///< surfaces: hides, adds no colour (SceneSurface::holdout)
   HiddenLines hidden;    ///< wires: where surfaces hide them (SceneWire::hidden)
+  bool restsOnSurface = false;  ///< wires: SceneWire::restsOnSurface (SurfaceDepth::onSurface)
 };
 
 /// The weight of a dashed hidden line at arc length s (pixels from the pattern's start): the

@@ -446,6 +446,9 @@ class PreparedFragmentSource final : public FragmentSource {
     if (f.prim == Fragment::kNoPrimitive) return f.colour;
     return shadeFragment(ps_, f.prim, x + f.pointX(), y + f.pointY(), f.zkey);
   }
+  bool onSurface(std::uint32_t prim) const override {
+    return prim < ps_.primitiveCount() && ps_.isSegment(prim) && ps_.shaderOf(prim).restsOnSurface;
+  }
   bool surfaceDepth(std::uint32_t prim, int x, int y, SurfaceDepth& d) const override {
     if (prim >= ps_.primitiveCount()) return false;
     const ViewTransform& v = ps_.view;
@@ -476,6 +479,7 @@ class PreparedFragmentSource final : public FragmentSource {
       d.tl = float(tilt.lateral), d.ta = float(tilt.along0), d.tt = float(tilt.alongT);
       d.s0 = float(tilt.shift0), d.st = float(tilt.shiftT);
       d.lo = 0.0f, d.hi = INFINITY;
+      d.onSurface = ps_.shaderOf(prim).restsOnSurface;
       return true;
     }
     const TrianglePrim& t = ps_.triangles[prim];

@@ -252,6 +252,54 @@ TEST(CadCli, BadCadOptionsAreOneLineExitTwo) {
   }
 }
 
+// --hidden (docs/cad.md, "Hidden lines"): in the wire style, hide, dashed and ghost add the
+// part's faces as hold-outs (triangles set up, nothing of them drawn); dashed and ghost keep x-ray
+// copies of the edges' fragments, off and hide none; each mode draws a different picture; a
+// scene file's wire takes the same modes as a key. Bad values: one line, exit 2, nothing written.
+TEST(CadCli, HiddenLineModes) {
+  const std::string in = kCad + "product.step";
+  const json off = renderStats(in, "--style wire", "h_off");
+  const json hide = renderStats(in, "--style wire --hidden hide", "h_hide");
+  const json dashed = renderStats(in, "--style wire --hidden dashed=5,3", "h_dashed");
+  const json ghost = renderStats(in, "--style wire --hidden ghost=0.4", "h_ghost");
+  EXPECT_EQ(off["triangles"], 0);
+  EXPECT_GT(hide["triangles"].get<long>(), 0);
+  EXPECT_EQ(hide["triangles"], dashed["triangles"]);
+  EXPECT_EQ(off["hidden_line_fragments"], 0);
+  EXPECT_EQ(hide["hidden_line_fragments"], 0);
+  EXPECT_GT(dashed["hidden_line_fragments"].get<long>(), 0);
+  // the same copies but those wholly in a gap, which are not kept
+  EXPECT_LT(dashed["hidden_line_fragments"].get<long>(), ghost["hidden_line_fragments"].get<long>());
+  EXPECT_GT(dashed["hidden_line_fragments"].get<long>(), ghost["hidden_line_fragments"].get<long>() / 2);
+  const std::set<std::string> pictures{slurp(dir() / "h_off.png"), slurp(dir() / "h_hide.png"), slurp(dir() / "h_dashed.png"),
+                                       slurp(dir() / "h_ghost.png")};
+  EXPECT_EQ(pictures.size(), 4u);
+  // Over the drawn part (wire-over-surface), hide is the default picture.
+  renderStats(in, "", "h_wos");
+  renderStats(in, "--hidden hide", "h_wos_hide");
+  EXPECT_EQ(slurp(dir() / "h_wos.png"), slurp(dir() / "h_wos_hide.png"));
+  const std::string scene = write("hidden.json", R"({"objects": [{"file": ")" + in +
+                                                     R"(", "surface": {"holdout": true}, "wire": {"from": "edges", "hidden": {"mode": "dashed", "dash": 5, "gap": 3}}}]})");
+  const json keyed = renderStats(scene, "", "h_key");
+  EXPECT_GT(keyed["hidden_line_fragments"].get<long>(), 0);
+  const fs::path png = dir() / "h_bad.png";
+  for (const std::string bad : {"dashes", "dashed=0,4", "dashed=6", "ghost=2", "ghost=x", "hide=1", ""}) {
+    fs::remove(png);
+    const Result r = run("render '" + in + "' -o '" + png.string() + "' --hidden '" + bad + "'");
+    EXPECT_EQ(r.status, 2) << bad << ": " << r.err;
+    EXPECT_EQ(wf::test::lineCount(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("--hidden"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(png));
+  }
+  for (const std::string bad : {R"("dashes")", R"({"mode": "dashed", "dash": 0})", R"({"mode": "ghost", "opacity": 3})", R"({"dash": 4})"}) {
+    const std::string s = write("hidden_bad.json", R"({"objects": [{"file": ")" + in + R"(", "wire": {"hidden": )" + bad + "}}]}");
+    const Result r = run("render '" + s + "' -o '" + png.string() + "'");
+    EXPECT_EQ(r.status, 2) << bad << ": " << r.err;
+    EXPECT_EQ(wf::test::lineCount(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("/objects/0/wire/hidden"), std::string::npos) << bad << ": " << r.err;
+  }
+}
+
 // export writes the tessellation with its tangent arrays: the VTK XML file names Su, Sv,
 // Normals and TCoords.
 TEST(CadCli, ExportWritesTheTessellationWithTangents) {

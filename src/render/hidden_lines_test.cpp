@@ -1,0 +1,256 @@
+// Hidden lines (HiddenLines, TileABuffer::insertXray): dash and gap lengths along a straight wire
+// against the request, the dash phase across joints, and which edge pixels of a box in a box show
+// against an exact ray-box depth test.
+#include "render/renderer.h"
+
+#include "render/pipeline.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cstring>
+#include <cmath>
+#include <vector>
+
+namespace wf {
+namespace {
+
+// A box's 12 triangles (outward winding does not matter for hold-outs).
+void addBox(TriangleMesh& m, const glm::dvec3& lo, const glm::dvec3& hi) {
+  const std::uint32_t b = std::uint32_t(m.positions.size());
+  for (int k = 0; k < 8; ++k) m.positions.push_back({k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z});
+  const std::array<std::array<int, 4>, 6> faces{{{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}}};
+  for (const auto& f : faces) {
+    m.triangles.push_back({b + f[0], b + f[1], b + f[2]});
+    m.triangles.push_back({b + f[0], b + f[2], b + f[3]});
+  }
+}
+
+// A box's 12 edges as 2-point polylines.
+void addBoxEdges(PolylineSet& lines, const glm::dvec3& lo, const glm::dvec3& hi) {
+  auto corner = [&](int k) { return glm::dvec3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z); };
+  for (int a = 0; a < 8; ++a)
+    for (int bit = 1; bit < 8; bit <<= 1)
+      if (!(a & bit)) lines.add({corner(a), corner(a | bit)});
+}
+
+// Where a ray (origin o, direction d) enters box [lo, hi]: the slab test; +inf when it misses.
+double entry(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& lo, const glm::dvec3& hi) {
+  double t0 = 0.0, t1 = INFINITY;
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] == 0.0) {
+      if (o[a] < lo[a] || o[a] > hi[a]) return INFINITY;
+      continue;
+    }
+    double u = (lo[a] - o[a]) / d[a], v = (hi[a] - o[a]) / d[a];
+    if (u > v) std::swap(u, v);
+    t0 = std::max(t0, u), t1 = std::min(t1, v);
+  }
+  return t0 <= t1 ? t0 : INFINITY;
+}
+
+SceneWire plainWire(const PolylineSet& lines, HiddenLines hidden, double widthPx) {
+  SceneWire w;
+  w.name = "edges";
+  w.lines = lines;
+  w.style = WireStyle::Plain;
+  w.colour = glm::vec3(1.0f, 0.0f, 0.0f);
+  w.thickness = widthPx;
+  w.thicknessInPixels = true;
+  w.hidden = hidden;
+  return w;
+}
+
+// A straight wire behind an opaque black plane, drawn dashed: along its middle row the red
+// channel is the dash's coverage of each pixel (a 1 px box filter along the wire). Dashes and
+// gaps measured at the 0.5 crossings must be the request's within 0.5 px, and the pattern must
+// run on across the polyline's joints (every dash start a whole number of periods from the first).
+TEST(HiddenLines, DashAndGapLengthsAreTheRequestAndRunOnAcrossJoints) {
+  Scene scene;
+  Material black;
+  black.phong.diffuse = black.phong.specular = glm::dvec3(0.0);
+  scene.materials = {black};
+  TriangleMesh plane;
+  plane.positions = {{-2, -1, 0}, {2, -1, 0}, {2, 1, 0}, {-2, 1, 0}};
+  plane.triangles = {{0, 1, 2}, {0, 2, 3}};
+  scene.surfaces.push_back({"plane", plane, 0});
+  PolylineSet lines;
+  // Joints at uneven places: the pattern must not restart at them.
+  lines.add({{-1.9, 0.0, -0.5}, {-1.13, 0.0, -0.5}, {-0.41, 0.0, -0.5}, {0.37, 0.0, -0.5}, {1.06, 0.0, -0.5}, {1.9, 0.0, -0.5}});
+  HiddenLines h;
+  h.mode = HiddenLines::Mode::Dashed;
+  h.dash = 8.0;
+  h.gap = 5.0;
+  scene.wires.push_back(plainWire(lines, h, 3.0));
+  Camera cam;
+  cam.projection = Camera::Projection::Orthographic;
+  cam.eye = {0, 0, 5};
+  cam.target = {0, 0, 0};
+  cam.up = {0, 1, 0};
+  cam.orthoHeight = 1.0;
+  cam.nearPlane = 1;
+  cam.farPlane = 10;
+  scene.camera = cam;
+  RenderOptions o;
+  o.width = 800;  // 200 px per world unit: the wire spans 760 px
+  o.height = 200;
+  const RenderResult r = render(scene, o);
+  const int row = 100;  // the wire's axis lies on the line y = 100: rows 99 and 100 are wholly inside it
+  std::vector<double> ups, downs;
+  for (int x = 25; x < 775; ++x) {
+    const double a = r.image.at(x, row).x, b = r.image.at(x + 1, row).x;
+    // centres at x + 0.5 and x + 1.5; the crossing of 0.5 between them
+    if ((a < 0.5) != (b < 0.5)) (a < 0.5 ? ups : downs).push_back(x + 0.5 + (0.5 - a) / (b - a));
+  }
+  ASSERT_GE(ups.size(), 50u);
+  ASSERT_GE(downs.size(), 50u);
+  int dashes = 0, gaps = 0;
+  double worst = 0;
+  for (double u : ups) {
+    const auto d = std::upper_bound(downs.begin(), downs.end(), u);
+    if (d != downs.end()) worst = std::max(worst, std::abs(*d - u - h.dash)), ++dashes;
+    const auto next = std::upper_bound(ups.begin(), ups.end(), u);
+    if (d != downs.end() && next != ups.end() && *next > *d) worst = std::max(worst, std::abs(*next - *d - h.gap)), ++gaps;
+    // The phase: every dash start a whole number of periods after the first.
+    const double k = (u - ups.front()) / (h.dash + h.gap);
+    EXPECT_NEAR(k, std::round(k), 0.5 / (h.dash + h.gap)) << "dash start at x = " << u;
+  }
+  EXPECT_GE(dashes, 50);
+  EXPECT_GE(gaps, 50);
+  EXPECT_LT(worst, 0.5) << "dash / gap length off the request (px)";
+}
+
+// A box inside a box that it pierces, both hold-outs (hidden-line removal: faces hide, draw
+// nothing), with both boxes' edges as red wire. The render with hidden edges hidden (Hide) and
+// the one with them drawn at full opacity (Ghost 1) must show each edge pixel as the exact depth
+// test says: the ray through the edge point enters a box before it (hidden) or not (visible).
+// Pixels near another edge or within 2.5 px of where an edge's visibility changes are not judged.
+TEST(HiddenLines, BoxInABoxEdgesAreClassifiedAsTheExactDepthTestSays) {
+  const glm::dvec3 outerLo(-1, -1, -1), outerHi(1, 1, 1), innerLo(-0.35, -0.3, -1.6), innerHi(0.35, 0.3, 1.6);
+  auto sceneWith = [&](HiddenLines::Mode mode) {
+    Scene s;
+    s.background = glm::vec4(0.0f);  // alpha: the coverage
+    TriangleMesh boxes;
+    addBox(boxes, outerLo, outerHi);
+    addBox(boxes, innerLo, innerHi);
+    s.surfaces.push_back({"boxes", boxes, 0, true});
+    PolylineSet edges;
+    addBoxEdges(edges, outerLo, outerHi);
+    addBoxEdges(edges, innerLo, innerHi);
+    HiddenLines h;
+    h.mode = mode;
+    h.ghost = 1.0f;
+    s.wires.push_back(plainWire(edges, h, 1.5));
+    Camera cam;
+    cam.eye = {3.1, -4.3, 2.6};
+    cam.target = {0, 0, 0};
+    cam.up = {0, 0, 1};
+    cam.fovYDegrees = 40;
+    cam.nearPlane = 0.5;
+    cam.farPlane = 20;
+    s.camera = cam;
+    return s;
+  };
+  RenderOptions o;
+  o.width = 480;
+  o.height = 360;
+  const Scene hideScene = sceneWith(HiddenLines::Mode::Hide), ghostScene = sceneWith(HiddenLines::Mode::Ghost);
+  const RenderResult visible = render(hideScene, o), all = render(ghostScene, o);
+  RenderStats st;
+  const PreparedScene ps = prepareScene(hideScene, o, st);
+  const ViewTransform& v = ps.view;
+  const glm::dvec3 eye = hideScene.camera->eye;
+  auto hiddenAt = [&](const glm::dvec3& p) {
+    const glm::dvec3 d = p - eye;  // t = 1 at p
+    const double t = std::min(entry(eye, d, outerLo, outerHi), entry(eye, d, innerLo, innerHi));
+    return t < 1.0 - 1e-9;
+  };
+  // Screen segments of every edge, for the distance to the nearest other edge.
+  const PolylineSet& E = hideScene.wires[0].lines;
+  struct Seg {
+    glm::dvec3 a, b;
+    glm::dvec2 sa, sb;
+  };
+  std::vector<Seg> segs;
+  for (size_t i = 0; i < E.polylineCount(); ++i) {
+    const glm::dvec3 a = E.points[E.starts[i]], b = E.points[E.starts[i] + 1];
+    segs.push_back({a, b, v.project(v.toEye(a)), v.project(v.toEye(b))});
+  }
+  auto screenDistance = [](const glm::dvec2& p, const Seg& s) {
+    const glm::dvec2 d = s.sb - s.sa;
+    const double t = std::clamp(glm::dot(p - s.sa, d) / glm::dot(d, d), 0.0, 1.0);
+    return glm::length(p - (s.sa + t * d));
+  };
+  int checkedVisible = 0, checkedHidden = 0, wrong = 0;
+  for (size_t i = 0; i < segs.size(); ++i) {
+    const Seg& s = segs[i];
+    const int n = 4000;
+    for (int k = 0; k <= n; ++k) {
+      const double t = double(k) / n;
+      const glm::dvec3 p = s.a + t * (s.b - s.a);
+      const glm::dvec2 q = v.project(v.toEye(p));
+      const int px = int(std::floor(q.x)), py = int(std::floor(q.y));
+      if (px < 2 || py < 2 || px >= o.width - 2 || py >= o.height - 2) continue;
+      const glm::dvec2 c(px + 0.5, py + 0.5);
+      if (screenDistance(c, s) > 0.3) continue;
+      bool clear = true;
+      for (size_t j = 0; j < segs.size() && clear; ++j)
+        if (j != i && screenDistance(c, segs[j]) < 3.5) clear = false;
+      if (!clear) continue;
+      // The same visibility along the edge for 2.5 px either way.
+      const bool hidden = hiddenAt(p);
+      const double step = 2.5 / std::max(1e-9, glm::length(s.sb - s.sa));
+      bool steady = true;
+      for (double u = std::max(0.0, t - step); u <= std::min(1.0, t + step) && steady; u += step / 10)
+        steady = hiddenAt(s.a + u * (s.b - s.a)) == hidden;
+      if (!steady) continue;
+      const float va = visible.image.at(px, py).w, aa = all.image.at(px, py).w;
+      if (hidden) {
+        ++checkedHidden;
+        if (!(va < 0.05f && aa > 0.6f)) ++wrong;
+      } else {
+        ++checkedVisible;
+        if (!(va > 0.6f && aa > 0.6f)) ++wrong;
+      }
+    }
+  }
+  EXPECT_GT(checkedVisible, 300);
+  EXPECT_GT(checkedHidden, 300);
+  EXPECT_EQ(wrong, 0) << "of " << checkedVisible << " visible and " << checkedHidden << " hidden edge pixels";
+  // The hold-outs draw nothing: away from every edge the image is the background.
+  int stray = 0;
+  for (int y = 0; y < o.height; ++y)
+    for (int x = 0; x < o.width; ++x) {
+      bool near = false;
+      for (const Seg& s : segs) near = near || screenDistance(glm::dvec2(x + 0.5, y + 0.5), s) < 2.0;
+      if (!near && all.image.at(x, y).w > 0.0f) ++stray;
+    }
+  EXPECT_EQ(stray, 0);
+}
+
+// Off is today's picture bit for bit; with hidden lines drawn, the visible pixels are unchanged
+// wherever no hidden edge passes.
+TEST(HiddenLines, OffLeavesTheImageAsItWas) {
+  Scene a;
+  TriangleMesh box;
+  addBox(box, glm::dvec3(-1), glm::dvec3(1));
+  a.surfaces.push_back({"box", box, 0});
+  PolylineSet edges;
+  addBoxEdges(edges, glm::dvec3(-1), glm::dvec3(1));
+  a.wires.push_back(plainWire(edges, HiddenLines{}, 2.0));
+  Camera cam;
+  cam.eye = {3, -4, 2.5};
+  cam.up = {0, 0, 1};
+  a.camera = cam;
+  Scene b = a;
+  b.wires[0].hidden.mode = HiddenLines::Mode::Hide;  // with the surface drawn, Hide is Off
+  RenderOptions o;
+  o.width = 160;
+  o.height = 120;
+  const RenderResult ra = render(a, o), rb = render(b, o);
+  EXPECT_EQ(0, std::memcmp(ra.image.pixels.data(), rb.image.pixels.data(), sizeof(glm::vec4) * ra.image.pixels.size()));
+}
+
+}  // namespace
+}  // namespace wf
