@@ -30,7 +30,9 @@ json cadTessellationStudy(bool quick, const Progress& progress, std::vector<std:
     CadOptions co;
     co.deflection = deflection;
     co.angularDegrees = 80.0;  // the linear deflection decides, not the angle
-    SceneFile sf = sceneForCadFile(path, "burnished", co);
+    SceneOverrides ov;
+    ov.cad = co;
+    SceneFile sf = sceneForCadFile(path, "burnished", ov);
     reframe(sf, W, H);
     return sf;
   };

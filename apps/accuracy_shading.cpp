@@ -152,7 +152,7 @@ json shadingPathsStudy(bool quick, const Progress& progress, std::vector<std::pa
     const std::string stem = std::filesystem::path(file).stem().string();
     SceneFile sf;
     try {
-      sf = file == cad ? sceneForCadFile(file, "burnished", CadOptions{}) : loadSceneFile(file);
+      sf = file == cad ? sceneForCadFile(file, "burnished", SceneOverrides{}) : loadSceneFile(file);
     } catch (const std::exception& e) {  // a build without CAD support
       std::printf("  %-26s skipped: %s\n", stem.c_str(), e.what());
       continue;

@@ -423,15 +423,17 @@ std::shared_ptr<wf::GeometryData> cadGeometryData(CadGeometry&& cad) {
   return g;
 }
 
-SceneFile sceneForCadFile(const std::string& path, const std::string& style, const CadOptions& options,
-                          const std::optional<wf::HiddenLines>& hidden) {
+SceneFile sceneForCadFile(const std::string& path, const std::string& style, const SceneOverrides& overrides) {
   wf::Style s;
   if (!wf::parseStyle(style, s)) throw UsageError("--style " + style + ": expected " + wf::styleNames());
-  CadGeometry cad = readCad(path, options, s == wf::Style::Fur || s == wf::Style::Scales);
+  // The exact faces, read in this process too (readCad), for growth and for silhouettes.
+  const bool lines = s == wf::Style::Wire || s == wf::Style::WireOverSurface;
+  const bool silhouettes = lines && overrides.silhouettes.value_or(true);
+  CadGeometry cad = readCad(path, overrides.cad, s == wf::Style::Fur || s == wf::Style::Scales || silhouettes);
   if (!cad.warning.empty()) warn(cad.warning);
   SceneFile sf;
   sf.inputStats = cad.info;
-  buildStyled(sf, path, cadGeometryData(std::move(cad)), s, hidden);
+  buildStyled(sf, path, cadGeometryData(std::move(cad)), s, overrides);
   return sf;
 }
 

@@ -48,8 +48,7 @@ std::shared_ptr<wf::GeometryData> cadGeometryData(CadGeometry&& cad);
 /// wire), "wire-over-surface" (shaded wire over the shaded parts, in the file's colours: the
 /// paper's image 11 from a real file), "burnished" (brushed steel, grain along each face's u),
 /// "fur" (curved hairs grown on the exact faces, area-correct, only where each face is).
-SceneFile sceneForCadFile(const std::string& path, const std::string& style, const CadOptions& options,
-                          const std::optional<wf::HiddenLines>& hidden = {});
+SceneFile sceneForCadFile(const std::string& path, const std::string& style, const SceneOverrides& overrides);
 
 /// `wirefur cad-worker FILE OUT ...`: the worker process of readCad (internal, not in the contract).
 int runCadWorker(const std::vector<std::string>& args);

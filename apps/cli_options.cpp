@@ -209,6 +209,17 @@ CLI::Option* addHiddenOption(CLI::App& app, std::optional<wf::HiddenLines>& hidd
       ->trigger_on_parse();
 }
 
+CLI::Option* addSilhouettesOption(CLI::App& app, std::optional<bool>& silhouettes) {
+  return app
+      .add_option_function<std::string>(
+          "--silhouettes", [&silhouettes](const std::string& v) { silhouettes = v == "on"; },
+          "the silhouettes of curved faces, traced from the exact surfaces for the view, drawn with the "
+          "edges (default: on for the wire styles of CAD files; off otherwise)")
+      ->check(oneOf({"on", "off"}))
+      ->type_name("on|off")
+      ->trigger_on_parse();
+}
+
 CLI::Option* addMaskOption(CLI::App& app, std::string& mask) {
   return app.add_option("--mask", mask, "coverage mask: subsamples per pixel (default: the scene's, else 8x4)")
       ->check(oneOf({"4x4", "8x4", "8x8"}))

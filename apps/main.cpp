@@ -101,6 +101,7 @@ void declareRender(CLI::App& wirefur, wfapp::RenderCommandOptions& o) {
       ->type_name("round|flat")
       ->trigger_on_parse();
   wfapp::addHiddenOption(*c, o.hidden);
+  wfapp::addSilhouettesOption(*c, o.silhouettes);
   wfapp::addTimeOption(*c, o.time);
   wfapp::addQuietOption(*c, o.quiet);
   wfapp::addCadOptions(*c, o.cad);
@@ -114,6 +115,7 @@ void declareExport(CLI::App& wirefur, wfapp::ExportOptions& o) {
   wfapp::addOutputOption(*c, o.output, "OUT.vtp|.vtk|.obj|.ply", "the file to write (required)");
   wfapp::addStyleOption(*c, o.style, kStyles, kStyleHelp);
   wfapp::addTimeOption(*c, o.overrides.time);
+  wfapp::addSilhouettesOption(*c, o.overrides.silhouettes);
   wfapp::addQuietOption(*c, o.quiet);
   wfapp::addCadOptions(*c, o.overrides.cad);
 }
@@ -135,6 +137,7 @@ void declareView(CLI::App& wirefur, wfapp::ViewOptions& o) {
   wfapp::addFlag(*c, "--offscreen", o.offscreen, "with --frames: no window shown (still needs an X display)");
   c->add_option("--png", o.png, "with --frames: write the last frame as a PNG")->type_name("F")->trigger_on_parse();
   wfapp::addHiddenOption(*c, o.hidden);
+  wfapp::addSilhouettesOption(*c, o.silhouettes);
   wfapp::addQuietOption(*c, o.quiet);
   wfapp::addCadOptions(*c, o.cad);
 }

@@ -29,8 +29,8 @@ SceneFile loadInput(const std::string& input, const std::string& style, const Sc
     if (!style.empty()) throw UsageError("--style applies to a mesh or CAD input, not to the built-in scene");
     return defaultScene();
   }
-  if (isCadFile(input)) return sceneForCadFile(input, style.empty() ? "wire-over-surface" : style, overrides.cad, overrides.hidden);
-  if (isGeometryFile(input)) return sceneForGeometryFile(input, style.empty() ? "wire-over-surface" : style, overrides.hidden);
+  if (isCadFile(input)) return sceneForCadFile(input, style.empty() ? "wire-over-surface" : style, overrides);
+  if (isGeometryFile(input)) return sceneForGeometryFile(input, style.empty() ? "wire-over-surface" : style, overrides);
   std::string e = std::filesystem::path(input).extension().string();
   if (e == ".json") {
     if (!style.empty()) throw UsageError("--style applies to mesh and CAD files, not to scene files");
@@ -171,6 +171,7 @@ int runRender(const RenderCommandOptions& o) {
   overrides.time = o.time;
   overrides.cad = o.cad;
   overrides.hidden = o.hidden;
+  overrides.silhouettes = o.silhouettes;
   overrides.cad.threads = o.threads;
   overrides.cad.showProgress = progress.enabled();
   SceneFile sf = loadInput(o.input, o.style, overrides);
@@ -281,6 +282,15 @@ int runRender(const RenderCommandOptions& o) {
                                        : 2.0 * glm::length(c.eye - c.target) * std::tan(glm::radians(c.fovYDegrees) / 2) / ro.height;
       stats["error_estimate"]["tessellation_deflection_px"] = worldPerPixel > 0 ? d / worldPerPixel : 0.0;
     }
+  }
+  if (!sf.silhouettes.empty()) {
+    // Silhouettes of curved faces, traced for this camera (surface/silhouette.h): what was
+    // traced, and the bound each drawn chord keeps from the true curve on screen.
+    const wf::SilhouetteStats& ss = sf.silhouetteStats;
+    stats["silhouettes"] = {{"faces", ss.faces},           {"curves", ss.curves},     {"points", ss.points},
+                            {"non_finite", ss.nonFinite}, {"cut_short", ss.cutShort}, {"evaluations", ss.evaluations}};
+    stats["seconds"]["silhouettes"] = sf.silhouetteSeconds;
+    stats["error_estimate"]["silhouette_chord_px"] = sf.silhouettes.front().options.tolerancePx;
   }
   stats["seconds"]["write_png"] = secondsSince(tw);
   stats["peak_rss_bytes"] = peakRssBytes();

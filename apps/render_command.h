@@ -33,7 +33,8 @@ struct RenderCommandOptions {
   std::optional<double> time;  ///< --time: every fur's wind time (an animation frame)
   std::optional<std::size_t> memoryBudget;  ///< --memory-budget: bytes (0: unlimited); unset: the core's default
   CadOptions cad;              ///< --deflection, --angular-deflection, --isos (CAD input)
-  std::optional<wf::HiddenLines> hidden;  ///< --hidden, --dash, --ghost
+  std::optional<wf::HiddenLines> hidden;  ///< --hidden
+  std::optional<bool> silhouettes;        ///< --silhouettes
 };
 
 int runRender(const RenderCommandOptions& options);

@@ -280,7 +280,7 @@ int materialRef(const Reader& r, const json& j, const std::string& ptr, const st
 }
 
 wf::WireDescription readWire(const Reader& r, const json& j, const std::string& ptr, const std::map<std::string, int>& materials) {
-  r.keys(j, ptr, {"from", "lines", "style", "material", "thickness", "units", "colour", "opacity", "ends", "hidden"});
+  r.keys(j, ptr, {"from", "lines", "style", "material", "thickness", "units", "colour", "opacity", "ends", "hidden", "silhouettes"});
   wf::WireDescription w;
   w.where = ptr;
   if (j.contains("from")) {
@@ -305,6 +305,7 @@ wf::WireDescription readWire(const Reader& r, const json& j, const std::string& 
   if (j.contains("colour")) w.wire.colour = glm::vec3(r.colour(j["colour"], Reader::at(ptr, "colour")));
   if (j.contains("opacity")) w.wire.opacity = float(r.number(j["opacity"], Reader::at(ptr, "opacity"), 0, 1));
   if (j.contains("ends")) w.wire.roundEnds = r.choice(j["ends"], Reader::at(ptr, "ends"), {"square", "round"}) == "round";
+  if (j.contains("silhouettes")) w.silhouettes = r.boolean(j["silhouettes"], Reader::at(ptr, "silhouettes"));
   if (j.contains("hidden")) {
     // "dashed", or {"mode": "dashed", "dash": 6, "gap": 4} / {"mode": "ghost", "opacity": 0.3}
     const std::string hp = Reader::at(ptr, "hidden");
@@ -359,7 +360,10 @@ wf::ObjectDescription readObject(const Reader& r, const json& j, const std::stri
         if (c.contains("isos")) co.isos = int(r.number(c["isos"], Reader::at(cp, "isos"), 0, wf::kMaxCadIsos));
       }
       try {
-        CadGeometry c = readCad(p.string(), co, grows);
+        // The exact faces for growth, and for silhouettes (asked by the wire or --silhouettes on).
+        const bool silhouettes = overrides.silhouettes.value_or(j.contains("wire") && j["wire"].is_object() &&
+                                                                j["wire"].contains("silhouettes") && j["wire"]["silhouettes"] == true);
+        CadGeometry c = readCad(p.string(), co, grows || silhouettes);
         if (!c.warning.empty()) warn(c.warning);
         // For --stats: the coarsest tessellation of the scene's CAD objects, in world units
         // after the object's transform (its largest scale).
@@ -456,6 +460,9 @@ static void build(SceneFile& sf, const wf::SceneDescription& d, const std::strin
   sf.scalesGrown = b.scalesGrown;
   sf.framed = b.framed;
   sf.camera = d.camera;
+  sf.silhouettes = std::move(b.silhouettes);
+  sf.silhouetteStats = b.silhouetteStats;
+  sf.silhouetteSeconds = b.silhouetteSeconds;
 }
 
 SceneFile parseScene(const std::string& path, const std::string& text, const std::string& folder,
@@ -510,6 +517,7 @@ SceneFile parseScene(const std::string& path, const std::string& text, const std
                                    sf.inputStats));
   d.camera = readCamera(r, doc.contains("camera") ? doc["camera"] : json::object(), "/camera");
   if (overrides.hidden) wf::applyHiddenLines(d, *overrides.hidden);
+  if (overrides.silhouettes) wf::applySilhouettes(d, *overrides.silhouettes);
   build(sf, d, path);
   if (sf.title.empty()) sf.title = std::filesystem::path(path).stem().string();
   return sf;
@@ -519,8 +527,12 @@ void reframe(SceneFile& sf, int width, int height) {
   if (!sf.framed) return;
   wf::BuiltScene b;
   b.scene = std::move(sf.scene);
-  wf::frameCamera(b, sf.camera, width, height);
+  b.silhouettes = std::move(sf.silhouettes);
+  wf::frameCamera(b, sf.camera, width, height);  // (traces the silhouettes again)
   sf.scene = std::move(b.scene);
+  sf.silhouettes = std::move(b.silhouettes);
+  sf.silhouetteStats = b.silhouetteStats;  // of this tracing, for the camera drawn
+  sf.silhouetteSeconds = b.silhouetteSeconds;
 }
 
 SceneFile loadSceneFile(const std::string& path, const SceneOverrides& overrides) {
@@ -535,7 +547,7 @@ SceneFile defaultScene() {
 }
 
 void buildStyled(SceneFile& sf, const std::string& path, std::shared_ptr<const wf::GeometryData> geometry, wf::Style style,
-                 const std::optional<wf::HiddenLines>& hidden) {
+                 const SceneOverrides& overrides) {
   sf.title = std::filesystem::path(path).stem().string();
   sf.caption = path + " as " + wf::styleName(style);
   wf::SceneDescription d;
@@ -544,13 +556,14 @@ void buildStyled(SceneFile& sf, const std::string& path, std::shared_ptr<const w
   } catch (const wf::SceneError& e) {
     throw UsageError(path + ": " + e.where + ": " + e.what());
   }
-  if (hidden) wf::applyHiddenLines(d, *hidden);
+  if (overrides.hidden) wf::applyHiddenLines(d, *overrides.hidden);
+  if (overrides.silhouettes) wf::applySilhouettes(d, *overrides.silhouettes);
   d.width = sf.width, d.height = sf.height;
   d.maxPrimitives = SceneBudget::kMaxPrimitives;
   build(sf, d, path);
 }
 
-SceneFile sceneForGeometryFile(const std::string& path, const std::string& style, const std::optional<wf::HiddenLines>& hidden) {
+SceneFile sceneForGeometryFile(const std::string& path, const std::string& style, const SceneOverrides& overrides) {
   wf::Style s;
   if (!wf::parseStyle(style, s)) throw UsageError("--style " + style + ": expected " + wf::styleNames());
   LoadedGeometry lg = readGeometry(path);
@@ -558,7 +571,7 @@ SceneFile sceneForGeometryFile(const std::string& path, const std::string& style
   g->mesh = std::move(lg.mesh);
   g->lines = std::move(lg.lines);
   SceneFile sf;
-  buildStyled(sf, path, std::move(g), s, hidden);
+  buildStyled(sf, path, std::move(g), s, overrides);
   return sf;
 }
 

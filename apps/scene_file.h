@@ -32,6 +32,11 @@ struct SceneFile {
   /// What reading the input found, for --stats ("input"): for CAD files the counts, the
   /// deflection and the seconds spent reading and meshing; empty otherwise.
   nlohmann::ordered_json inputStats;
+  /// Silhouette wires (BuiltScene::silhouettes): traced again when the camera changes (reframe,
+  /// the viewer); what tracing them counted and cost so far.
+  std::vector<wf::SilhouetteSource> silhouettes;
+  wf::SilhouetteStats silhouetteStats;
+  double silhouetteSeconds = 0.0;
 };
 
 /// Tessellation settings for CAD input (--deflection, --linear-deflection, --angular-deflection,
@@ -55,6 +60,9 @@ struct SceneOverrides {
   std::optional<double> time;
   /// `--hidden`: hidden lines of every wire-frame (scene/style_presets.h, applyHiddenLines).
   std::optional<wf::HiddenLines> hidden;
+  /// `--silhouettes on|off`: the silhouettes of curved faces with every wire-frame (default: on
+  /// for the wire styles of CAD files, as a scene file's wires say otherwise).
+  std::optional<bool> silhouettes;
 };
 
 /// Refits an automatically framed camera to a width x height image (after --size).
@@ -73,12 +81,11 @@ SceneFile defaultScene();
 /// A scene around one mesh / polyline file, drawn in one of the contract's styles:
 /// "wire" (its edges or lines as shaded wire), "wire-over-surface" (shaded wire over the
 /// shaded surface). Throws UsageError for styles this version cannot draw.
-SceneFile sceneForGeometryFile(const std::string& path, const std::string& style,
-                               const std::optional<wf::HiddenLines>& hidden = {});
+SceneFile sceneForGeometryFile(const std::string& path, const std::string& style, const SceneOverrides& overrides = {});
 
 /// Builds one file's geometry in a style preset (scene/style_presets.h) into sf: title, caption,
 /// scene, framed camera. Bad combinations: UsageError naming the file and the style.
 void buildStyled(SceneFile& sf, const std::string& path, std::shared_ptr<const wf::GeometryData> geometry, wf::Style style,
-                 const std::optional<wf::HiddenLines>& hidden = {});
+                 const SceneOverrides& overrides = {});
 
 }  // namespace wfapp

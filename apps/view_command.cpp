@@ -90,6 +90,7 @@ int runView(const ViewOptions& o) {
   SceneOverrides overrides;
   overrides.cad = o.cad;
   overrides.hidden = o.hidden;
+  overrides.silhouettes = o.silhouettes;
   SceneFile sf = loadInput(o.input, o.style, overrides);  // bad input first: exit 2, whatever the display
   // Debian's VTK 9.1 draws through X (GLX) even off-screen, and aborts the process when it
   // cannot open the display: check first, and say so in one line.
@@ -101,7 +102,8 @@ int runView(const ViewOptions& o) {
                                "; VTK renders through X even with --offscreen: run under xvfb-run");
   }
   reframe(sf, o.width, o.height);
-  const wf::Scene& scene = sf.scene;
+  // The scene shown; its silhouette wires (if any) are traced again whenever the camera moves.
+  wf::Scene& scene = sf.scene;
 
   vtkNew<vtkRenderer> renderer;
   vtkNew<vtkRenderWindow> window;
@@ -193,7 +195,35 @@ int runView(const ViewOptions& o) {
   };
   vtkNew<vtkCallbackCommand> before;
   before->SetCallback([](vtkObject*, unsigned long, void* cd, void*) { (*static_cast<std::function<void()>*>(cd))(); });
-  std::function<void()> captionFn = caption;
+  // Silhouettes follow the view: traced again for VTK's camera before a frame whose camera
+  // changed (surface/silhouette.h; product.step's 35 faces take a few milliseconds).
+  vtkMTimeType cameraSeen = camera->GetMTime();
+  auto retrace = [&] {
+    if (sf.silhouettes.empty() || camera->GetMTime() == cameraSeen) return;
+    cameraSeen = camera->GetMTime();
+    wf::Camera c;
+    double p[3], f[3], u[3], range[2];
+    camera->GetPosition(p);
+    camera->GetFocalPoint(f);
+    camera->GetViewUp(u);
+    camera->GetClippingRange(range);
+    c.eye = {p[0], p[1], p[2]};
+    c.target = {f[0], f[1], f[2]};
+    c.up = {u[0], u[1], u[2]};
+    c.fovYDegrees = camera->GetViewAngle();
+    c.projection = camera->GetParallelProjection() ? wf::Camera::Projection::Orthographic : wf::Camera::Projection::Perspective;
+    c.orthoHeight = 2.0 * camera->GetParallelScale();
+    c.nearPlane = range[0];
+    c.farPlane = range[1];
+    const int* size = window->GetSize();
+    wf::SilhouetteStats st;
+    wf::traceSilhouettes(scene, sf.silhouettes, c, size[0], size[1], st);
+    update();
+  };
+  std::function<void()> captionFn = [&] {
+    retrace();
+    caption();
+  };
   before->SetClientData(&captionFn);
   renderer->AddObserver(vtkCommand::StartEvent, before);
 

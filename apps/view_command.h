@@ -25,7 +25,8 @@ struct ViewOptions {
   int threads = 0;
   bool quiet = false;     ///< accepted as by every command (view prints no progress)
   CadOptions cad;         ///< --deflection, --angular-deflection, --isos (CAD input)
-  std::optional<wf::HiddenLines> hidden;  ///< --hidden, --dash, --ghost
+  std::optional<wf::HiddenLines> hidden;  ///< --hidden
+  std::optional<bool> silhouettes;        ///< --silhouettes
 };
 
 /// Runs the command. Returns the exit status.

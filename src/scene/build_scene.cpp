@@ -6,6 +6,8 @@
 #include "surface/mesh_surface.h"
 #include "surface/transformed_surface.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -263,7 +265,30 @@ void buildObject(const SceneDescription& d, const ObjectDescription& o, std::uin
     if (!counted) budget.add(wd.where, double(w.lines.points.size() - w.lines.polylineCount()), "this wire");
     transformPolylines(w.lines, o.transform);
     w.name = name;
+    // Its silhouettes: one more wire like it, traced once the camera is known.
+    SilhouetteSource sil;
+    if (wd.silhouettes) {
+      if (isSource) {
+        if (std::shared_ptr<const Surface> base(makeSurface(*o.source)); base)
+          sil.faces.push_back({std::make_shared<TransformedSurface>(base, o.transform), nullptr});
+      } else {
+        for (const FaceSurface& f : o.geometry->faces)
+          if (f.surface) sil.faces.push_back({std::make_shared<TransformedSurface>(f.surface, o.transform), f.inside});
+      }
+    }
+    SceneWire silWire;
+    if (!sil.faces.empty()) {
+      silWire = w;
+      silWire.lines = PolylineSet{};
+      silWire.name = name + " silhouettes";
+    }
     scene.wires.push_back(std::move(w));
+    if (!sil.faces.empty()) {
+      sil.wire = scene.wires.size();
+      sil.options = wd.silhouetteOptions;
+      scene.wires.push_back(std::move(silWire));
+      out.silhouettes.push_back(std::move(sil));
+    }
   }
 
   // The polygons placed, once, for the surface and for growth on a mesh.
@@ -412,7 +437,32 @@ BuiltScene buildScene(const SceneDescription& d) {
     scene.camera = d.camera.camera;
   }
   if (const std::string p = scene.camera->problem(); !p.empty()) throw SceneError(d.camera.where, p);
+  if (!d.camera.framed && !out.silhouettes.empty())  // (framing traces them)
+    out.silhouetteSeconds = traceSilhouettes(scene, out.silhouettes, *scene.camera, d.width, d.height, out.silhouetteStats);
   return out;
+}
+
+double traceSilhouettes(Scene& scene, const std::vector<SilhouetteSource>& sources, const Camera& camera, int width,
+                        int height, SilhouetteStats& stats) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (sources.empty() || !camera.problem().empty()) return 0.0;
+  const ViewTransform view = ViewTransform::make(camera, std::max(width, 1), std::max(height, 1));
+  for (const SilhouetteSource& src : sources) {
+    if (src.wire >= scene.wires.size()) continue;
+    std::vector<PolylineSet> lines(src.faces.size());
+    std::vector<SilhouetteStats> st(src.faces.size());
+    tbb::parallel_for(size_t(0), src.faces.size(), [&](size_t i) {
+      traceSilhouette(*src.faces[i].first, src.faces[i].second.get(), view, src.options, lines[i], st[i]);
+    });
+    PolylineSet& out = scene.wires[src.wire].lines;
+    out = PolylineSet{};
+    for (size_t i = 0; i < lines.size(); ++i) {
+      stats.add(st[i]);
+      for (size_t k = 0; k < lines[i].polylineCount(); ++k)
+        out.add(std::vector<glm::dvec3>(lines[i].points.begin() + lines[i].starts[k], lines[i].points.begin() + lines[i].starts[k + 1]));
+    }
+  }
+  return secondsSince(t0);
 }
 
 void frameCamera(BuiltScene& built, const CameraDescription& cd, int width, int height) {
@@ -427,6 +477,8 @@ void frameCamera(BuiltScene& built, const CameraDescription& cd, int width, int 
   c.up = f.up;
   c.orthoHeight = f.orthoHeight;
   built.scene.camera = c;
+  if (!built.silhouettes.empty())
+    built.silhouetteSeconds += traceSilhouettes(built.scene, built.silhouettes, c, width, height, built.silhouetteStats);
 }
 
 }  // namespace wf

@@ -17,6 +17,7 @@
 #include "growth/fur.h"
 #include "growth/scales.h"
 #include "render/scene.h"
+#include "surface/silhouette.h"
 #include "surface/surface.h"
 #include "texture/texture.h"
 
@@ -66,6 +67,10 @@ struct WireDescription {
   int linesU = 16, linesV = 8;  ///< isolines
   SceneWire wire;
   std::string where;
+  /// Adds the silhouettes of the object's exact surface (a parametric source, a CAD model's
+  /// faces; surface/silhouette.h), drawn as this wire, traced for the camera (traceSilhouettes).
+  bool silhouettes = false;
+  SilhouetteOptions silhouetteOptions;
 };
 
 /// Fur grown on the object's surface (a source, a CAD file's faces, or a mesh; growth/fur.h).
@@ -143,6 +148,14 @@ struct SceneDescription {
   static constexpr double kMaxScenePrimitives = 8388608.0;
 };
 
+/// An object's exact surfaces whose silhouettes a wire of the scene draws: the faces (world
+/// space), each with where it is over its (u, v) (null: everywhere).
+struct SilhouetteSource {
+  std::size_t wire = 0;  ///< index into Scene::wires of the silhouette wire
+  std::vector<std::pair<std::shared_ptr<const Surface>, std::shared_ptr<const ScalarTexture>>> faces;
+  SilhouetteOptions options;
+};
+
 /// What buildScene made.
 struct BuiltScene {
   Scene scene;
@@ -150,6 +163,11 @@ struct BuiltScene {
   std::size_t hairsGrown = 0, scalesGrown = 0;
   double primitives = 0.0;       ///< counted against maxPrimitives
   bool framed = false;           ///< the camera was framed from the bounds (reframe on resize)
+  /// Silhouette wires, traced for the camera by buildScene and frameCamera (traceSilhouettes
+  /// again whenever the camera changes).
+  std::vector<SilhouetteSource> silhouettes;
+  SilhouetteStats silhouetteStats;
+  double silhouetteSeconds = 0.0;
 };
 
 /// Builds the scene: tessellates sources, makes edges and isolines, places everything by its
@@ -161,5 +179,11 @@ BuiltScene buildScene(const SceneDescription& description);
 /// Refits a framed camera to a width x height image (the scene's bounds seen along the
 /// description's frame direction). No-op for a given camera.
 void frameCamera(BuiltScene& built, const CameraDescription& camera, int width, int height);
+
+/// Traces every silhouette wire of `scene` (its lines replaced) for `camera` at width x height
+/// (the screen tolerance is in its pixels); faces in parallel, the same lines for any thread
+/// count. Returns the seconds taken; adds to `stats`.
+double traceSilhouettes(Scene& scene, const std::vector<SilhouetteSource>& sources, const Camera& camera, int width,
+                        int height, SilhouetteStats& stats);
 
 }  // namespace wf

@@ -109,6 +109,7 @@ SceneDescription describeStyled(std::shared_ptr<const GeometryData> geometry, St
     w.wire.material = kWire;
     w.wire.thickness = style == Style::Wire ? 1.5 : 2.0;
     w.wire.thicknessInPixels = true;
+    w.silhouettes = g.cad;  // from the exact faces, when the reader gave them (GeometryData::faces)
     if (strands) {
       // Hair, fibres, streamlines: fine strands that grow out of nothing, drawn round.
       w.wire.material = kHair;
@@ -175,6 +176,11 @@ void applyHiddenLines(SceneDescription& d, const HiddenLines& hidden) {
       o.keepColours = false;
     }
   }
+}
+
+void applySilhouettes(SceneDescription& d, bool on) {
+  for (ObjectDescription& o : d.objects)
+    if (o.wire && !o.wire->wire.aggregate) o.wire->silhouettes = on;
 }
 
 bool parseHiddenMode(const std::string& name, HiddenLines::Mode& mode) {

@@ -24,8 +24,8 @@ const char* styleNames();
 double modelSize(const GeometryData& geometry);
 
 /// A scene of one file's geometry in a style, framed from its bounds under the studio rig:
-///   wire               the edges (a CAD model's B-rep edges, a mesh's triangle edges) or the
-///                      file's lines, copper, 1.5 px
+///   wire               the edges (a CAD model's B-rep edges and the silhouettes of its curved
+///                      faces, a mesh's triangle edges) or the file's lines, copper, 1.5 px
 ///   wire-over-surface  the same at 2 px over the shaded part (a CAD model's colours kept)
 ///   burnished          brushed steel, grain along u (a CAD face's, a mesh's texture u, else the
 ///                      up axis projected onto the surface)
@@ -43,6 +43,8 @@ SceneDescription describeStyled(std::shared_ptr<const GeometryData> geometry, St
 /// decide which edges show (hidden-line removal) and draw nothing. Iso lines are hidden, not
 /// dashed.
 void applyHiddenLines(SceneDescription& description, const HiddenLines& hidden);
+/// Silhouettes on or off for every object's wire-frame that is not hair-like (`--silhouettes`).
+void applySilhouettes(SceneDescription& description, bool on);
 /// "off", "dashed", "ghost", "hide"; false for anything else.
 bool parseHiddenMode(const std::string& name, HiddenLines::Mode& mode);
 

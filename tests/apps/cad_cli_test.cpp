@@ -300,6 +300,34 @@ TEST(CadCli, HiddenLineModes) {
   }
 }
 
+// --silhouettes (docs/cad.md, "Silhouettes"): on by default for the wire styles of a CAD file,
+// traced from its exact faces for the camera and counted in --stats; off draws the edges alone;
+// a scene file's wire asks for them on a parametric source (a torus: two or more curves).
+TEST(CadCli, SilhouettesOfCurvedFaces) {
+  const std::string in = kCad + "product.step";
+  const json on = renderStats(in, "--style wire", "sil_on");
+  const json off = renderStats(in, "--style wire --silhouettes off", "sil_off");
+  ASSERT_TRUE(on.contains("silhouettes")) << on.dump();
+  EXPECT_FALSE(off.contains("silhouettes"));
+  EXPECT_GT(on["silhouettes"]["faces"].get<long>(), 0);
+  EXPECT_GT(on["silhouettes"]["curves"].get<long>(), 0);
+  EXPECT_EQ(on["silhouettes"]["non_finite"], 0);
+  EXPECT_GT(on["segments"].get<long>(), off["segments"].get<long>());
+  EXPECT_EQ(on["error_estimate"]["silhouette_chord_px"], 0.1);
+  const json steel = renderStats(in, "--style burnished", "sil_steel");
+  EXPECT_FALSE(steel.contains("silhouettes"));
+  const std::string scene = write("sil.json", R"({"objects": [{"source": {"type": "torus", "major": 1, "minor": 0.35}, "surface": false,
+    "wire": {"from": "isolines", "lines": [4, 2], "thickness": 1.5, "units": "pixels", "silhouettes": true}}]})");
+  const json torus = renderStats(scene, "", "sil_torus");
+  ASSERT_TRUE(torus.contains("silhouettes"));
+  EXPECT_GE(torus["silhouettes"]["curves"].get<long>(), 2);
+  const fs::path png = dir() / "sil_bad.png";
+  const Result r = run("render '" + in + "' -o '" + png.string() + "' --silhouettes maybe");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(wf::test::lineCount(r.err), 1) << r.err;
+  EXPECT_FALSE(fs::exists(png));
+}
+
 // export writes the tessellation with its tangent arrays: the VTK XML file names Su, Sv,
 // Normals and TCoords.
 TEST(CadCli, ExportWritesTheTessellationWithTangents) {
