@@ -435,6 +435,8 @@ int runAccuracy(const AccuracyOptions& opt) {
   doc["tessellation"] = tessellationStudy(opt.quick, progress, abufferPlots);
   std::printf("\nCAD tessellation (chordal deflection) against deflection 2e-5 of the model (exact shading):\n");
   doc["cad_tessellation"] = cadTessellationStudy(opt.quick, progress, abufferPlots);
+  std::printf("\nSilhouette tracing tolerance against 0.002 px (a torus and a sphere, perspective, 1280 x 960):\n");
+  doc["silhouettes"] = silhouetteStudy(opt.quick, progress, abufferPlots);
   std::printf("\nShading paths: the closed form (the default), the paper's maps and the exact path:\n");
   doc["shading_paths"] = shadingPathsStudy(opt.quick, progress, abufferPlots);
 

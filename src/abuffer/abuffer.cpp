@@ -56,6 +56,7 @@ void ABufferCounters::add(const ABufferCounters& o) {
   peakBytes = std::max(peakBytes, o.peakBytes);
   peakFragmentsHeld = std::max(peakFragmentsHeld, o.peakFragmentsHeld);
   xray += o.xray;
+  xrayDropped += o.xrayDropped;
 }
 
 namespace {
@@ -144,6 +145,7 @@ void TileABuffer::reset(int w, int h, int x0, int y0, const FragmentSource* sour
   subpixelDepth_.reserve(2 * size_t(w) * size_t(h) * size_t(layout_.samples()));  // no regrowth while filling
   solids_.clear();
   xray_.clear();
+  if (!xrayCount_.empty()) xrayCount_.assign(size_t(w) * size_t(h), 0);
 }
 
 std::size_t TileABuffer::bytesFor(int w, int h, const MaskLayout& layout, int entriesPerPixel) {
@@ -160,11 +162,15 @@ std::size_t TileABuffer::bytesFor(int w, int h, const MaskLayout& layout, int en
 
 std::size_t TileABuffer::listEntryBytes() { return sizeof(Node); }
 
+std::size_t TileABuffer::xrayBytesPerPixel() {
+  return std::size_t(kXrayPerPixel) * (sizeof(XrayNode) + 2 * sizeof(void*)) + 2 * sizeof(std::uint32_t) + 1;
+}
+
 std::size_t TileABuffer::bytes() const {
   return pixels_.capacity() * sizeof(Pixel) + nodes_.capacity() * sizeof(Node) +
          freeNodes_.capacity() * sizeof(std::int32_t) + tails_.capacity() * sizeof(Tail) +
          (subpixelDepth_.capacity() + occlusion_.capacity() + blockOcclusion_.capacity() + offered_.capacity()) * sizeof(float) +
-         solids_.capacity() * sizeof(Fragment) + xray_.capacity() * sizeof(XrayNode);
+         solids_.capacity() * sizeof(Fragment) + xray_.capacity() * sizeof(XrayNode) + xrayCount_.capacity();
 }
 
 bool TileABuffer::isSolid(const Fragment& f) const {
@@ -222,8 +228,12 @@ void TileABuffer::toTail(Pixel& p, const Fragment& in, bool evicted) {
   }
   Tail& t = tails_[size_t(p.tail)];
   const float w = f.opacity * f.area;
-  if (!f.holdout) t.premultiplied += f.colour * w;  // a hold-out darkens the tail's mean: an approximation
-  t.weight += w;
+  if (f.holdout) {
+    t.holdoutWeight += w;
+  } else {
+    t.premultiplied += f.colour * w;
+    t.weight += w;
+  }
   t.transmittance *= std::max(0.0f, 1.0f - w);
   t.zkeyMin = std::min(t.zkeyMin, f.zkey);
   ++local_.tail;
@@ -343,7 +353,7 @@ void TileABuffer::pruneHidden(Pixel& p, float depth) {
   std::int32_t* link = &p.head;
   while (*link >= 0) {
     Node& n = nodes_[size_t(*link)];
-    if (n.f.zmin > depth) {
+    if (n.f.zmin > depth && !n.f.onSurface) {
       const std::int32_t dead = *link;
       *link = n.next;
       freeNode(dead);
@@ -414,7 +424,11 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
   if (!(f.area > 0.0f)) return;
   f.area = std::min(f.area, 1.0f);
   f.opacity = std::clamp(f.opacity, 0.0f, 1.0f);
-  if (f.zmin >= occlusion_[size_t(y) * size_t(w_) + size_t(x)] || (p.hasSolid() && f.zmin >= solids_[size_t(p.solid)].zmax)) {
+  // A piece of a wire resting on a surface is judged at its axis and kept though behind what
+  // hides this pixel, but only in the list: a tail (uniform over the pixel) would show it.
+  const bool behind =
+      f.zmin >= occlusion_[size_t(y) * size_t(w_) + size_t(x)] || (p.hasSolid() && f.zmin >= solids_[size_t(p.solid)].zmax);
+  if (behind && (!f.onSurface || p.length >= budget_)) {
     ++local_.culled;
     return;
   }
@@ -484,6 +498,12 @@ void TileABuffer::insertXray(int x, int y, Fragment f, float factor, int centroi
     f.standInBits = f.mask;
   }
   const std::uint32_t pixel = std::uint32_t(size_t(y) * size_t(w_) + size_t(x));
+  if (xrayCount_.size() != pixels_.size()) xrayCount_.assign(pixels_.size(), 0);
+  if (xrayCount_[pixel] >= kXrayPerPixel) {
+    ++local_.xrayDropped;
+    return;
+  }
+  ++xrayCount_[pixel];
   xray_.push_back(XrayNode{f, std::min(factor, 1.0f), std::uint32_t(xray_.size()), pixel});
   ++local_.xray;
 }
@@ -497,7 +517,8 @@ void TileABuffer::gatherXray() const {
   for (size_t i = 0; i < n; ++i) start[i + 1] += start[i];
   std::vector<const XrayNode*>& g = scratch_.xrayGathered;
   g.resize(xray_.size());
-  std::vector<std::uint32_t> at(start.begin(), start.end() - 1);
+  std::vector<std::uint32_t>& at = scratch_.xrayAt;
+  at.assign(start.begin(), start.end() - 1);
   for (const XrayNode& x : xray_) g[at[x.pixel]++] = &x;
 }
 
@@ -561,7 +582,10 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
     Fragment f;
     f.zkey = f.zmin = f.zmax = t.zkeyMin;
     f.area = 1.0f;
-    f.opacity = 1.0f - t.transmittance;
+    // Its hold-outs' share of what it hides adds neither colour nor coverage (the background
+    // shows there), though it hides what lies behind as the rest does.
+    const float all = t.weight + t.holdoutWeight;
+    f.opacity = (1.0f - t.transmittance) * (all > 0 ? t.weight / all : 0.0f);
     f.colour = t.weight > 0 ? t.premultiplied / t.weight : glm::vec3(0.0f);
     f.mask = layout_.full();
     tailNode = Node{f, 0xFFFFFFFEu, -1, 0};
@@ -601,7 +625,7 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
   // depth ranges overlap share a subpixel (they interpenetrate in this pixel).
   // Its models are kept (two for a wire's merged pieces) for edges judged at their axis.
   std::vector<SurfaceDepth>& models = scratch_.models;
-  models.resize(2 * size_t(n));
+  if (models.size() < 2 * size_t(n)) models.resize(2 * size_t(n));  // (written before read: depthState)
   auto depthsOf = [&](int i) -> const float* {
     float* d = &depths[size_t(i) * size_t(N)];
     if (depthState[size_t(i)] == 0) {
@@ -638,7 +662,7 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
       for (int k = 0; k < pieces; ++k) {
         float ax, ay;
         w[k].axisPoint(sampleX_[s], sampleY_[s], ax, ay);
-        if (w[k].at(ax, ay) <= p.at(ax, ay)) {
+        if (w[k].at(ax, ay) <= p.planeDepthAt(ax, ay)) {
           front |= MaskBits(1) << s;
           break;
         }
@@ -650,13 +674,24 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
     return depthState[size_t(i)] == 1 && models[2 * size_t(i)].kind == SurfaceDepth::Kind::Wire && models[2 * size_t(i)].onSurface;
   };
   auto isPlane = [&](int i) { return depthState[size_t(i)] == 1 && models[2 * size_t(i)].kind == SurfaceDepth::Kind::Plane; };
+  // Whether fragment w (a wire's piece resting on a surface) is judged against fragment p (a
+  // surface's) at its axis: not when the wire lies wholly in front here (the axis rule agrees).
+  // Depth ranges alone do not decide it: where the wire's axis lies outside this pixel, a plane
+  // wholly in front over the pixel can be behind the line at its axis.
+  auto axisJudged = [&](int w, int p) {
+    const Fragment &fw = order[size_t(w)]->f, &fp = order[size_t(p)]->f;
+    if (!fw.occludesEarly || fp.occludesEarly || !source_ || fw.zmax <= fp.zmin || !source_->onSurface(fw.prim)) return false;
+    depthsOf(w);
+    depthsOf(p);
+    return isEdge(w) && isPlane(p);
+  };
   auto frontOf = [&](int i, int j, MaskBits common) -> MaskBits {
     const Fragment &a = order[size_t(i)]->f, &b = order[size_t(j)]->f;
+    if (axisJudged(i, j)) return edgeFront(&models[2 * size_t(i)], models[2 * size_t(j)], common);
+    if (axisJudged(j, i)) return common & ~edgeFront(&models[2 * size_t(j)], models[2 * size_t(i)], common);
     if (a.zmax <= b.zmin) return common;  // apart (touching: the order decides)
     if (a.zmin >= b.zmax) return 0;
     const float *da = depthsOf(i), *db = depthsOf(j);
-    if (isEdge(i) && isPlane(j)) return edgeFront(&models[2 * size_t(i)], models[2 * size_t(j)], common);
-    if (isEdge(j) && isPlane(i)) return common & ~edgeFront(&models[2 * size_t(j)], models[2 * size_t(i)], common);
     MaskBits front = 0;
     for (MaskBits m = common; m; m &= m - 1) {
       const int s = std::countr_zero(m);
@@ -680,6 +715,23 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
   }
   MaskBits ownedAny = 0;
   for (int i : whole) ownedAny |= owned[size_t(i)];
+  // The axis rule is not transitive with the per-subpixel one (an edge judged at its axis, two
+  // planes crossing within its width): a subpixel can lose to everyone. It goes back to the
+  // nearest there.
+  MaskBits covered = 0;
+  for (int i : whole) covered |= order[size_t(i)]->f.mask;
+  for (MaskBits lost = covered & ~ownedAny; lost; lost &= lost - 1) {
+    const int s = std::countr_zero(lost);
+    int best = -1;
+    float bestDepth = INFINITY;
+    for (int i : whole)
+      if ((order[size_t(i)]->f.mask >> s) & 1) {
+        const float d = depthsOf(i)[s];
+        if (best < 0 || d < bestDepth) best = i, bestDepth = d;
+      }
+    owned[size_t(best)] |= MaskBits(1) << s;
+    ownedAny |= MaskBits(1) << s;
+  }
   alignas(32) float T[64];
   std::fill(T, T + N, 1.0f);
   glm::vec3 rgb(0.0f);
@@ -703,12 +755,7 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
         const int q = po[b - 1];
         const Fragment& fq = order[size_t(q)]->f;
         const MaskBits common = fq.mask & fe.mask;
-        if (common) {
-          if (fq.occludesEarly || fq.zmax <= fe.zmin) break;  // a wire, or wholly in front
-          depthsOf(q);
-          depthsOf(e);
-          if (!isPlane(q) || !isEdge(e) || edgeFront(&models[2 * size_t(e)], models[2 * size_t(q)], common) != common) break;
-        }
+        if (common && (!axisJudged(e, q) || edgeFront(&models[2 * size_t(e)], models[2 * size_t(q)], common) != common)) break;
         po[b] = q;
       }
       po[b] = e;
@@ -753,36 +800,46 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
     xd.resize(size_t(N));
     for (const XrayNode* x : xo) {
       const Fragment& f = x->f;
-      MaskBits behind = 0;  // its subpixels owned by a surface in front of it
+      // Its subpixels owned by a surface in front of it, judged as its visible copy is
+      // (frontOf: at its axis against planes when it rests on a surface; ties to the nearer zkey).
+      MaskBits behind = 0;
       bool depthsDone = false, edge = false;
+      const bool onSurface = source_ && f.prim != Fragment::kNoPrimitive && source_->onSurface(f.prim);
       SurfaceDepth xm[2];  // its model (an x-ray copy is one piece: xm[1] stays no wire)
+      auto ownDepths = [&] {
+        if (depthsDone) return;
+        if (source_ && f.prim != Fragment::kNoPrimitive && source_->surfaceDepth(f.prim, px, py, xm[0])) {
+          xm[0].atSamples(sampleX_, sampleY_, N, xd.data());
+          edge = xm[0].kind == SurfaceDepth::Kind::Wire && xm[0].onSurface;
+        } else {
+          std::fill(xd.begin(), xd.end(), f.zkey);
+        }
+        depthsDone = true;
+      };
       for (int b = 0; b < nw; ++b) {
         const int j = whole[size_t(b)];
         const Fragment& o = order[size_t(j)]->f;
         const MaskBits common = f.mask & owned[size_t(j)] & ~behind;
-        if (!common || o.occludesEarly) continue;  // not a surface (a wire's piece)
+        // Only surfaces hide lines: not a wire's piece, nor the tail (what it holds is unknown)
+        if (!common || o.occludesEarly || o.prim == Fragment::kNoPrimitive) continue;
+        if (onSurface && f.zmax > o.zmin) {
+          ownDepths();
+          depthsOf(j);
+          if (edge && isPlane(j)) {
+            behind |= common & ~edgeFront(xm, models[2 * size_t(j)], common);
+            continue;
+          }
+        }
         if (o.zmax <= f.zmin) {
           behind |= common;
           continue;
         }
         if (o.zmin >= f.zmax) continue;
-        if (!depthsDone) {
-          if (source_ && f.prim != Fragment::kNoPrimitive && source_->surfaceDepth(f.prim, px, py, xm[0])) {
-            xm[0].atSamples(sampleX_, sampleY_, N, xd.data());
-            edge = xm[0].kind == SurfaceDepth::Kind::Wire && xm[0].onSurface;
-          } else {
-            std::fill(xd.begin(), xd.end(), f.zkey);
-          }
-          depthsDone = true;
-        }
+        ownDepths();
         const float* od = depthsOf(j);
-        if (edge && isPlane(j)) {
-          behind |= common & ~edgeFront(xm, models[2 * size_t(j)], common);
-          continue;
-        }
         for (MaskBits m = common; m; m &= m - 1) {
           const int s = std::countr_zero(m);
-          if (od[s] < xd[size_t(s)]) behind |= MaskBits(1) << s;
+          if (od[s] < xd[size_t(s)] || (od[s] == xd[size_t(s)] && o.zkey <= f.zkey)) behind |= MaskBits(1) << s;
         }
       }
       if (!behind) continue;

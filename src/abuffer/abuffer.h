@@ -74,15 +74,19 @@ struct Fragment {
   std::uint32_t prim2 = kNoPrimitive;
   /// Shading point inside the pixel, from its top left corner, in 1/65535 of a pixel.
   std::uint16_t cx = 32768, cy = 32768;
-  bool mayMerge = true;      ///< false for an object of one piece (a one-segment hair): skips the merge search
-  bool shaded = true;        ///< `colour` holds its radiance; false: the FragmentSource shades it when needed
+  bool mayMerge : 1 = true;  ///< false for an object of one piece (a one-segment hair): skips the merge search
+  bool shaded : 1 = true;    ///< `colour` holds its radiance; false: the FragmentSource shades it when needed
   /// Counts for occlusion on arrival though it may still merge (pieces of a wire, which meet only
   /// at joints). Pieces of a surface count only once merged whole: tiny ones would otherwise
   /// hide their own siblings' stand-in subpixels and the surface would never close.
-  bool occludesEarly = false;
+  bool occludesEarly : 1 = false;
   /// A hold-out (hidden-line removal): hides what lies behind it like any opaque surface and
   /// adds no colour of its own (what it covers shows the background).
-  bool holdout = false;
+  bool holdout : 1 = false;
+  /// A piece of a wire resting on a surface (SurfaceDepth::onSurface): judged against surfaces at
+  /// its axis, so no depth over this pixel alone may cull it (a plane in front over the pixel can
+  /// be behind the line where its axis is).
+  bool onSurface : 1 = false;
   /// The least hide (opacity times covered share of its subpixels) the resolve gives this
   /// fragment. A wire's piece counts for occlusion on arrival at its own hide; a later piece
   /// merged into it may lower the merged fragment's hide, and what was culled meanwhile behind
@@ -122,6 +126,14 @@ struct SurfaceDepth {
   /// seen at a grazing angle would otherwise be half hidden by that very face, whose depth
   /// changes by more than the wire's radius across the wire's width.
   bool onSurface = false;
+  /// plane: its depth at (sx, sy) extended beyond the primitive (no [lo, hi] clamp: the axis point
+  /// an edge is judged at may lie outside this triangle, whose own depth range would then put it
+  /// in front of a line lying on its plane), clamped to the near plane only.
+  float planeDepthAt(float sx, float sy) const {
+    const float key = k0 + kx * sx + ky * sy;
+    const float d = perspective ? (key > 0.0f ? 1.0f / key : INFINITY) : key;
+    return std::max(nearPlane, d);
+  }
   /// The point of the axis nearest (sx, sy) (clamped to the ends), as the same pixel offsets.
   void axisPoint(float sx, float sy, float& ax, float& ay) const {
     const float t = t0 + tx * sx + ty * sy, tc = std::min(tmax, std::max(0.0f, t));
@@ -184,6 +196,7 @@ struct ABufferCounters {
   /// The renderer sums it over threads, like peakBytes.
   std::uint64_t peakFragmentsHeld = 0;
   std::uint64_t xray = 0;        ///< x-ray fragments kept (hidden lines drawn dashed or ghosted)
+  std::uint64_t xrayDropped = 0; ///< x-ray fragments over kXrayPerPixel in their pixel
   void add(const ABufferCounters& o);
 };
 
@@ -202,6 +215,8 @@ class TileABuffer {
   /// Adds an x-ray copy of a wire fragment to pixel (x, y): drawn with weight `factor` (0 ... 1)
   /// only where an opaque surface in front hides it (hidden lines; see above). Never culled.
   void insertXray(int x, int y, Fragment f, float factor, int centroidSubpixel);
+  /// The most x-ray fragments a pixel keeps (later ones, mostly farther, are dropped and counted).
+  static constexpr int kXrayPerPixel = 16;
   /// Depth behind which everything in pixel (x, y) is hidden: every subpixel is covered by an
   /// opaque fragment (one that hides its subpixels wholly) nearer than this; +inf until then.
   /// A fragment with zmin >= this depth cannot change the pixel, so the rasteriser may skip it
@@ -268,6 +283,9 @@ class TileABuffer {
   static std::size_t bytesFor(int w, int h, const MaskLayout& layout, int entriesPerPixel);
   /// Bytes of one list entry (a fragment, its arrival, its link and its pixel).
   static std::size_t listEntryBytes();
+  /// The most bytes x-ray fragments take per pixel (kXrayPerPixel of them, gathered), when a
+  /// wire draws its hidden parts.
+  static std::size_t xrayBytesPerPixel();
 
  private:
   struct Node {
@@ -285,7 +303,8 @@ class TileABuffer {
   };
   struct Tail {
     glm::vec3 premultiplied{0.0f};
-    float weight = 0;             ///< sum of alpha * area
+    float weight = 0;             ///< sum of alpha * area (of what adds colour)
+    float holdoutWeight = 0;      ///< the same of hold-outs (they hide, add no colour)
     float transmittance = 1;      ///< product of (1 - alpha * area)
     float zkeyMin = INFINITY;     ///< where the tail sorts among the kept fragments
   };
@@ -318,6 +337,7 @@ class TileABuffer {
     std::vector<const XrayNode*> xrayGathered, xrayOrder;  ///< x-ray fragments by pixel (gatherXray), one pixel's sorted
     std::vector<std::uint32_t> xrayStart;    ///< pixel i's x-ray fragments: xrayGathered[xrayStart[i] ... xrayStart[i + 1])
     std::vector<float> xrayDepths;
+    std::vector<std::uint32_t> xrayAt;
     std::vector<SurfaceDepth> models;  ///< two per fragment (resolveEntries' depthsOf)
     std::vector<int> partialOrder;
   };
@@ -365,6 +385,7 @@ class TileABuffer {
   std::vector<float> subpixelDepth_;  ///< per pixel with occluders: N depths D then N transmittances T (see occlude)
   std::vector<Fragment> solids_;
   std::vector<XrayNode> xray_;        ///< hidden-line copies (insertXray): empty unless a wire asks for them
+  std::vector<std::uint8_t> xrayCount_;  ///< per pixel, once a wire asks for x-ray copies
   std::size_t peakBytes_ = 0;
   ABufferCounters local_;
 };

@@ -50,9 +50,15 @@ size_t estimateRenderBytes(const Scene& scene, const RenderOptions& o, bool refe
   const int threads = o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
   const int tile = std::clamp(o.tileSize, 1, 4096);
   const int tw = int(std::min<double>(tile, w)), th = int(std::min<double>(tile, h));
-  const double tileBytes =
+  double tileBytes =
       reference ? double(tw) * th * double(o.referenceSamples) * o.referenceSamples * (sizeof(float) + sizeof(std::int32_t))
                 : double(TileABuffer::bytesFor(tw, th, o.mask, std::clamp(o.budget, 1, 4)));
+  // Hidden lines drawn (dashed, ghost): the tile's x-ray fragments, at most kXrayPerPixel a pixel.
+  bool xray = false;
+  for (const SceneWire& wr : scene.wires) xray = xray || (wr.hidden.drawn() && wr.lines.points.size() >= 2);
+  if (xray && !reference) {
+    tileBytes += double(tw) * th * double(TileABuffer::xrayBytesPerPixel());
+  }
   const double tiles = std::ceil(w / tile) * std::ceil(h / tile);
   bytes += std::min<double>(threads, std::max(tiles, 1.0)) * tileBytes;
   // Primitives: room for every input triangle with 5 screen vertices (the most near / far
@@ -220,7 +226,11 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
             item.zlo >= buf.regionOcclusionDepth(item.x0, item.y0, item.x1, item.y1) || item.zlo >= opaqueTileMax;
         if (occludedWhole) {
           ++occludedPrims.local();
-          if (!ps.anyXray || item.index < triangleCount || !ps.shaderOf(item.index).hidden.drawn()) continue;
+          // (not a wire resting on a surface, which no depth over a part of it beside its axis may
+          // cull: see below; nor one that draws its hidden parts)
+          if (item.index < triangleCount) continue;
+          const ShaderSlot& ws = ps.shaderOf(item.index);
+          if (!ws.restsOnSurface && !ws.hidden.drawn()) continue;
         }
         // Survivors are scattered through memory: fetch the next ones' data ahead.
         for (std::uint32_t ahead = oi + 1; ahead < std::min(n, oi + 4); ++ahead) {
@@ -252,6 +262,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
           f.cy = Fragment::toPoint(pc.cy - pc.y);
           f.shaded = false;  // shaded only if it survives (PreparedFragmentSource)
           f.holdout = slot.holdout;
+          f.onSurface = segment && slot.restsOnSurface;
           buf.insert(pc.x - tx0, pc.y - ty0, f, pc.subpixel);
         };
         const int rx0 = tx0 + item.x0, ry0 = ty0 + item.y0, rx1 = tx0 + item.x1, ry1 = ty0 + item.y1;
@@ -261,7 +272,24 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
           tag = s.tag;
           mayMerge = s.flags & kSegmentMayMerge;
           const SegmentDepth depth(ps.view, s, ps.wireDepth);
-          if (!occludedWhole)
+          auto never = [](auto&&...) { return false; };
+          // A wire resting on a surface is judged at its axis (Fragment::onSurface): a plane in
+          // front over a pixel beside its axis may be behind it at the axis. So a pixel of it is
+          // culled only where both that pixel and the pixel of its axis point nearest are hidden
+          // in front of it (that pixel in this tile), never a whole row, band or tile at once.
+          const SegmentFrame& fr = depth.frame;
+          auto cullAtAxis = [&](int x, int y, double z) {
+            if (!(z >= buf.occlusionDepth(x - tx0, y - ty0))) return false;
+            const double t = fr.length > 0 ? std::clamp(fr.t(x + 0.5, y + 0.5), 0.0, 1.0) : 0.0;
+            const double ax = std::floor(s.p0.x + t * (s.p1.x - s.p0.x)), ay = std::floor(s.p0.y + t * (s.p1.y - s.p0.y));
+            if (!(ax >= tx0 && ax < tx1 && ay >= ty0 && ay < ty1)) return false;
+            if (!(z >= buf.occlusionDepth(int(ax) - tx0, int(ay) - ty0))) return false;
+            buf.countCulled(x - tx0, y - ty0);
+            return true;
+          };
+          if (slot.restsOnSurface)
+            rasterizePolygon(poly, depth, rx0, ry0, rx1, ry1, ty0, options.mask, wk, never, never, cullAtAxis, never, emit);
+          else if (!occludedWhole)
             rasterizePolygon(poly, depth, rx0, ry0, rx1, ry1, ty0, options.mask, wk, cullBand, cullRow, cullPixel, hidden,
                              emit);
           if (slot.hidden.drawn()) {
@@ -271,7 +299,6 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
             const double phase = dashed ? ps.dashPhase[index - triangleCount] : 0.0;
             const SegmentFrame& fr = depth.frame;
             RenderStats::RasterWork xw;
-            auto never = [](auto&&...) { return false; };
             auto emitXray = [&](const PixelCoverage& pc) {
               Fragment f;
               f.zmin = pc.zmin;
