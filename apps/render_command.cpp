@@ -27,7 +27,7 @@ long peakRssBytes() {
 SceneFile loadInput(const std::string& input, const std::string& style, const SceneOverrides& overrides) {
   if (input.empty()) {
     if (!style.empty()) throw UsageError("--style applies to a mesh or CAD input, not to the built-in scene");
-    return defaultScene();
+    return defaultScene(overrides);
   }
   if (isCadFile(input)) return sceneForCadFile(input, style.empty() ? "wire-over-surface" : style, overrides);
   if (isGeometryFile(input)) return sceneForGeometryFile(input, style.empty() ? "wire-over-surface" : style, overrides);

@@ -315,6 +315,10 @@ wf::WireDescription readWire(const Reader& r, const json& j, const std::string& 
     const std::string m = r.choice(mode, h.is_object() ? Reader::at(hp, "mode") : hp, {"off", "dashed", "ghost", "hide"});
     wf::parseHiddenMode(m, w.wire.hidden.mode);
     if (h.is_object()) {
+      // Keys of another mode are errors, as keys of another source type are.
+      if (m == "dashed") r.keys(h, hp, {"mode", "dash", "gap"});
+      else if (m == "ghost") r.keys(h, hp, {"mode", "opacity"});
+      else r.keys(h, hp, {"mode"});
       if (h.contains("dash")) w.wire.hidden.dash = r.number(h["dash"], Reader::at(hp, "dash"), 0.5, 1000);
       if (h.contains("gap")) w.wire.hidden.gap = r.number(h["gap"], Reader::at(hp, "gap"), 0.5, 1000);
       if (h.contains("opacity")) w.wire.hidden.ghost = float(r.number(h["opacity"], Reader::at(hp, "opacity"), 0.01, 1));
@@ -540,10 +544,10 @@ SceneFile loadSceneFile(const std::string& path, const SceneOverrides& overrides
   return parseScene(path, readText(path), folder.empty() ? "." : folder, overrides);
 }
 
-SceneFile defaultScene() {
+SceneFile defaultScene(const SceneOverrides& overrides) {
   // data/scenes/cage_shaded.json, compiled in (built_in_scene.h) so that the command works
   // without the source tree.
-  return parseScene("built-in scene (data/scenes/cage_shaded.json)", kBuiltInSceneJson, ".");
+  return parseScene("built-in scene (data/scenes/cage_shaded.json)", kBuiltInSceneJson, ".", overrides);
 }
 
 void buildStyled(SceneFile& sf, const std::string& path, std::shared_ptr<const wf::GeometryData> geometry, wf::Style style,

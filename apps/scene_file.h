@@ -76,7 +76,7 @@ SceneFile parseScene(const std::string& name, const std::string& text, const std
 
 /// The built-in scene `wirefur render` draws with no input: data/scenes/cage_shaded.json, the
 /// paper's image 9b (a wire-frame cage as shaded wire over a shaded torus), compiled in.
-SceneFile defaultScene();
+SceneFile defaultScene(const SceneOverrides& overrides = {});
 
 /// A scene around one mesh / polyline file, drawn in one of the contract's styles:
 /// "wire" (its edges or lines as shaded wire), "wire-over-surface" (shaded wire over the

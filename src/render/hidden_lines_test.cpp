@@ -230,8 +230,8 @@ TEST(HiddenLines, BoxInABoxEdgesAreClassifiedAsTheExactDepthTestSays) {
   EXPECT_EQ(stray, 0);
 }
 
-// Off is today's picture bit for bit; with hidden lines drawn, the visible pixels are unchanged
-// wherever no hidden edge passes.
+// With the surfaces drawn, Hide is Off bit for bit (it differs only in the styles, which then add
+// the faces as hold-outs).
 TEST(HiddenLines, OffLeavesTheImageAsItWas) {
   Scene a;
   TriangleMesh box;

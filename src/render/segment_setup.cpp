@@ -319,8 +319,9 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       mitred[j] = 1;
     }
     // Dashed hidden lines: the pattern's phase at each segment's start, from the screen arc
-    // length of the polyline before it (segments off screen or dropped count too, so the
-    // pattern does not jump as they come into view).
+    // length of the polyline before it: segments off screen count too, so the pattern does not
+    // jump as they come into view; a segment cut by the near or far plane counts its part
+    // between them, and one wholly beyond them or degenerate counts nothing.
     const double dashPeriod = slot.hidden.dash + slot.hidden.gap;
     double arc = 0.0;
     const std::uint32_t tag = tagBase + std::uint32_t(li);

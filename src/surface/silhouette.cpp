@@ -22,8 +22,11 @@ class Tracer {
   }
 
   // The signed cosine between the normal and the way to the eye; NaN where not finite.
-  double g(const glm::dvec2& uv) const {
+  // (u, v) beyond a periodic direction's domain (a curve unwrapped across the seam) is wrapped
+  // here: not every surface wraps it itself (an OpenCASCADE face clamps).
+  double g(const glm::dvec2& uvIn) const {
     ++st_.evaluations;
+    const glm::dvec2 uv = wrap(uvIn);
     // N from the derivatives where they are regular (one evaluation); the frame's limit at poles.
     const SurfacePoint sp = s_.evaluate(uv.x, uv.y);
     if (!std::isfinite(sp.P.x) || !std::isfinite(sp.P.y) || !std::isfinite(sp.P.z)) return NAN;
@@ -33,7 +36,7 @@ class Tracer {
       N *= s_.normalSign() / nl;
     } else {
       ++st_.evaluations;
-      N = s_.frame(uv.x, uv.y).N;
+      N = s_.frame(uv.x, uv.y).N;  // (uv wrapped above)
     }
     double c;
     if (view_.perspective) {
@@ -72,7 +75,8 @@ class Tracer {
   }
 
   // Screen position of a world point; false behind the near plane.
-  bool screen(const glm::dvec2& uv, glm::dvec2& p, glm::dvec3* world = nullptr) const {
+  bool screen(const glm::dvec2& uvIn, glm::dvec2& p, glm::dvec3* world = nullptr) const {
+    const glm::dvec2 uv = wrap(uvIn);
     const glm::dvec3 P = s_.evaluate(uv.x, uv.y).P;
     if (world) *world = P;
     const glm::dvec3 e = view_.toEye(P);
@@ -259,7 +263,8 @@ class Tracer {
       }
       line.clear();
     };
-    auto push = [&](const glm::dvec2& uv) {  // a non-finite point splits the curve
+    auto push = [&](const glm::dvec2& uvIn) {  // a non-finite point splits the curve
+      const glm::dvec2 uv = wrap(uvIn);
       const glm::dvec3 P = s_.evaluate(uv.x, uv.y).P;
       if (std::isfinite(P.x) && std::isfinite(P.y) && std::isfinite(P.z)) line.push_back(P);
       else flush();

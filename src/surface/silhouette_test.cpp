@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <functional>
 #include <numbers>
@@ -139,6 +140,7 @@ TEST(Silhouette, SphereInPerspectiveWithinAQuarterPixel) {
   EXPECT_GE(m.judged, m.chords - 2);
   EXPECT_GT(m.chords, 20);
   EXPECT_LT(m.worst, 0.25) << m.judged << " chords";
+  std::printf("[ measured ] sphere: worst chord %.3f px over %d chords judged of %d\n", m.worst, m.judged, m.chords);
 }
 
 TEST(Silhouette, CylinderInPerspectiveWithinAQuarterPixel) {
@@ -151,6 +153,7 @@ TEST(Silhouette, CylinderInPerspectiveWithinAQuarterPixel) {
   const Measure m = measure(lines, v, 0.4, [](glm::dvec3 p) { return p.z * p.z > 1.5 * 1.5 ? 1.0 : p.x * p.x + p.y * p.y - 0.36; });
   EXPECT_GT(m.judged, 0);
   EXPECT_LT(m.worst, 0.25);
+  std::printf("[ measured ] cylinder: worst chord %.3f px over %d chords judged of %d\n", m.worst, m.judged, m.chords);
 }
 
 TEST(Silhouette, TorusInPerspectiveWithinAQuarterPixel) {
@@ -167,6 +170,7 @@ TEST(Silhouette, TorusInPerspectiveWithinAQuarterPixel) {
   const Measure m = measure(lines, v, 0.3, f);
   EXPECT_GT(m.judged, 40);
   EXPECT_LT(m.worst, 0.25) << m.judged << " of " << m.chords << " chords judged";
+  std::printf("[ measured ] torus: worst chord %.3f px over %d chords judged of %d\n", m.worst, m.judged, m.chords);
   // Looser tolerance, fewer points, larger error: the option does what it says.
   PolylineSet coarse;
   SilhouetteOptions o;

@@ -291,7 +291,8 @@ TEST(CadCli, HiddenLineModes) {
     EXPECT_NE(r.err.find("--hidden"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(png));
   }
-  for (const std::string bad : {R"("dashes")", R"({"mode": "dashed", "dash": 0})", R"({"mode": "ghost", "opacity": 3})", R"({"dash": 4})"}) {
+  for (const std::string bad : {R"("dashes")", R"({"mode": "dashed", "dash": 0})", R"({"mode": "ghost", "opacity": 3})", R"({"dash": 4})",
+                            R"({"mode": "ghost", "dash": 5})", R"({"mode": "off", "opacity": 0.5})"}) {
     const std::string s = write("hidden_bad.json", R"({"objects": [{"file": ")" + in + R"(", "wire": {"hidden": )" + bad + "}}]}");
     const Result r = run("render '" + s + "' -o '" + png.string() + "'");
     EXPECT_EQ(r.status, 2) << bad << ": " << r.err;
