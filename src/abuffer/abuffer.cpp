@@ -685,19 +685,31 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
     depthsOf(p);
     return isEdge(w) && isPlane(p);
   };
-  auto frontOf = [&](int i, int j, MaskBits common) -> MaskBits {
-    const Fragment &a = order[size_t(i)]->f, &b = order[size_t(j)]->f;
-    if (axisJudged(i, j)) return edgeFront(&models[2 * size_t(i)], models[2 * size_t(j)], common);
-    if (axisJudged(j, i)) return common & ~edgeFront(&models[2 * size_t(j)], models[2 * size_t(i)], common);
-    if (a.zmax <= b.zmin) return common;  // apart (touching: the order decides)
-    if (a.zmin >= b.zmax) return 0;
+  // The subpixels of `common` where i's depth there is not behind j's (ties: the earlier, i).
+  auto depthFront = [&](int i, int j, MaskBits common) -> MaskBits {
     const float *da = depthsOf(i), *db = depthsOf(j);
     MaskBits front = 0;
     for (MaskBits m = common; m; m &= m - 1) {
       const int s = std::countr_zero(m);
-      if (da[s] <= db[s]) front |= MaskBits(1) << s;  // ties: the earlier
+      if (da[s] <= db[s]) front |= MaskBits(1) << s;
     }
     return front;
+  };
+  // An edge in front of a plane where its round surface is, subpixel by subpixel, or where its
+  // axis is (edgeFront, asked only of the subpixels the first leaves to the plane: most edge
+  // pixels need no axis at all).
+  auto edgeWins = [&](int w, int p, MaskBits common, bool wFirst) -> MaskBits {
+    const MaskBits own = wFirst ? depthFront(w, p, common) : common & ~depthFront(p, w, common);
+    const MaskBits rest = common & ~own;
+    return rest ? own | edgeFront(&models[2 * size_t(w)], models[2 * size_t(p)], rest) : own;
+  };
+  auto frontOf = [&](int i, int j, MaskBits common) -> MaskBits {
+    const Fragment &a = order[size_t(i)]->f, &b = order[size_t(j)]->f;
+    if (axisJudged(i, j)) return edgeWins(i, j, common, true);
+    if (axisJudged(j, i)) return common & ~edgeWins(j, i, common, false);
+    if (a.zmax <= b.zmin) return common;  // apart (touching: the order decides)
+    if (a.zmin >= b.zmax) return 0;
+    return depthFront(i, j, common);
   };
   // Ownership among the fragments that hide wholly: each pair sharing subpixels splits them.
   // (Only those have owned bits: the loops below visit them alone, in the same order.)
@@ -755,7 +767,7 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
         const int q = po[b - 1];
         const Fragment& fq = order[size_t(q)]->f;
         const MaskBits common = fq.mask & fe.mask;
-        if (common && (!axisJudged(e, q) || edgeFront(&models[2 * size_t(e)], models[2 * size_t(q)], common) != common)) break;
+        if (common && (!axisJudged(e, q) || edgeWins(e, q, common, false) != common)) break;
         po[b] = q;
       }
       po[b] = e;
@@ -825,8 +837,14 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
         if (onSurface && f.zmax > o.zmin) {
           ownDepths();
           depthsOf(j);
-          if (edge && isPlane(j)) {
-            behind |= common & ~edgeFront(xm, models[2 * size_t(j)], common);
+          if (edge && isPlane(j)) {  // as edgeWins: its round surface, else its axis
+            const float* od = depthsOf(j);
+            MaskBits rest = 0;
+            for (MaskBits m = common; m; m &= m - 1) {
+              const int s = std::countr_zero(m);
+              if (od[s] < xd[size_t(s)] || (od[s] == xd[size_t(s)] && o.zkey <= f.zkey)) rest |= MaskBits(1) << s;
+            }
+            if (rest) behind |= rest & ~edgeFront(xm, models[2 * size_t(j)], rest);
             continue;
           }
         }

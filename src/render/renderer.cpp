@@ -222,15 +222,30 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
         // Hierarchical occlusion first, from the bin item alone: is the primitive behind
         // everything over its rectangle in this tile?
         // (A wire that draws its hidden parts still gives its x-ray copy.)
-        const bool occludedWhole =
+        bool occludedWhole =
             item.zlo >= buf.regionOcclusionDepth(item.x0, item.y0, item.x1, item.y1) || item.zlo >= opaqueTileMax;
-        if (occludedWhole) {
-          ++occludedPrims.local();
-          // (not a wire resting on a surface, which no depth over a part of it beside its axis may
-          // cull: see below; nor one that draws its hidden parts)
-          if (item.index < triangleCount) continue;
+        if (occludedWhole && item.index >= triangleCount) {
+          // A wire resting on a surface is judged at its axis: culled whole only when its whole
+          // axis lies in this tile's part of its rectangle (then what hides it there hides its
+          // axis too; see cullAtAxis below). One that draws its hidden parts still gives its
+          // x-ray copy.
           const ShaderSlot& ws = ps.shaderOf(item.index);
-          if (!ws.restsOnSurface && !ws.hidden.drawn()) continue;
+          if (ws.restsOnSurface) {
+            const SegmentPrim& sg = ps.segments[item.index - triangleCount];
+            const double bx0 = tx0 + item.x0, by0 = ty0 + item.y0, bx1 = tx0 + item.x1 + 1.0, by1 = ty0 + item.y1 + 1.0;
+            auto in = [&](const glm::dvec2& q) { return q.x >= bx0 && q.x < bx1 && q.y >= by0 && q.y < by1; };
+            occludedWhole = in(sg.p0) && in(sg.p1);
+          }
+          if (!occludedWhole) {
+          } else if (ws.hidden.drawn()) {
+            ++occludedPrims.local();
+          } else {
+            ++occludedPrims.local();
+            continue;
+          }
+        } else if (occludedWhole) {
+          ++occludedPrims.local();
+          continue;
         }
         // Survivors are scattered through memory: fetch the next ones' data ahead.
         for (std::uint32_t ahead = oi + 1; ahead < std::min(n, oi + 4); ++ahead) {
@@ -274,21 +289,43 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
           const SegmentDepth depth(ps.view, s, ps.wireDepth);
           auto never = [](auto&&...) { return false; };
           // A wire resting on a surface is judged at its axis (Fragment::onSurface): a plane in
-          // front over a pixel beside its axis may be behind it at the axis. So a pixel of it is
-          // culled only where both that pixel and the pixel of its axis point nearest are hidden
-          // in front of it (that pixel in this tile), never a whole row, band or tile at once.
+          // front over a pixel beside its axis may be behind it at the axis. So a pixel (a row) of
+          // it is culled only where that pixel (row) and the pixels of the axis points nearest to
+          // it are hidden in front of it, all in this tile; never a band at once (a tile only as
+          // above).
           const SegmentFrame& fr = depth.frame;
+          auto axisAt = [&](double x, double y) {
+            const double t = fr.length > 0 ? std::clamp(fr.t(x, y), 0.0, 1.0) : 0.0;
+            return glm::dvec2(s.p0.x + t * (s.p1.x - s.p0.x), s.p0.y + t * (s.p1.y - s.p0.y));
+          };
+          // Every pixel the axis passes from a to b hidden in front of z (sampled at half pixels).
+          auto axisHidden = [&](const glm::dvec2& a, const glm::dvec2& b, double z) {
+            const int steps = 1 + int(2.0 * std::max(std::abs(b.x - a.x), std::abs(b.y - a.y)));
+            for (int k = 0; k <= steps; ++k) {
+              const glm::dvec2 q = a + (b - a) * (double(k) / steps);
+              const double qx = std::floor(q.x), qy = std::floor(q.y);
+              if (!(qx >= tx0 && qx < tx1 && qy >= ty0 && qy < ty1)) return false;
+              if (!(z >= buf.occlusionDepth(int(qx) - tx0, int(qy) - ty0))) return false;
+            }
+            return true;
+          };
           auto cullAtAxis = [&](int x, int y, double z) {
             if (!(z >= buf.occlusionDepth(x - tx0, y - ty0))) return false;
-            const double t = fr.length > 0 ? std::clamp(fr.t(x + 0.5, y + 0.5), 0.0, 1.0) : 0.0;
-            const double ax = std::floor(s.p0.x + t * (s.p1.x - s.p0.x)), ay = std::floor(s.p0.y + t * (s.p1.y - s.p0.y));
-            if (!(ax >= tx0 && ax < tx1 && ay >= ty0 && ay < ty1)) return false;
-            if (!(z >= buf.occlusionDepth(int(ax) - tx0, int(ay) - ty0))) return false;
+            const glm::dvec2 a = axisAt(x + 0.5, y + 0.5);
+            if (!axisHidden(a, a, z)) return false;
             buf.countCulled(x - tx0, y - ty0);
             return true;
           };
+          auto cullRowAtAxis = [&](int y, int x0, int x1, double z) {
+            if (!(z >= buf.rowOcclusionDepth(y - ty0, x0 - tx0, x1 - tx0))) return false;
+            // t is linear along the row: the nearest axis points of its pixels lie between these
+            if (!axisHidden(axisAt(x0 + 0.5, y + 0.5), axisAt(x1 + 0.5, y + 0.5), z)) return false;
+            buf.countCulledRow(y - ty0, x0 - tx0, x1 - tx0);
+            return true;
+          };
           if (slot.restsOnSurface)
-            rasterizePolygon(poly, depth, rx0, ry0, rx1, ry1, ty0, options.mask, wk, never, never, cullAtAxis, never, emit);
+            rasterizePolygon(poly, depth, rx0, ry0, rx1, ry1, ty0, options.mask, wk, never, cullRowAtAxis, cullAtAxis, never,
+                             emit);
           else if (!occludedWhole)
             rasterizePolygon(poly, depth, rx0, ry0, rx1, ry1, ty0, options.mask, wk, cullBand, cullRow, cullPixel, hidden,
                              emit);
