@@ -222,9 +222,10 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
         // Hierarchical occlusion first, from the bin item alone: is the primitive behind
         // everything over its rectangle in this tile?
         // (A wire that draws its hidden parts still gives its x-ray copy.)
-        bool occludedWhole =
-            item.zlo >= buf.regionOcclusionDepth(item.x0, item.y0, item.x1, item.y1) || item.zlo >= opaqueTileMax;
-        if (occludedWhole && item.index >= triangleCount) {
+        // (The external depth has no surface to judge an edge against at its axis: it culls all.)
+        const bool behindExternal = item.zlo >= opaqueTileMax;
+        bool occludedWhole = behindExternal || item.zlo >= buf.regionOcclusionDepth(item.x0, item.y0, item.x1, item.y1);
+        if (occludedWhole && !behindExternal && item.index >= triangleCount) {
           // A wire resting on a surface is judged at its axis: culled whole only when its whole
           // axis lies in this tile's part of its rectangle (then what hides it there hides its
           // axis too; see cullAtAxis below). One that draws its hidden parts still gives its
@@ -310,6 +311,10 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
             return true;
           };
           auto cullAtAxis = [&](int x, int y, double z) {
+            if (opaque && z >= opaqueAt(x, y)) {
+              buf.countCulled(x - tx0, y - ty0);
+              return true;
+            }
             if (!(z >= buf.occlusionDepth(x - tx0, y - ty0))) return false;
             const glm::dvec2 a = axisAt(x + 0.5, y + 0.5);
             if (!axisHidden(a, a, z)) return false;
