@@ -350,10 +350,13 @@ void TileABuffer::pruneHidden(Pixel& p, float depth) {
   // that depth (a flat fragment, often the occluder itself) arrived earlier and sorts first.
   if (!(depth < p.prunedAt)) return;
   p.prunedAt = depth;
+  // (wires resting on a surface are kept within the depth span of the pixel's solid and of
+  // themselves: see insert)
+  const float slack = p.hasSolid() ? solids_[size_t(p.solid)].zmax - solids_[size_t(p.solid)].zmin : 0.0f;
   std::int32_t* link = &p.head;
   while (*link >= 0) {
     Node& n = nodes_[size_t(*link)];
-    if (n.f.zmin > depth && !n.f.onSurface) {
+    if (n.f.zmin > depth && !(n.f.onSurface && n.f.zmin < depth + 2.0f * (n.f.zmax - n.f.zmin) + slack)) {
       const std::int32_t dead = *link;
       *link = n.next;
       freeNode(dead);
@@ -425,10 +428,12 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
   f.area = std::min(f.area, 1.0f);
   f.opacity = std::clamp(f.opacity, 0.0f, 1.0f);
   // A piece of a wire resting on a surface is judged at its axis and kept though behind what
-  // hides this pixel, but only in the list: a tail (uniform over the pixel) would show it.
-  const bool behind =
-      f.zmin >= occlusion_[size_t(y) * size_t(w_) + size_t(x)] || (p.hasSolid() && f.zmin >= solids_[size_t(p.solid)].zmax);
-  if (behind && (!f.onSurface || p.length >= budget_)) {
+  // hides this pixel, but only in the list (a tail, uniform over the pixel, would show it) and
+  // only within the depth the pixel's solid spans and its own (farther, its axis is hidden too).
+  const float occ = std::min(occlusion_[size_t(y) * size_t(w_) + size_t(x)], p.hasSolid() ? solids_[size_t(p.solid)].zmax : INFINITY);
+  const bool behind = f.zmin >= occ;
+  const float slack = (f.zmax - f.zmin) + (p.hasSolid() ? solids_[size_t(p.solid)].zmax - solids_[size_t(p.solid)].zmin : 0.0f);
+  if (behind && (!f.onSurface || p.length >= budget_ || !(f.zmin < occ + slack))) {
     ++local_.culled;
     return;
   }

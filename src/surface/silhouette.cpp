@@ -48,7 +48,11 @@ class Tracer {
     }
     return std::isfinite(c) ? c : NAN;
   }
-  static bool positive(double v) { return v >= 0.0; }
+  // g within kFlat of zero is rounding noise (a plane through the eye: g is zero there but for
+  // rounding, of either sign): such values count as positive, so a face flat to the eye gives no
+  // curves of noise.
+  static constexpr double kFlat = 1e-12;
+  static bool positive(double v) { return v >= -kFlat; }
 
   // A root of g on the segment a -> b where ga, gb differ in sign (Illinois).
   glm::dvec2 root(glm::dvec2 a, glm::dvec2 b, double ga, double gb) const {
@@ -120,7 +124,7 @@ class Tracer {
 
   // Splits a -> b (a already emitted) while the curve strays from the chord on screen.
   void refine(const glm::dvec2& a, const glm::dvec2& b, int depth, std::vector<glm::dvec2>& out) const {
-    if (depth >= o_.maxDepth || out.size() >= o_.maxPoints) return;
+    if (depth >= o_.maxDepth || done_ + out.size() >= o_.maxPoints) return;
     glm::dvec2 r;
     if (!between(a, b, r)) return;
     glm::dvec2 pa, pb, pr;
@@ -238,7 +242,7 @@ class Tracer {
 
   // Refines a chain of roots, unwraps it across periodic seams, trims it and appends it.
   void emit(std::vector<glm::dvec2>& chain, std::vector<glm::dvec2>& fine, PolylineSet& out) {
-    if (chain.size() < 2) return;
+    if (chain.size() < 2 || cut_) return;
     fine.clear();
     fine.push_back(chain[0]);
     for (size_t k = 1; k < chain.size(); ++k) {
@@ -248,11 +252,13 @@ class Tracer {
       if (dom_.periodicV && std::abs(b.y - a.y) > 0.5 * std::abs(dom_.dv())) b.y += b.y > a.y ? -dom_.dv() : dom_.dv();
       refine(a, b, 0, fine);
       fine.push_back(b);
-      if (fine.size() >= o_.maxPoints) {
-        ++st_.cutShort;
+      if (done_ + fine.size() >= o_.maxPoints) {
+        if (!cut_) ++st_.cutShort;
+        cut_ = true;
         break;
       }
     }
+    done_ += fine.size();
     // Trim: runs where the face is, ended at the border found by bisection.
     std::vector<glm::dvec3> line;
     auto flush = [&] {
@@ -269,7 +275,13 @@ class Tracer {
       if (std::isfinite(P.x) && std::isfinite(P.y) && std::isfinite(P.z)) line.push_back(P);
       else flush();
     };
-    auto in = [&](const glm::dvec2& uv) { return !inside_ || inside_->value(wrap(uv)) >= 0.5; };
+    // The mask is over the unit square of the domain (as fur and scales read it: a CAD face's
+    // FaceMask clamps (s, t) to [0, 1]^2)
+    auto in = [&](const glm::dvec2& uv) {
+      if (!inside_) return true;
+      const glm::dvec2 w = wrap(uv);
+      return inside_->value(dom_.toUnit(w.x, w.y)) >= 0.5;
+    };
     bool prevIn = false;
     for (size_t k = 0; k < fine.size(); ++k) {
       const glm::dvec2 uv = fine[k];
@@ -303,6 +315,8 @@ class Tracer {
   SilhouetteStats& st_;
   ParameterDomain dom_;
   glm::dvec3 towardViewer_{0.0, 0.0, 1.0};
+  std::size_t done_ = 0;  // points of this face's chains so far (SilhouetteOptions::maxPoints is per face)
+  bool cut_ = false;
 };
 
 }  // namespace

@@ -47,7 +47,8 @@ struct SilhouetteStats {
 };
 
 /// Appends the silhouette curves of `surface` (world space), seen by `view`, to `out`, trimmed
-/// to where `inside` (over the surface's (u, v)) is at least 0.5 when it is given.
+/// to where `inside` (over the unit square of the surface's domain, as fur reads a density map)
+/// is at least 0.5 when it is given.
 void traceSilhouette(const Surface& surface, const ScalarTexture* inside, const ViewTransform& view,
                      const SilhouetteOptions& options, PolylineSet& out, SilhouetteStats& stats);
 

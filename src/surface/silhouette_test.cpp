@@ -198,10 +198,13 @@ TEST(Silhouette, SeamsAndPolesGiveClosedLoops) {
   for (const glm::dvec3& p : s.points) EXPECT_NEAR(p.z, 0.25, 1e-9);
 }
 
-// Trimmed by the face: only where inside >= 0.5, ended at the border.
+// Trimmed by the face: only where inside >= 0.5, ended at the border. The mask is read over the
+// domain's unit square, as a CAD face's mask and fur read it (from a review: it was read at the
+// raw (u, v), which a CAD face mask clamps to a corner of its square).
 TEST(Silhouette, TrimmedToTheFace) {
   struct UpperHalf final : ScalarTexture {
-    double value(const glm::dvec2& uv) const override { return uv.y > 0.3 ? 1.0 : 0.0; }
+    // v > 0.3 of the cylinder's [-1.5, 1.5]: t > 0.6
+    double value(const glm::dvec2& st) const override { return st.y > 0.6 ? 1.0 : 0.0; }
     glm::dvec2 gradient(const glm::dvec2&) const override { return {0, 0}; }
     std::string describe() const override { return "v > 0.3"; }
   } inside;
@@ -229,6 +232,53 @@ TEST(Silhouette, NonFiniteSurfaceGivesDefinedCountedOutput) {
   SilhouetteStats sn;
   traceSilhouette(PlanePatch(2, 2), nullptr, viewFrom({3.0, 0.0, 0.0}), SilhouetteOptions{}, none, sn);
   EXPECT_EQ(none.points.size(), 0u);
+}
+
+// From a review: SilhouetteOptions::maxPoints bounds a face, not each of its curves (an egg crate
+// of 38 curves made 1,647 points at a bound of 64).
+class EggCrate final : public Surface {
+ public:
+  ParameterDomain domain() const override { return {0.0, 1.0, 0.0, 1.0, false, false}; }
+  SurfacePoint evaluate(double u, double v) const override {
+    const double k = 2 * std::numbers::pi * 6, a = 0.05;
+    return {{u - 0.5, v - 0.5, a * std::sin(k * u) * std::sin(k * v)},
+            {1.0, 0.0, a * k * std::cos(k * u) * std::sin(k * v)},
+            {0.0, 1.0, a * k * std::sin(k * u) * std::cos(k * v)}};
+  }
+  std::string describe() const override { return "egg crate"; }
+};
+TEST(Silhouette, MaxPointsBoundsAFace) {
+  SilhouetteOptions o;
+  o.maxPoints = 64;
+  PolylineSet lines;
+  SilhouetteStats st;
+  traceSilhouette(EggCrate(), nullptr, viewFrom({2.5, -0.3, 0.35}), o, lines, st);
+  EXPECT_LE(st.points, o.maxPoints + 2 * st.curves);
+  EXPECT_EQ(st.cutShort, 1u);
+}
+
+// From a review: a plane through the eye at a slant has g = 0 but for rounding of either sign;
+// it gave 70 curves of noise.
+class ObliquePlane final : public Surface {
+ public:
+  glm::dvec3 e1 = glm::normalize(glm::dvec3(1.0, 0.3, 0.2)), e2 = glm::normalize(glm::dvec3(-0.2, 0.7, 0.9));
+  ParameterDomain domain() const override { return {-1.0, 1.0, -1.0, 1.0, false, false}; }
+  SurfacePoint evaluate(double u, double v) const override { return {u * e1 + v * e2, e1, e2}; }
+  std::string describe() const override { return "oblique plane"; }
+};
+TEST(Silhouette, ObliquePlaneSeenEdgeOnHasNone) {
+  const ObliquePlane pl;
+  Camera c;
+  c.eye = 3.1 * pl.e1 + 0.7 * pl.e2;  // in the plane
+  c.target = glm::dvec3(0.0);
+  c.up = glm::normalize(glm::cross(pl.e1, pl.e2));
+  c.fovYDegrees = 35.0;
+  c.nearPlane = 0.1;
+  c.farPlane = 100;
+  PolylineSet lines;
+  SilhouetteStats st;
+  traceSilhouette(pl, nullptr, ViewTransform::make(c, 800, 600), SilhouetteOptions{}, lines, st);
+  EXPECT_EQ(lines.points.size(), 0u);
 }
 
 }  // namespace
