@@ -51,6 +51,17 @@ double entry(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& lo, con
   return t0 <= t1 ? t0 : INFINITY;
 }
 
+// A scene of black, unlit-looking surfaces over a transparent background: what a wire adds is
+// its own colour, and alpha its coverage.
+Scene blackScene() {
+  Scene s;
+  s.background = glm::vec4(0.0f);
+  Material black;
+  black.phong.diffuse = black.phong.specular = glm::dvec3(0.0);
+  s.materials = {black};
+  return s;
+}
+
 SceneWire plainWire(const PolylineSet& lines, HiddenLines hidden, double widthPx) {
   SceneWire w;
   w.name = "edges";
@@ -68,10 +79,7 @@ SceneWire plainWire(const PolylineSet& lines, HiddenLines hidden, double widthPx
 // gaps measured at the 0.5 crossings must be the request's within 0.5 px, and the pattern must
 // run on across the polyline's joints (every dash start a whole number of periods from the first).
 TEST(HiddenLines, DashAndGapLengthsAreTheRequestAndRunOnAcrossJoints) {
-  Scene scene;
-  Material black;
-  black.phong.diffuse = black.phong.specular = glm::dvec3(0.0);
-  scene.materials = {black};
+  Scene scene = blackScene();
   TriangleMesh plane;
   plane.positions = {{-2, -1, 0}, {2, -1, 0}, {2, 1, 0}, {-2, 1, 0}};
   plane.triangles = {{0, 1, 2}, {0, 2, 3}};
@@ -270,11 +278,7 @@ namespace {
 TEST(HiddenLines, VisibleLinesOnAGrazingPlaneAreWholeAndNotDrawnTwice) {
   for (double elevation : {4.0, 10.0, 25.0}) {
     auto sceneWith = [&](HiddenLines::Mode mode, bool plane) {
-      Scene s;
-      s.background = glm::vec4(0.0f);
-      Material black;
-      black.phong.diffuse = black.phong.specular = glm::dvec3(0.0);
-      s.materials = {black};
+      Scene s = blackScene();
       TriangleMesh m;
       m.positions = {{-2, -2, 0}, {2, -2, 0}, {2, 2, 0}, {-2, 2, 0}, {0, 0, 0}};
       m.triangles = {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}};  // four triangles of different depth ranges
@@ -338,11 +342,7 @@ Camera lookDown() {
 // tail, taken for an opaque surface: 0.30 red). Hold-outs folded into a tail draw nothing (they
 // drew black, alpha up to 0.74).
 TEST(HiddenLines, TailsHideXrayCopiesAndHoldoutsInThemDrawNothing) {
-  Scene s;
-  s.background = glm::vec4(0.0f);
-  Material black;
-  black.phong.diffuse = black.phong.specular = glm::dvec3(0.0);
-  s.materials = {black};
+  Scene s = blackScene();
   TriangleMesh plane;  // one triangle over the whole view (pieces of two would meet in the view,
   plane.positions = {{-4, -2, 0}, {4, -2, 0}, {0, 4, 0}};  // and over budget they go to the tail)
   plane.triangles = {{0, 1, 2}};
@@ -433,11 +433,7 @@ namespace {
 // (they filled them to the budget of 64: 10x the time of the same wires not resting). They are
 // kept behind a pixel's occluders only within the depth its solid and the wire span.
 TEST(HiddenLines, RestingWiresBehindAWallDoNotFillTheLists) {
-  Scene s;
-  s.background = glm::vec4(0.0f);
-  Material black;
-  black.phong.diffuse = black.phong.specular = glm::dvec3(0.0);
-  s.materials = {black};
+  Scene s = blackScene();
   TriangleMesh wall;
   wall.positions = {{-3, -3, 1}, {3, -3, 1}, {3, 3, 1}, {-3, 3, 1}};
   wall.triangles = {{0, 1, 2}, {0, 2, 3}};

@@ -261,8 +261,8 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
         bool mayMerge;
         const bool segment = index >= triangleCount;
         if (!occludedWhole) ++wk.items;
-        auto emit = [&](const PixelCoverage& pc) {
-          if (opaque && !(pc.zkey < opaqueAt(pc.x, pc.y))) return;  // behind the external surface
+        // The fragment of a pixel's coverage (also the x-ray copy's, below).
+        auto fragmentOf = [&](const PixelCoverage& pc) {
           Fragment f;
           f.zmin = pc.zmin;
           f.zmax = pc.zmax;
@@ -279,7 +279,11 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
           f.shaded = false;  // shaded only if it survives (PreparedFragmentSource)
           f.holdout = slot.holdout;
           f.onSurface = segment && slot.restsOnSurface;
-          buf.insert(pc.x - tx0, pc.y - ty0, f, pc.subpixel);
+          return f;
+        };
+        auto emit = [&](const PixelCoverage& pc) {
+          if (opaque && !(pc.zkey < opaqueAt(pc.x, pc.y))) return;  // behind the external surface
+          buf.insert(pc.x - tx0, pc.y - ty0, fragmentOf(pc), pc.subpixel);
         };
         const int rx0 = tx0 + item.x0, ry0 = ty0 + item.y0, rx1 = tx0 + item.x1, ry1 = ty0 + item.y1;
         screenPolygonOf(ps, index, poly);
@@ -342,25 +346,12 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
             const SegmentFrame& fr = depth.frame;
             RenderStats::RasterWork xw;
             auto emitXray = [&](const PixelCoverage& pc) {
-              Fragment f;
-              f.zmin = pc.zmin;
-              f.zmax = pc.zmax;
-              f.zkey = pc.zkey;
-              f.area = float(pc.area);
-              f.mask = pc.mask;
-              f.opacity = opacity;
-              f.tag = tag;
-              f.occludesEarly = true;
-              f.prim = index;
-              f.cx = Fragment::toPoint(pc.cx - pc.x);
-              f.cy = Fragment::toPoint(pc.cy - pc.y);
-              f.shaded = false;
               float factor = slot.hidden.ghost;
               if (dashed) {
                 const double t = fr.length > 0 ? std::clamp(fr.t(pc.cx, pc.cy), 0.0, 1.0) : 0.0;
                 factor = dashCoverage(phase + t * fr.length, slot.hidden.dash, slot.hidden.gap);
               }
-              buf.insertXray(pc.x - tx0, pc.y - ty0, f, factor, pc.subpixel);
+              buf.insertXray(pc.x - tx0, pc.y - ty0, fragmentOf(pc), factor, pc.subpixel);
             };
             rasterizePolygon(poly, depth, rx0, ry0, rx1, ry1, ty0, options.mask, xw, never, never, never, never,
                              emitXray);
