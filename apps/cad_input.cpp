@@ -83,6 +83,13 @@ Factory cadFactory() {
 
 namespace {
 
+nlohmann::ordered_json edgesByClass(vtkWireFurCADReader* reader) {
+  nlohmann::ordered_json j = nlohmann::ordered_json::object();
+  for (int c = 0; c <= int(wf::EdgeClass::NonManifold); ++c)
+    j[wf::edgeClassName(wf::EdgeClass(c))] = reader->GetNumberOfEdgesOfClass(c);
+  return j;
+}
+
 CadGeometry readCadInProcess(const std::string& path, const CadOptions& o, bool withSurfaces) {
   vtkSmartPointer<vtkWireFurCADReader> reader;
   reader.TakeReference(cadFactory()());
@@ -135,7 +142,7 @@ CadGeometry readCadInProcess(const std::string& path, const CadOptions& o, bool 
     throw std::runtime_error(path + ": " + e.what());
   }
 
-  out.geometry.lines = wfcad::edgesToPolylines(reader->GetOutput(1), false);
+  out.geometry.lines = wfcad::edgesToPolylines(reader->GetOutput(1), false, &out.edgeClasses, &out.edgeAngles);
   out.isoLines = wfcad::edgesToPolylines(reader->GetOutput(1), true);
   out.info = {{"file", path},
               {"parts", reader->GetNumberOfParts()},
@@ -144,6 +151,7 @@ CadGeometry readCadInProcess(const std::string& path, const CadOptions& o, bool 
               {"faces_skipped", reader->GetNumberOfSkippedFaces()},
               {"edges", reader->GetNumberOfEdges()},
               {"iso_lines", out.isoLines.polylineCount()},
+              {"edges_by_class", edgesByClass(reader)},
               {"model_size", reader->GetModelSize()},
               {"linear_deflection", reader->GetAppliedLinearDeflection()},
               {"linear_deflection_relative", reader->GetAppliedLinearDeflection() / reader->GetModelSize()},
@@ -236,7 +244,7 @@ void writeGeometry(BlobWriter& w, const CadGeometry& g) {
   const wf::TriangleMesh& m = g.geometry.mesh;
   w.vec(m.positions), w.vec(m.normals), w.vec(m.derivU), w.vec(m.derivV), w.vec(m.uvs), w.vec(m.colours), w.vec(m.triangles);
   w.vec(g.trianglePart);
-  w.vec(g.geometry.lines.points), w.vec(g.geometry.lines.starts);
+  w.vec(g.geometry.lines.points), w.vec(g.geometry.lines.starts), w.vec(g.edgeClasses), w.vec(g.edgeAngles);
   w.vec(g.isoLines.points), w.vec(g.isoLines.starts);
   w.pod(std::uint64_t(g.partNames.size()));
   for (const std::string& n : g.partNames) w.str(n);
@@ -257,6 +265,8 @@ CadGeometry readGeometry(BlobReader& r) {
   g.trianglePart = r.vec<int>();
   g.geometry.lines.points = r.vec<glm::dvec3>();
   g.geometry.lines.starts = r.vec<std::uint32_t>();
+  g.edgeClasses = r.vec<wf::EdgeClass>();
+  g.edgeAngles = r.vec<float>();
   g.isoLines.points = r.vec<glm::dvec3>();
   g.isoLines.starts = r.vec<std::uint32_t>();
   const std::uint64_t parts = r.pod<std::uint64_t>();
@@ -271,6 +281,10 @@ CadGeometry readGeometry(BlobReader& r) {
   for (const glm::uvec3& t : m.triangles)
     if (t.x >= nv || t.y >= nv || t.z >= nv) throw std::runtime_error("CAD worker result is inconsistent");
   if (g.trianglePart.size() != m.triangles.size()) throw std::runtime_error("CAD worker result is inconsistent");
+  const size_t edges = g.geometry.lines.polylineCount();
+  if (g.edgeClasses.size() != edges || g.edgeAngles.size() != edges) throw std::runtime_error("CAD worker result is inconsistent");
+  for (wf::EdgeClass c : g.edgeClasses)
+    if (int(c) > int(wf::EdgeClass::NonManifold)) throw std::runtime_error("CAD worker result is inconsistent");
   return g;
 }
 
@@ -416,6 +430,8 @@ std::shared_ptr<wf::GeometryData> cadGeometryData(CadGeometry&& cad) {
   g->cad = true;
   g->mesh = std::move(cad.geometry.mesh);
   g->lines = std::move(cad.geometry.lines);
+  g->lineClasses = std::move(cad.edgeClasses);
+  g->lineAngles = std::move(cad.edgeAngles);
   g->isoLines = std::move(cad.isoLines);
   g->partNames = std::move(cad.partNames);
   g->trianglePart = std::move(cad.trianglePart);

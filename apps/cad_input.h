@@ -26,6 +26,8 @@ bool isCadFile(const std::string& path);
 struct CadGeometry {
   LoadedGeometry geometry;             ///< mesh: all faces; lines: the edges
   wf::PolylineSet isoLines;
+  std::vector<wf::EdgeClass> edgeClasses;  ///< per polyline of geometry.lines (render/edge_classes.h)
+  std::vector<float> edgeAngles;           ///< per polyline: degrees between the faces, NaN if none
   std::vector<std::string> partNames;
   std::vector<int> trianglePart;       ///< part of each triangle of geometry.mesh
   nlohmann::ordered_json info;         ///< counts, deflection, seconds (for --stats)

@@ -220,6 +220,35 @@ CLI::Option* addSilhouettesOption(CLI::App& app, std::optional<bool>& silhouette
       ->trigger_on_parse();
 }
 
+void addEdgeOptions(CLI::App& app, wf::EdgeOverrides& edges) {
+  app.add_option_function<std::string>(
+         "--edges",
+         [&edges](const std::string& v) {
+           wf::EdgeSelection::Mode m;
+           wf::parseEdgeMode(v, m);
+           edges.mode = m;
+         },
+         "which edges the wire-frame draws: all (default), sharp (hard edges: where faces meet at more than "
+         "the feature angle, and borders), boundary (borders of open shells)")
+      ->check(oneOf({"all", "sharp", "boundary"}))
+      ->type_name("all|sharp|boundary")
+      ->trigger_on_parse();
+  app.add_option_function<std::string>(
+         "--seams", [&edges](const std::string& v) { edges.seams = v == "on"; },
+         "seam edges (a face on both sides: a cylinder's seam) drawn too (default off)")
+      ->check(oneOf({"on", "off"}))
+      ->type_name("on|off")
+      ->trigger_on_parse();
+  app.add_option_function<std::string>(
+         "--feature-angle", [&edges](const std::string& v) { edges.featureAngle = *readNumber(v); },
+         withRange("degrees: faces whose normals differ by more along their edge meet at a sharp edge, else a "
+                   "smooth one (default 10), {range}",
+                   0.0, 180.0))
+      ->check(numberIn(0.0, 180.0))
+      ->type_name("DEG")
+      ->trigger_on_parse();
+}
+
 CLI::Option* addMaskOption(CLI::App& app, std::string& mask) {
   return app.add_option("--mask", mask, "coverage mask: subsamples per pixel (default: the scene's, else 8x4)")
       ->check(oneOf({"4x4", "8x4", "8x8"}))

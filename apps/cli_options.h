@@ -73,6 +73,8 @@ CLI::Option* addStyleOption(CLI::App& app, std::string& style, const std::vector
 std::string parseHidden(const std::string& text, wf::HiddenLines& hidden);
 /// --hidden MODE (HiddenLines: how wire-frames draw where surfaces hide them).
 CLI::Option* addHiddenOption(CLI::App& app, std::optional<wf::HiddenLines>& hidden);
+/// --edges all|sharp|boundary, --seams on|off, --feature-angle DEG (render/edge_classes.h).
+void addEdgeOptions(CLI::App& app, wf::EdgeOverrides& edges);
 /// --silhouettes on|off (the silhouettes of curved faces with the wire-frame).
 CLI::Option* addSilhouettesOption(CLI::App& app, std::optional<bool>& silhouettes);
 CLI::Option* addMaskOption(CLI::App& app, std::string& mask);

@@ -4,6 +4,8 @@
 #include "render_command.h"
 #include "scene_file.h"
 
+#include "scene/edge_visibility.h"
+
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
@@ -42,9 +44,10 @@ glm::dvec3 unitOrZero(const glm::dvec3& v) {
 
 }  // namespace
 
-vtkSmartPointer<vtkPolyData> sceneToPolyData(const wf::Scene& scene) {
+vtkSmartPointer<vtkPolyData> sceneToPolyData(const wf::Scene& scene, const std::vector<std::vector<std::uint8_t>>* visible) {
   size_t nPoints = 0;
-  for (const wf::SceneSurface& s : scene.surfaces) nPoints += s.mesh.positions.size();
+  for (const wf::SceneSurface& s : scene.surfaces)
+    if (!s.holdout) nPoints += s.mesh.positions.size();
   for (const wf::SceneWire& w : scene.wires) nPoints += w.lines.points.size();
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
@@ -76,7 +79,7 @@ vtkSmartPointer<vtkPolyData> sceneToPolyData(const wf::Scene& scene) {
   colours->SetNumberOfComponents(3);
   colours->SetNumberOfTuples(vtkIdType(nPoints));
   vtkNew<vtkCellArray> polys, lines;
-  vtkNew<vtkIntArray> polyObject, lineObject;
+  vtkNew<vtkIntArray> polyObject, lineObject, lineClass, lineVisible;
   vtkNew<vtkDoubleArray> polyThickness, lineThickness;
   vtkNew<vtkStringArray> names;
   names->SetName("ObjectNames");
@@ -95,6 +98,7 @@ vtkSmartPointer<vtkPolyData> sceneToPolyData(const wf::Scene& scene) {
     colours->SetTypedTuple(id, cb);
   };
   for (const wf::SceneSurface& s : scene.surfaces) {
+    if (s.holdout) continue;
     const wf::TriangleMesh& m = s.mesh;
     const size_t nv = m.positions.size();
     const vtkIdType base = next;
@@ -119,8 +123,12 @@ vtkSmartPointer<vtkPolyData> sceneToPolyData(const wf::Scene& scene) {
     names->InsertNextValue(s.name);
     ++object;
   }
-  for (const wf::SceneWire& w : scene.wires) {
+  for (size_t wi = 0; wi < scene.wires.size(); ++wi) {
+    const wf::SceneWire& w = scene.wires[wi];
     const wf::PolylineSet& L = w.lines;
+    const bool classified = w.edgeClasses.size() == L.polylineCount();
+    const std::vector<std::uint8_t>* vis =
+        visible && wi < visible->size() && (*visible)[wi].size() == L.polylineCount() ? &(*visible)[wi] : nullptr;
     const vtkIdType base = next;
     const bool hasColours = L.colours.size() == L.points.size();
     for (size_t k = 0; k < L.points.size(); ++k) setPoint(next++, L.points[k], glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec2(0.0),
@@ -138,6 +146,8 @@ vtkSmartPointer<vtkPolyData> sceneToPolyData(const wf::Scene& scene) {
       }
       lineObject->InsertNextValue(object);
       lineThickness->InsertNextValue(w.thicknessInPixels ? 0.0 : w.thickness);
+      lineClass->InsertNextValue(classified ? int(w.edgeClasses[li]) : -1);
+      lineVisible->InsertNextValue(vis ? int((*vis)[li]) : -1);
     }
     names->InsertNextValue(w.name);
     ++object;
@@ -159,16 +169,25 @@ vtkSmartPointer<vtkPolyData> sceneToPolyData(const wf::Scene& scene) {
   objectIds->SetName("ObjectId");
   vtkNew<vtkDoubleArray> thickness;
   thickness->SetName("Thickness");
+  vtkNew<vtkIntArray> edgeClass, visibleCells;
+  edgeClass->SetName("EdgeClass");
+  visibleCells->SetName("Visible");
   for (vtkIdType i = 0; i < lineObject->GetNumberOfTuples(); ++i) {
     objectIds->InsertNextValue(lineObject->GetValue(i));
     thickness->InsertNextValue(lineThickness->GetValue(i));
+    edgeClass->InsertNextValue(lineClass->GetValue(i));
+    visibleCells->InsertNextValue(lineVisible->GetValue(i));
   }
   for (vtkIdType i = 0; i < polyObject->GetNumberOfTuples(); ++i) {
     objectIds->InsertNextValue(polyObject->GetValue(i));
     thickness->InsertNextValue(polyThickness->GetValue(i));
+    edgeClass->InsertNextValue(-1);
+    visibleCells->InsertNextValue(-1);
   }
   pd->GetCellData()->AddArray(objectIds);
   pd->GetCellData()->AddArray(thickness);
+  pd->GetCellData()->AddArray(edgeClass);
+  if (visible) pd->GetCellData()->AddArray(visibleCells);
   pd->GetFieldData()->AddArray(names);
   return pd;
 }
@@ -188,8 +207,40 @@ int runExport(const ExportOptions& o) {
     throw UsageError(output + ": the folder " + parent.string() + " does not exist");
   if (std::filesystem::is_directory(target, ec)) throw UsageError(output + ": is a folder");
 
-  const SceneFile sf = loadInput(input, o.style, o.overrides);
-  const vtkSmartPointer<vtkPolyData> pd = sceneToPolyData(sf.scene);
+  SceneOverrides overrides = o.overrides;
+  // Visibility needs the faces even where the style draws none: as hold-outs (hidden-line
+  // removal), which hide and are not written.
+  if (o.visibility && !overrides.hidden) overrides.hidden = wf::HiddenLines{wf::HiddenLines::Mode::Hide};
+  SceneFile sf = loadInput(input, o.style, overrides);
+  if (o.width > 0) {
+    sf.width = o.width, sf.height = o.height;
+    reframe(sf, o.width, o.height);
+  }
+  std::vector<std::vector<std::uint8_t>> visible;
+  if (o.visibility) {
+    if (!sf.scene.camera) throw std::runtime_error(input + ": the scene has no camera for --visibility");
+    const wf::OcclusionGrid grid(sf.scene, *sf.scene.camera, sf.width, sf.height);
+    wf::VisibilityStats stats;
+    visible.resize(sf.scene.wires.size());
+    for (size_t i = 0; i < sf.scene.wires.size(); ++i) {
+      wf::SceneWire& w = sf.scene.wires[i];
+      if (w.aggregate) continue;
+      wf::VisibleLines v = wf::splitByVisibility(w.lines, grid, {}, stats);
+      if (w.edgeClasses.size() == w.lines.polylineCount()) {
+        std::vector<wf::EdgeClass> classes;
+        for (std::uint32_t s : v.source) classes.push_back(w.edgeClasses[s]);
+        w.edgeClasses = std::move(classes);
+      } else {
+        w.edgeClasses.clear();
+      }
+      w.lines = std::move(v.lines);
+      visible[i] = std::move(v.visible);
+    }
+    if (!o.quiet)
+      std::fprintf(stderr, "visibility: %.6g visible, %.6g hidden (world length), %zu splits, %zu samples\n",
+                   stats.visibleLength, stats.hiddenLength, stats.splits, stats.samples);
+  }
+  const vtkSmartPointer<vtkPolyData> pd = sceneToPolyData(sf.scene, o.visibility ? &visible : nullptr);
   if (ext == ".ply" && pd->GetNumberOfLines() > 0)
     warn(output + ": PLY holds no lines: " + std::to_string(pd->GetNumberOfLines()) +
          " wire and hair polylines are left out (use .vtp, .vtk or .obj)");

@@ -102,6 +102,7 @@ void declareRender(CLI::App& wirefur, wfapp::RenderCommandOptions& o) {
       ->trigger_on_parse();
   wfapp::addHiddenOption(*c, o.hidden);
   wfapp::addSilhouettesOption(*c, o.silhouettes);
+  wfapp::addEdgeOptions(*c, o.edges);
   wfapp::addTimeOption(*c, o.time);
   wfapp::addQuietOption(*c, o.quiet);
   wfapp::addCadOptions(*c, o.cad);
@@ -116,6 +117,11 @@ void declareExport(CLI::App& wirefur, wfapp::ExportOptions& o) {
   wfapp::addStyleOption(*c, o.style, kStyles, kStyleHelp);
   wfapp::addTimeOption(*c, o.overrides.time);
   wfapp::addSilhouettesOption(*c, o.overrides.silhouettes);
+  wfapp::addEdgeOptions(*c, o.overrides.edges);
+  wfapp::addFlag(*c, "--visibility", o.visibility,
+                 "split every wire-frame where the opaque surfaces start and stop hiding it from the camera; cell array "
+                 "Visible (1 seen, 0 hidden)");
+  wfapp::addSizeOption(*c, o.width, o.height, "the image the camera is framed for (default: the scene's)");
   wfapp::addQuietOption(*c, o.quiet);
   wfapp::addCadOptions(*c, o.overrides.cad);
 }
@@ -138,6 +144,7 @@ void declareView(CLI::App& wirefur, wfapp::ViewOptions& o) {
   c->add_option("--png", o.png, "with --frames: write the last frame as a PNG")->type_name("F")->trigger_on_parse();
   wfapp::addHiddenOption(*c, o.hidden);
   wfapp::addSilhouettesOption(*c, o.silhouettes);
+  wfapp::addEdgeOptions(*c, o.edges);
   wfapp::addQuietOption(*c, o.quiet);
   wfapp::addCadOptions(*c, o.cad);
 }

@@ -172,6 +172,7 @@ int runRender(const RenderCommandOptions& o) {
   overrides.cad = o.cad;
   overrides.hidden = o.hidden;
   overrides.silhouettes = o.silhouettes;
+  overrides.edges = o.edges;
   overrides.cad.threads = o.threads;
   overrides.cad.showProgress = progress.enabled();
   SceneFile sf = loadInput(o.input, o.style, overrides);
@@ -291,6 +292,18 @@ int runRender(const RenderCommandOptions& o) {
                             {"non_finite", ss.nonFinite}, {"cut_short", ss.cutShort}, {"evaluations", ss.evaluations}};
     stats["seconds"]["silhouettes"] = sf.silhouetteSeconds;
     stats["error_estimate"]["silhouette_chord_px"] = sf.silhouettes.front().options.tolerancePx;
+  }
+  {
+    // The classified lines drawn (a model's edges by class, silhouettes): render/edge_classes.h.
+    std::size_t byClass[7] = {};
+    bool any = false;
+    for (const wf::SceneWire& w : sf.scene.wires)
+      for (wf::EdgeClass c : w.edgeClasses) ++byClass[std::size_t(c)], any = true;
+    if (any) {
+      nlohmann::ordered_json j = nlohmann::ordered_json::object();
+      for (int c = 0; c < 7; ++c) j[wf::edgeClassName(wf::EdgeClass(c))] = byClass[c];
+      stats["edges_drawn"] = j;
+    }
   }
   stats["seconds"]["write_png"] = secondsSince(tw);
   stats["peak_rss_bytes"] = peakRssBytes();

@@ -35,6 +35,7 @@ struct RenderCommandOptions {
   CadOptions cad;              ///< --deflection, --angular-deflection, --isos (CAD input)
   std::optional<wf::HiddenLines> hidden;  ///< --hidden
   std::optional<bool> silhouettes;        ///< --silhouettes
+  wf::EdgeOverrides edges;                ///< --edges, --seams, --feature-angle
 };
 
 int runRender(const RenderCommandOptions& options);

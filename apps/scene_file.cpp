@@ -280,7 +280,8 @@ int materialRef(const Reader& r, const json& j, const std::string& ptr, const st
 }
 
 wf::WireDescription readWire(const Reader& r, const json& j, const std::string& ptr, const std::map<std::string, int>& materials) {
-  r.keys(j, ptr, {"from", "lines", "style", "material", "thickness", "units", "colour", "opacity", "ends", "hidden", "silhouettes"});
+  r.keys(j, ptr, {"from", "lines", "style", "material", "thickness", "units", "colour", "opacity", "ends", "hidden", "silhouettes",
+                  "edges"});
   wf::WireDescription w;
   w.where = ptr;
   if (j.contains("from")) {
@@ -306,6 +307,18 @@ wf::WireDescription readWire(const Reader& r, const json& j, const std::string& 
   if (j.contains("opacity")) w.wire.opacity = float(r.number(j["opacity"], Reader::at(ptr, "opacity"), 0, 1));
   if (j.contains("ends")) w.wire.roundEnds = r.choice(j["ends"], Reader::at(ptr, "ends"), {"square", "round"}) == "round";
   if (j.contains("silhouettes")) w.silhouettes = r.boolean(j["silhouettes"], Reader::at(ptr, "silhouettes"));
+  if (j.contains("edges")) {
+    // "sharp", or {"mode": "sharp", "feature_angle": 20, "seams": true}
+    const std::string ep = Reader::at(ptr, "edges");
+    const json& e = j["edges"];
+    if (e.is_object()) r.keys(e, ep, {"mode", "feature_angle", "seams"});
+    if (!e.is_object() || e.contains("mode")) {
+      const std::string m = r.choice(e.is_object() ? e["mode"] : e, e.is_object() ? Reader::at(ep, "mode") : ep, {"all", "sharp", "boundary"});
+      wf::parseEdgeMode(m, w.edges.mode);
+    }
+    if (e.is_object() && e.contains("feature_angle")) w.edges.featureAngle = r.number(e["feature_angle"], Reader::at(ep, "feature_angle"), 0, 180);
+    if (e.is_object() && e.contains("seams")) w.edges.seams = r.boolean(e["seams"], Reader::at(ep, "seams"));
+  }
   if (j.contains("hidden")) {
     // "dashed", or {"mode": "dashed", "dash": 6, "gap": 4} / {"mode": "ghost", "opacity": 0.3}
     const std::string hp = Reader::at(ptr, "hidden");
@@ -522,6 +535,7 @@ SceneFile parseScene(const std::string& path, const std::string& text, const std
   d.camera = readCamera(r, doc.contains("camera") ? doc["camera"] : json::object(), "/camera");
   if (overrides.hidden) wf::applyHiddenLines(d, *overrides.hidden);
   if (overrides.silhouettes) wf::applySilhouettes(d, *overrides.silhouettes);
+  wf::applyEdgeSelection(d, overrides.edges);
   build(sf, d, path);
   if (sf.title.empty()) sf.title = std::filesystem::path(path).stem().string();
   return sf;
@@ -562,6 +576,7 @@ void buildStyled(SceneFile& sf, const std::string& path, std::shared_ptr<const w
   }
   if (overrides.hidden) wf::applyHiddenLines(d, *overrides.hidden);
   if (overrides.silhouettes) wf::applySilhouettes(d, *overrides.silhouettes);
+  wf::applyEdgeSelection(d, overrides.edges);
   d.width = sf.width, d.height = sf.height;
   d.maxPrimitives = SceneBudget::kMaxPrimitives;
   build(sf, d, path);

@@ -63,6 +63,8 @@ struct SceneOverrides {
   /// `--silhouettes on|off`: the silhouettes of curved faces with every wire-frame (default: on
   /// for the wire styles of CAD files, as a scene file's wires say otherwise).
   std::optional<bool> silhouettes;
+  /// `--edges`, `--seams`, `--feature-angle`: which edges every wire-frame draws.
+  wf::EdgeOverrides edges;
 };
 
 /// Refits an automatically framed camera to a width x height image (after --size).

@@ -27,6 +27,7 @@ struct ViewOptions {
   CadOptions cad;         ///< --deflection, --angular-deflection, --isos (CAD input)
   std::optional<wf::HiddenLines> hidden;  ///< --hidden
   std::optional<bool> silhouettes;        ///< --silhouettes
+  wf::EdgeOverrides edges;                ///< --edges, --seams, --feature-angle
 };
 
 /// Runs the command. Returns the exit status.

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "render/camera.h"
+#include "render/edge_classes.h"
 #include "shading/environment_map.h"
 #include "shading/light.h"
 #include "shading/phong.h"
@@ -135,6 +136,9 @@ struct SceneWire {
   /// are much denser than the pixels resolve. False: every polyline is drawn as it is.
   bool aggregate = false;
   HiddenLines hidden;  ///< where surfaces hide it
+  /// Per polyline of `lines`, its class (render/edge_classes.h) where they are a model's edges or
+  /// silhouettes; else empty. The renderer does not read it; `wirefur export` writes it.
+  std::vector<EdgeClass> edgeClasses;
 };
 
 struct Scene {

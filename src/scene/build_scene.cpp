@@ -1,5 +1,6 @@
 // buildScene (scene/scene_description.h): a description into the renderer's wf::Scene.
 #include "scene/scene_description.h"
+#include "surface/mesh_edges.h"
 
 #include "core/timer.h"
 
@@ -182,6 +183,27 @@ std::vector<TriangleMesh> splitParts(const TriangleMesh& all, const std::vector<
   return meshes;
 }
 
+// A CAD model's lines as a wire: its B-rep edges that the selection keeps, each with its class,
+// then whatever follows them in `lines` (iso lines drawn with the edges), unclassified.
+void selectEdges(const GeometryData& g, const PolylineSet& lines, const EdgeSelection& selection, SceneWire& w) {
+  const std::size_t edges = g.lines.polylineCount();
+  const bool classified = g.lineClasses.size() == edges && g.lineAngles.size() == edges;
+  for (std::size_t k = 0; k < lines.polylineCount(); ++k) {
+    const bool edge = k < edges && classified;
+    if (edge && !selection.keeps(g.lineClasses[k], g.lineAngles[k])) continue;
+    const EdgeClass c = !edge ? EdgeClass::Free
+                      : g.lineClasses[k] == EdgeClass::Sharp || g.lineClasses[k] == EdgeClass::Smooth
+                          ? EdgeSelection::byAngle(g.lineAngles[k], selection.featureAngle)
+                          : g.lineClasses[k];
+    if (w.lines.starts.empty()) w.lines.starts.push_back(0);
+    w.lines.points.insert(w.lines.points.end(), lines.points.begin() + lines.starts[k], lines.points.begin() + lines.starts[k + 1]);
+    w.lines.starts.push_back(std::uint32_t(w.lines.points.size()));
+    if (k < edges) w.edgeClasses.push_back(c);
+  }
+  // Classes only when every polyline has one (iso lines drawn with the edges have none).
+  if (w.edgeClasses.size() != w.lines.polylineCount()) w.edgeClasses.clear();
+}
+
 void buildObject(const SceneDescription& d, const ObjectDescription& o, std::uint32_t index, Budget& budget, BuiltScene& out) {
   Scene& scene = out.scene;
   const bool isSource = o.source.has_value();
@@ -249,17 +271,24 @@ void buildObject(const SceneDescription& d, const ObjectDescription& o, std::uin
       case WireDescription::From::Edges:
         if (isCad) {
           if (fileLines.points.empty()) throw SceneError(fromWhere, "this CAD file has no edges");
-          w.lines = fileLines;
+          selectEdges(*o.geometry, fileLines, wd.edges, w);
         } else {
           if (mesh.triangles.empty()) throw SceneError(fromWhere, "this object has no polygons, so no edges");
           budget.add(wd.where, 1.5 * double(mesh.triangles.size()), "this wire's edges");
           counted = true;
-          w.lines = meshEdges(mesh);
+          if (wd.edges.mode == EdgeSelection::Mode::All) {
+            w.lines = meshEdges(mesh);
+          } else {
+            ClassifiedEdges e = classifyMeshEdges(mesh, wd.edges);
+            w.lines = std::move(e.lines);
+            w.edgeClasses = std::move(e.classes);
+          }
         }
         break;
       default:
         if (fileLines.points.empty()) throw SceneError(fromWhere, "this object has no line cells");
-        w.lines = fileLines;
+        if (isCad) selectEdges(*o.geometry, fileLines, wd.edges, w);
+        else w.lines = fileLines;
         break;
     }
     if (!counted) budget.add(wd.where, double(w.lines.points.size() - w.lines.polylineCount()), "this wire");
@@ -461,6 +490,7 @@ double traceSilhouettes(Scene& scene, const std::vector<SilhouetteSource>& sourc
       for (size_t k = 0; k < lines[i].polylineCount(); ++k)
         out.add(std::vector<glm::dvec3>(lines[i].points.begin() + lines[i].starts[k], lines[i].points.begin() + lines[i].starts[k + 1]));
     }
+    scene.wires[src.wire].edgeClasses.assign(out.polylineCount(), EdgeClass::Silhouette);
   }
   return secondsSince(t0);
 }

@@ -17,6 +17,7 @@
 #include "growth/fur.h"
 #include "growth/scales.h"
 #include "render/scene.h"
+#include "render/edge_classes.h"
 #include "surface/silhouette.h"
 #include "surface/surface.h"
 #include "texture/texture.h"
@@ -52,6 +53,10 @@ struct FaceSurface {
 struct GeometryData {
   TriangleMesh mesh;                   ///< polygons, triangulated (CAD: every face's tessellation)
   PolylineSet lines;                   ///< line cells (CAD: the B-rep edges)
+  /// CAD: each edge's class and the angle between its faces (render/edge_classes.h), one per
+  /// polyline of `lines`; empty for other files.
+  std::vector<EdgeClass> lineClasses;
+  std::vector<float> lineAngles;
   PolylineSet isoLines;                ///< CAD: iso-parameter lines asked for, drawn thin
   bool cad = false;                    ///< a CAD model: its edges are `lines`, not the tessellation's
   std::vector<std::string> partNames;  ///< CAD: one surface per part, named
@@ -71,6 +76,9 @@ struct WireDescription {
   /// faces; surface/silhouette.h), drawn as this wire, traced for the camera (traceSilhouettes).
   bool silhouettes = false;
   SilhouetteOptions silhouetteOptions;
+  /// Which edges (From::Edges of a mesh, a CAD model's B-rep edges): render/edge_classes.h. A
+  /// mesh's edges are classified from its triangles only when the selection is not `all`.
+  EdgeSelection edges;
 };
 
 /// Fur grown on the object's surface (a source, a CAD file's faces, or a mesh; growth/fur.h).

@@ -183,6 +183,15 @@ void applySilhouettes(SceneDescription& d, bool on) {
     if (o.wire && !o.wire->wire.aggregate) o.wire->silhouettes = on;
 }
 
+void applyEdgeSelection(SceneDescription& d, const EdgeOverrides& e) {
+  for (ObjectDescription& o : d.objects) {
+    if (!o.wire || o.wire->wire.aggregate) continue;
+    if (e.mode) o.wire->edges.mode = *e.mode;
+    if (e.seams) o.wire->edges.seams = *e.seams;
+    if (e.featureAngle) o.wire->edges.featureAngle = *e.featureAngle;
+  }
+}
+
 bool parseHiddenMode(const std::string& name, HiddenLines::Mode& mode) {
   using M = HiddenLines::Mode;
   if (name == "off") mode = M::Off;

@@ -45,6 +45,15 @@ SceneDescription describeStyled(std::shared_ptr<const GeometryData> geometry, St
 void applyHiddenLines(SceneDescription& description, const HiddenLines& hidden);
 /// Silhouettes on or off for every object's wire-frame that is not hair-like (`--silhouettes`).
 void applySilhouettes(SceneDescription& description, bool on);
+/// Which edges wire-frames draw, as the command line overrides it (`--edges`, `--seams`,
+/// `--feature-angle`): each given part replaces that part of every not hair-like wire's
+/// EdgeSelection (render/edge_classes.h).
+struct EdgeOverrides {
+  std::optional<EdgeSelection::Mode> mode;
+  std::optional<bool> seams;
+  std::optional<double> featureAngle;
+};
+void applyEdgeSelection(SceneDescription& description, const EdgeOverrides& edges);
 /// "off", "dashed", "ghost", "hide"; false for anything else.
 bool parseHiddenMode(const std::string& name, HiddenLines::Mode& mode);
 

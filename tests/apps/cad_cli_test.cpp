@@ -10,7 +10,18 @@
 
 #include <unistd.h>
 
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkIdList.h>
+#include <vtkMath.h>
+#include <vtkNew.h>
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+#include <vtkXMLPolyDataReader.h>
+
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -352,4 +363,122 @@ TEST(CadCli, OpenCascadeIsNotLinkedIntoTheCommand) {
   ASSERT_NE(out.find("libvtkCommonCore"), std::string::npos) << "ldd gave no library list:\n" << out;
   EXPECT_EQ(out.find("libTKernel"), std::string::npos) << out;
   EXPECT_EQ(out.find("WireFurCAD"), std::string::npos) << out;
+}
+
+// Edge classes (docs/cad.md): product.step's 72 edges are 16 sharp and 56 smooth (its fillets'
+// tangent edges, at 0 degrees), none a seam; `--edges sharp` draws the 16 and no smooth one,
+// `--edges boundary` none of them (a closed solid has no border), only the silhouettes. The
+// cylinder (a BREP of three faces) hides its seam unless `--seams on`. Bad values: one line,
+// exit 2, nothing written.
+TEST(CadCli, EdgeClassesAndTheirOptions) {
+  const std::string in = kCad + "product.step";
+  const json all = renderStats(in, "--style wire", "edges_all");
+  ASSERT_TRUE(all.contains("edges_drawn")) << all.dump();
+  const json& classes = all["input"]["cad"]["edges_by_class"];
+  EXPECT_EQ(classes["sharp"], 16);
+  EXPECT_EQ(classes["smooth"], 56);
+  EXPECT_EQ(classes["seam"], 0);
+  EXPECT_EQ(all["edges_drawn"]["sharp"], 16);
+  EXPECT_EQ(all["edges_drawn"]["smooth"], 56);
+  EXPECT_GT(all["edges_drawn"]["silhouette"].get<long>(), 0);
+  const json sharp = renderStats(in, "--style wire --edges sharp", "edges_sharp");
+  EXPECT_EQ(sharp["edges_drawn"]["sharp"], 16);
+  EXPECT_EQ(sharp["edges_drawn"]["smooth"], 0);
+  EXPECT_LT(sharp["segments"].get<long>(), all["segments"].get<long>());
+  // A feature angle above 90 makes the box-like rim's edges smooth too.
+  const json wide = renderStats(in, "--style wire --edges sharp --feature-angle 120", "edges_wide");
+  EXPECT_EQ(wide["edges_drawn"]["sharp"], 0);
+  const json boundary = renderStats(in, "--style wire --edges boundary", "edges_boundary");
+  EXPECT_EQ(boundary["edges_drawn"]["sharp"], 0);
+  EXPECT_EQ(boundary["edges_drawn"]["smooth"], 0);
+  EXPECT_GT(boundary["edges_drawn"]["silhouette"].get<long>(), 0);
+
+  const std::string cyl = std::string(WIREFUR_SOURCE_DIR) + "/tests/apps/cad_regressions/binary_brep_from_BinTools_Write.brep";
+  const json noSeam = renderStats(cyl, "--style wire", "edges_cyl");
+  EXPECT_EQ(noSeam["input"]["cad"]["edges_by_class"]["seam"], 1);
+  EXPECT_EQ(noSeam["edges_drawn"]["seam"], 0);
+  EXPECT_EQ(noSeam["edges_drawn"]["sharp"], 2);
+  const json seam = renderStats(cyl, "--style wire --seams on", "edges_cyl_seam");
+  EXPECT_EQ(seam["edges_drawn"]["seam"], 1);
+
+  for (const char* bad : {"--edges some", "--seams maybe", "--feature-angle 200", "--feature-angle -1", "--feature-angle nan"}) {
+    const fs::path png = dir() / "edges_bad.png";
+    const Result r = run("render '" + in + "' -o '" + png.string() + "' " + bad);
+    EXPECT_EQ(r.status, 2) << bad;
+    EXPECT_EQ(wf::test::lineCount(r.err), 1) << bad << ": " << r.err;
+    EXPECT_FALSE(fs::exists(png)) << bad;
+  }
+}
+
+// The scene key wire.edges: a string or {"mode", "feature_angle", "seams"}; its keys are checked.
+TEST(CadCli, EdgeClassesSceneKey) {
+  const std::string cyl = std::string(WIREFUR_SOURCE_DIR) + "/tests/apps/cad_regressions/binary_brep_from_BinTools_Write.brep";
+  const std::string scene = write("edges_key.json", R"({"objects": [{"file": ")" + cyl + R"(", "surface": false,
+    "wire": {"from": "edges", "thickness": 1.5, "units": "pixels", "edges": {"mode": "sharp", "seams": true, "feature_angle": 30}}}]})");
+  const json s = renderStats(scene, "", "edges_key");
+  EXPECT_EQ(s["edges_drawn"]["seam"], 1);
+  EXPECT_EQ(s["edges_drawn"]["sharp"], 2);
+  const std::string bad = write("edges_bad_key.json", R"({"objects": [{"file": ")" + cyl + R"(", "surface": false,
+    "wire": {"from": "edges", "edges": {"mode": "sharp", "angle": 30}}}]})");
+  const Result r = run("render '" + bad + "' -o '" + (dir() / "edges_bad_key.png").string() + "'");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("/objects/0/wire/edges"), std::string::npos) << r.err;
+  EXPECT_EQ(wf::test::lineCount(r.err), 1) << r.err;
+}
+
+// export --visibility: every wire-frame cut into pieces each wholly seen or hidden from the
+// framed camera, with cell arrays EdgeClass (the piece's edge's class) and Visible; both answers
+// occur on product.step seen from above (the tray's far walls hide parts of its near rim's
+// inner edges... and its underside edges); the pieces' lengths add up to the edges' lengths
+// without --visibility (1e-9 relative). Without --visibility there is no Visible array.
+TEST(CadCli, ExportCarriesEdgeClassAndVisibility) {
+  auto read = [](const fs::path& p) {
+    vtkNew<vtkXMLPolyDataReader> r;
+    r->SetFileName(p.string().c_str());
+    r->Update();
+    vtkSmartPointer<vtkPolyData> pd = r->GetOutput();
+    return pd;
+  };
+  auto lineLength = [](vtkPolyData* pd, int visible) {
+    double total = 0;
+    vtkDataArray* vis = pd->GetCellData()->GetArray("Visible");
+    vtkNew<vtkIdList> ids;
+    vtkCellArray* lines = pd->GetLines();
+    vtkIdType c = 0;
+    for (lines->InitTraversal(); lines->GetNextCell(ids); ++c) {
+      if (visible >= 0 && (!vis || int(vis->GetTuple1(c)) != visible)) continue;
+      for (vtkIdType k = 1; k < ids->GetNumberOfIds(); ++k) {
+        double a[3], b[3];
+        pd->GetPoint(ids->GetId(k - 1), a);
+        pd->GetPoint(ids->GetId(k), b);
+        total += std::sqrt(vtkMath::Distance2BetweenPoints(a, b));
+      }
+    }
+    return total;
+  };
+  const fs::path plain = dir() / "edges_plain.vtp", split = dir() / "edges_split.vtp";
+  const std::string in = kCad + "product.step";
+  Result r = run("export '" + in + "' -o '" + plain.string() + "' --style wire --silhouettes off");
+  ASSERT_EQ(r.status, 0) << r.err;
+  r = run("export '" + in + "' -o '" + split.string() + "' --style wire --silhouettes off --visibility --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const vtkSmartPointer<vtkPolyData> a = read(plain), b = read(split);
+  EXPECT_EQ(a->GetCellData()->GetArray("Visible"), nullptr);
+  ASSERT_NE(b->GetCellData()->GetArray("Visible"), nullptr);
+  ASSERT_NE(b->GetCellData()->GetArray("EdgeClass"), nullptr);
+  EXPECT_EQ(a->GetNumberOfPolys(), 0) << "the hold-out faces are not written";
+  EXPECT_EQ(b->GetNumberOfPolys(), 0);
+  EXPECT_EQ(a->GetNumberOfLines(), 72);
+  EXPECT_GT(b->GetNumberOfLines(), 72);
+  std::set<int> seen, classes;
+  for (vtkIdType c = 0; c < b->GetNumberOfLines(); ++c) {
+    seen.insert(int(b->GetCellData()->GetArray("Visible")->GetTuple1(c)));
+    classes.insert(int(b->GetCellData()->GetArray("EdgeClass")->GetTuple1(c)));
+  }
+  EXPECT_EQ(seen, (std::set<int>{0, 1}));
+  EXPECT_EQ(classes, (std::set<int>{1, 2}));
+  const double whole = lineLength(a, -1), seenLength = lineLength(b, 1), hiddenLength = lineLength(b, 0);
+  EXPECT_NEAR(seenLength + hiddenLength, whole, 1e-9 * whole);
+  EXPECT_GT(seenLength, 0.2 * whole);
+  EXPECT_GT(hiddenLength, 0.2 * whole);
 }

@@ -415,6 +415,8 @@ inline std::vector<GeomAbs_SurfaceType> surfaceTypes(const TopoDS_Shape& s) {
 struct Line {
   std::vector<vtkIdType> ids;
   int kind = 0, id = 0, part = 0;
+  int edgeClass = -1;  ///< "EdgeClass"
+  double angle = 0;    ///< "EdgeAngle" (degrees, NaN where not between two faces)
 };
 inline std::vector<Line> lines(const Read& r) {
   std::vector<Line> out;
@@ -431,6 +433,8 @@ inline std::vector<Line> lines(const Read& r) {
     l.kind = int(kind->GetTuple1(c));
     l.id = int(eid->GetTuple1(c));
     l.part = int(pid->GetTuple1(c));
+    if (vtkDataArray* cls = r.edges->GetCellData()->GetArray("EdgeClass")) l.edgeClass = int(cls->GetTuple1(c));
+    if (vtkDataArray* a = r.edges->GetCellData()->GetArray("EdgeAngle")) l.angle = a->GetTuple1(c);
     out.push_back(l);
   }
   return out;

@@ -6,7 +6,10 @@
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
 #include <gp_Circ.hxx>
+#include <BRepFilletAPI_MakeChamfer.hxx>
 #include <BRepFilletAPI_MakeFillet.hxx>
+#include <BRep_Builder.hxx>
+#include <TopExp_Explorer.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRep_Tool.hxx>
@@ -240,4 +243,79 @@ TEST(CadEdges, EdgesOnlyModel) {
     }
   }
   EXPECT_EQ(circles, 1);
+}
+
+// Edge classes (render/edge_classes.h) against what each solid is made of. A box: 12 sharp edges,
+// each at exactly 90 degrees between its faces' outward normals (1e-9). The box with 2-mm fillets
+// on every edge: the 24 edges where a fillet meets a face are smooth at 0 degrees (1e-6: the
+// fillets are exactly tangent); the fillets' corner patches meet each other along smooth edges
+// too; nothing is sharp. A cylinder: its seam (class 3, the same face on both sides) and its two
+// circles, sharp at 90. A lone planar face: 4 boundary edges. A wire alone: free edges.
+// The reader's count per class equals what its array says.
+TEST(CadEdges, ClassesOfBoxFilletsCylinderFaceAndWire) {
+  auto classes = [](const Read& r) {
+    std::map<int, int> n;
+    for (const Line& l : lines(r))
+      if (l.kind == 0) ++n[l.edgeClass];
+    for (const auto& [c, k] : n) EXPECT_EQ(r.reader->GetNumberOfEdgesOfClass(c), k) << "class " << c;
+    return n;
+  };
+  {
+    const Read r = readOk(writeBrep(BRepPrimAPI_MakeBox(10, 20, 30).Shape(), "classes_box.brep"));
+    EXPECT_EQ(classes(r), (std::map<int, int>{{1, 12}}));
+    for (const Line& l : lines(r)) EXPECT_NEAR(l.angle, 90.0, 1e-9);
+  }
+  {
+    const Read r = readOk(writeBrep(filletedBox(), "classes_fillet.brep"));
+    const std::map<int, int> n = classes(r);
+    EXPECT_EQ(n.count(1), 0u) << "a fully filleted box has no sharp edge";
+    EXPECT_GE(n.at(2), 24);
+    for (const Line& l : lines(r))
+      if (l.edgeClass == 2) EXPECT_LT(l.angle, 1e-6);
+  }
+  {
+    const Read r = readOk(writeBrep(BRepPrimAPI_MakeCylinder(5, 10).Shape(), "classes_cyl.brep"));
+    EXPECT_EQ(classes(r), (std::map<int, int>{{1, 2}, {3, 1}}));
+    for (const Line& l : lines(r)) {
+      if (l.edgeClass == 1) EXPECT_NEAR(l.angle, 90.0, 1e-9);
+      else EXPECT_TRUE(std::isnan(l.angle));
+    }
+  }
+  {
+    const TopoDS_Shape box = BRepPrimAPI_MakeBox(10, 20, 30).Shape();
+    TopExp_Explorer faces(box, TopAbs_FACE);
+    const Read r = readOk(writeBrep(faces.Current(), "classes_face.brep"));
+    EXPECT_EQ(classes(r), (std::map<int, int>{{0, 4}}));
+  }
+  {
+    TopoDS_Compound c;
+    BRep_Builder b;
+    b.MakeCompound(c);
+    b.Add(c, BRepBuilderAPI_MakeEdge(gp_Pnt(0, 0, 0), gp_Pnt(10, 0, 0)).Edge());
+    const Read r = readCad(writeBrep(c, "classes_wire.brep"));
+    ASSERT_EQ(r.reader->GetErrorMessage(), "");
+    EXPECT_EQ(classes(r), (std::map<int, int>{{4, 1}}));
+  }
+}
+
+// The feature angle splits a chamfer's edges: a box with a 1-mm chamfer at 45 degrees on one
+// edge gives two edges at 45 degrees (sharp at the default 10, smooth at 50).
+TEST(CadEdges, FeatureAngleSplitsAChamfer) {
+  const TopoDS_Shape box = BRepPrimAPI_MakeBox(10, 20, 30).Shape();
+  BRepFilletAPI_MakeChamfer chamfer(box);
+  TopTools_IndexedMapOfShape edges;
+  TopExp::MapShapes(box, TopAbs_EDGE, edges);
+  chamfer.Add(1.0, TopoDS::Edge(edges(1)));
+  const std::string path = writeBrep(chamfer.Shape(), "classes_chamfer.brep");
+  int at45 = 0;
+  for (const Line& l : lines(readOk(path)))
+    if (std::abs(l.angle - 45.0) < 1e-9) {
+      ++at45;
+      EXPECT_EQ(l.edgeClass, 1);
+    }
+  EXPECT_EQ(at45, 2);
+  const Read wide = readOk(path, [](vtkWireFurCADReader* r) { r->SetFeatureAngle(50); });
+  int smooth = 0;
+  for (const Line& l : lines(wide)) smooth += l.edgeClass == 2;
+  EXPECT_EQ(smooth, 2);
 }

@@ -5,6 +5,7 @@
 #include "wf_cad_surface.h"
 
 #include "core/srgb.h"
+#include "render/edge_classes.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -22,6 +23,9 @@
 #include "vtkUnsignedCharArray.h"
 
 #include <BRepAdaptor_Curve.hxx>
+#include <BRepAdaptor_Surface.hxx>
+#include <BRepLProp_SLProps.hxx>
+#include <Geom2d_Curve.hxx>
 #include <BRepBndLib.hxx>
 #include <BRepMesh_IncrementalMesh.hxx>
 #include <BRepTools.hxx>
@@ -53,6 +57,8 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
+#include <limits>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -297,6 +303,56 @@ std::vector<gp_Pnt> edgePoints(const TopoDS_Edge& edge, const TopTools_ListOfSha
   return pts;
 }
 
+// The class of an edge from the faces on its sides (render/edge_classes.h), and for an edge
+// between two faces the largest angle, in degrees, between their oriented normals at 9 points
+// along it (0 along a fillet's tangent edge, 90 along a box's). The normals come from each face's
+// own surface at the edge's curve on that face (same parameter); where neither sample gives both
+// normals (a degenerate surface), the angle is NaN and the edge counts as sharp.
+std::pair<wf::EdgeClass, double> classifyEdge(const TopoDS_Edge& edge, const TopTools_ListOfShape* faces, double featureAngle)
+{
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<TopoDS_Face> distinct;
+  if (faces)
+    for (const TopoDS_Shape& f : *faces)
+      if (std::none_of(distinct.begin(), distinct.end(), [&](const TopoDS_Face& g) { return g.IsSame(f); }))
+        distinct.push_back(TopoDS::Face(f));
+  if (distinct.empty())
+    return { wf::EdgeClass::Free, nan };
+  if (distinct.size() > 2)
+    return { wf::EdgeClass::NonManifold, nan };
+  if (distinct.size() == 1)
+    return { BRep_Tool::IsClosed(edge, distinct[0]) ? wf::EdgeClass::Seam : wf::EdgeClass::Boundary, nan };
+  double worst = -1.0;
+  Standard_Real first = 0.0, last = 0.0;
+  Handle(Geom2d_Curve) c[2];
+  for (int k = 0; k < 2; ++k)
+    c[k] = BRep_Tool::CurveOnSurface(edge, distinct[size_t(k)], first, last);
+  if (!c[0].IsNull() && !c[1].IsNull() && std::isfinite(first) && std::isfinite(last))
+  {
+    const BRepAdaptor_Surface s0(distinct[0]), s1(distinct[1]);
+    const BRepAdaptor_Surface* s[2] = { &s0, &s1 };
+    for (int i = 0; i <= 8; ++i)
+    {
+      const double t = first + (last - first) * (0.05 + 0.9 * i / 8.0);
+      gp_Dir n[2];
+      bool ok = true;
+      for (int k = 0; k < 2 && ok; ++k)
+      {
+        const gp_Pnt2d uv = c[k]->Value(t);
+        BRepLProp_SLProps props(*s[k], uv.X(), uv.Y(), 1, Precision::Confusion());
+        ok = props.IsNormalDefined();
+        if (ok)
+          n[k] = distinct[size_t(k)].Orientation() == TopAbs_REVERSED ? props.Normal().Reversed() : props.Normal();
+      }
+      if (ok)
+        worst = std::max(worst, n[0].Angle(n[1]) * 180.0 / M_PI);
+    }
+  }
+  if (worst < 0.0)
+    return { wf::EdgeClass::Sharp, nan };
+  return { wf::EdgeSelection::byAngle(worst, featureAngle), worst };
+}
+
 // OpenCASCADE's progress of one meshing run, forwarded to the algorithm's progress events (the
 // range [from, to] of the whole update), and VTK's abort flag back as a user break. OpenCASCADE
 // calls Show under its own lock, from whichever thread advanced.
@@ -332,6 +388,7 @@ class vtkWireFurCADReader::vtkInternals
 public:
   std::vector<std::string> partNames;
   int faces = 0, meshedFaces = 0, skippedFaces = 0, edges = 0;
+  std::array<int, 7> edgesOfClass{};
   double appliedDeflection = 0.0, modelSize = 0.0, readSeconds = 0.0, meshSeconds = 0.0;
   std::string error, warning;
   // The meshed faces (located), their FaceId and part: for wirefur_cad_face_surfaces.
@@ -395,6 +452,10 @@ int vtkWireFurCADReader::GetNumberOfFaces() const { return this->Internals->face
 int vtkWireFurCADReader::GetNumberOfMeshedFaces() const { return this->Internals->meshedFaces; }
 int vtkWireFurCADReader::GetNumberOfSkippedFaces() const { return this->Internals->skippedFaces; }
 int vtkWireFurCADReader::GetNumberOfEdges() const { return this->Internals->edges; }
+int vtkWireFurCADReader::GetNumberOfEdgesOfClass(int edgeClass) const
+{
+  return edgeClass >= 0 && edgeClass < 7 ? this->Internals->edgesOfClass[size_t(edgeClass)] : 0;
+}
 double vtkWireFurCADReader::GetAppliedLinearDeflection() const { return this->Internals->appliedDeflection; }
 double vtkWireFurCADReader::GetModelSize() const { return this->Internals->modelSize; }
 double vtkWireFurCADReader::GetReadSeconds() const { return this->Internals->readSeconds; }
@@ -655,16 +716,21 @@ int vtkWireFurCADReader::RequestData(vtkInformation*, vtkInformationVector**, vt
     vtkNew<vtkPoints> points;
     points->SetDataTypeToDouble();
     vtkNew<vtkCellArray> lines;
-    vtkNew<vtkIntArray> kind, edgeIds, partIds;
+    vtkNew<vtkIntArray> kind, edgeIds, partIds, edgeClasses;
+    vtkNew<vtkFloatArray> edgeAngles;
     kind->SetName("Kind");
+    edgeClasses->SetName("EdgeClass");
+    edgeAngles->SetName("EdgeAngle");
     edgeIds->SetName("EdgeId");
     partIds->SetName("PartId");
     int edgeCounter = 0;
-    auto addLine = [&](const std::vector<vtkIdType>& ids, int k, int id, int part) {
+    auto addLine = [&](const std::vector<vtkIdType>& ids, int k, int id, int part, int cls = -1, double angle = std::numeric_limits<double>::quiet_NaN()) {
       if (ids.size() < 2)
         return;
       lines->InsertNextCell(vtkIdType(ids.size()), ids.data());
       kind->InsertNextValue(k);
+      edgeClasses->InsertNextValue(cls);
+      edgeAngles->InsertNextValue(float(angle));
       edgeIds->InsertNextValue(id);
       partIds->InsertNextValue(part);
     };
@@ -711,8 +777,10 @@ int vtkWireFurCADReader::RequestData(vtkInformation*, vtkInformationVector**, vt
           for (size_t i = 1; i + 1 < pts.size(); ++i)
             ids.push_back(points->InsertNextPoint(pts[i].X(), pts[i].Y(), pts[i].Z()));
           ids.push_back(vertexPoint(v2, pts.back()));
-          addLine(ids, 0, id, int(p));
+          const auto [cls, angle] = classifyEdge(edge, faces, this->FeatureAngle);
+          addLine(ids, 0, id, int(p), int(cls), angle);
           ++in.edges;
+          ++in.edgesOfClass[size_t(cls)];
         }
         catch (const Standard_Failure&)
         {
@@ -761,6 +829,8 @@ int vtkWireFurCADReader::RequestData(vtkInformation*, vtkInformationVector**, vt
     edgesOut->GetCellData()->AddArray(kind);
     edgesOut->GetCellData()->AddArray(edgeIds);
     edgesOut->GetCellData()->AddArray(partIds);
+    edgesOut->GetCellData()->AddArray(edgeClasses);
+    edgesOut->GetCellData()->AddArray(edgeAngles);
   }
 
   vtkNew<vtkStringArray> names;
@@ -791,5 +861,6 @@ void vtkWireFurCADReader::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfUIsoLines: " << this->NumberOfUIsoLines << "\n";
   os << indent << "NumberOfVIsoLines: " << this->NumberOfVIsoLines << "\n";
   os << indent << "MaximumTriangles: " << this->MaximumTriangles << "\n";
+  os << indent << "FeatureAngle: " << this->FeatureAngle << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
 }

@@ -25,8 +25,13 @@
  * same deflection, taken from the face tessellation where the edge bounds a face so that wire and
  * surface meet without cracks; edges meeting at a vertex share its point. Optionally the faces'
  * u and v iso-parametric lines (NumberOfUIsoLines, NumberOfVIsoLines per face). Cell arrays
- * "Kind" (0 edge, 1 u iso line (u constant), 2 v iso line), "EdgeId" (edge or face index) and
- * "PartId".
+ * "Kind" (0 edge, 1 u iso line (u constant), 2 v iso line), "EdgeId" (edge or face index),
+ * "PartId", "EdgeClass" (what lies on the edge's sides: 0 boundary (one face), 1 sharp, 2 smooth
+ * (two faces whose normals differ by more, or at most, FeatureAngle degrees along it), 3 seam (the
+ * same face on both sides), 4 free (no face), 5 non-manifold; -1 on iso lines) and "EdgeAngle"
+ * (float: between two faces, the largest angle in degrees between their oriented normals at 9
+ * points along the edge, from the exact surfaces; NaN where unknown or not between two faces).
+ * Select with vtkThreshold on "EdgeClass" (seams, hidden by the wirefur command by default, are 3).
  *
  * Deflection: LinearDeflection is a fraction of the model's bounding-box diagonal when
  * RelativeDeflection is on (default 1e-3, so a 5 mm screw and a 50 m hull tessellate alike),
@@ -100,6 +105,13 @@ public:
   ///@}
 
   ///@{
+  /// Degrees: two faces whose normals differ by more than this along their common edge meet at
+  /// a sharp edge (EdgeClass 1), else a smooth one (2). Default 10 (render/edge_classes.h).
+  vtkSetClampMacro(FeatureAngle, double, 0.0, 180.0);
+  vtkGetMacro(FeatureAngle, double);
+  ///@}
+
+  ///@{
   /// Worker threads for meshing and evaluating faces (0: oneTBB's default). The output is the
   /// same, bit for bit, for any count.
   vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
@@ -116,6 +128,8 @@ public:
   virtual int GetNumberOfMeshedFaces() const;
   virtual int GetNumberOfSkippedFaces() const;
   virtual int GetNumberOfEdges() const;
+  /// Edges of one EdgeClass (0-5) in the output.
+  virtual int GetNumberOfEdgesOfClass(int edgeClass) const;
   /// The linear deflection used, world units.
   virtual double GetAppliedLinearDeflection() const;
   /// Bounding-box diagonal of the model, world units.
@@ -143,6 +157,7 @@ protected:
   int NumberOfVIsoLines = 0;
   vtkIdType MaximumTriangles = 20000000;
   int NumberOfThreads = 0;
+  double FeatureAngle = 10.0;
 
 public:
 #ifndef __VTK_WRAP__

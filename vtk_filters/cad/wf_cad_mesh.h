@@ -6,6 +6,7 @@
 
 #include "core/srgb.h"
 #include "render/scene.h"
+#include "render/edge_classes.h"
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
@@ -16,6 +17,7 @@
 #include <vtkPolyData.h>
 #include <vtkUnsignedCharArray.h>
 
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -67,10 +69,14 @@ inline wf::TriangleMesh facesToMesh(vtkPolyData* faces, std::vector<int>* triang
 }
 
 /// The edges output of vtkWireFurCADReader (port 1) as polylines: the model's edges
-/// (isoLines = false, cells of Kind 0) or its u and v iso lines (isoLines = true, Kind 1 and 2).
-inline wf::PolylineSet edgesToPolylines(vtkPolyData* edges, bool isoLines) {
+/// (isoLines = false, cells of Kind 0) or its u and v iso lines (isoLines = true, Kind 1 and 2);
+/// with `classes` and `angles`, each polyline's "EdgeClass" and "EdgeAngle" (render/edge_classes.h).
+inline wf::PolylineSet edgesToPolylines(vtkPolyData* edges, bool isoLines, std::vector<wf::EdgeClass>* classes = nullptr,
+                                        std::vector<float>* angles = nullptr) {
   wf::PolylineSet out;
   vtkDataArray* kind = edges->GetCellData()->GetArray("Kind");
+  vtkDataArray* cls = edges->GetCellData()->GetArray("EdgeClass");
+  vtkDataArray* ang = edges->GetCellData()->GetArray("EdgeAngle");
   vtkCellArray* lines = edges->GetLines();
   vtkNew<vtkIdList> ids;
   std::vector<glm::dvec3> line;
@@ -84,6 +90,11 @@ inline wf::PolylineSet edgesToPolylines(vtkPolyData* edges, bool isoLines) {
       line.emplace_back(q[0], q[1], q[2]);
     }
     out.add(line);
+    if (classes) {
+      const double c = cls ? cls->GetTuple1(cell) : 1.0;
+      classes->push_back(c >= 0 && c <= 5 ? wf::EdgeClass(int(c)) : wf::EdgeClass::Sharp);
+    }
+    if (angles) angles->push_back(ang ? float(ang->GetTuple1(cell)) : std::numeric_limits<float>::quiet_NaN());
   }
   return out;
 }

@@ -1,0 +1,92 @@
+// wf::splitByVisibility (scene/edge_visibility.h) against closed forms: a segment behind a
+// square, in perspective and orthographic views, is hidden exactly where its projection
+// through the eye falls on the square; an edge lying on the square's own triangles is seen.
+#include "scene/edge_visibility.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace wf {
+namespace {
+
+// A square [-0.5, 0.5]^2 at z = 0 facing +z, two triangles.
+Scene squareScene(bool perspective) {
+  Scene s;
+  SceneSurface q;
+  q.mesh.positions = {{-0.5, -0.5, 0}, {0.5, -0.5, 0}, {0.5, 0.5, 0}, {-0.5, 0.5, 0}};
+  q.mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
+  s.surfaces.push_back(q);
+  Camera c;
+  c.eye = {0, 0, 5};
+  c.target = {0, 0, 0};
+  c.projection = perspective ? Camera::Projection::Perspective : Camera::Projection::Orthographic;
+  c.orthoHeight = 4;
+  c.nearPlane = 0.1, c.farPlane = 100;
+  s.camera = c;
+  return s;
+}
+
+PolylineSet segment(glm::dvec3 a, glm::dvec3 b) {
+  PolylineSet l;
+  l.add({a, b});
+  return l;
+}
+
+}  // namespace
+
+// Perspective, eye at z = 5: the point (x, 0.1, -1) is seen through z = 0 at x * 5/6, so it is
+// hidden for |x| <= 0.6; the split points lie there to 1e-4 (the bisection's 1e-3 px at
+// about 200 px per unit). Orthographic: hidden for |x| <= 0.5. Three pieces: seen, hidden, seen.
+TEST(EdgeVisibility, SegmentBehindASquare) {
+  for (bool perspective : {true, false}) {
+    const Scene s = squareScene(perspective);
+    const OcclusionGrid grid(s, *s.camera, 640, 480);
+    VisibilityStats st;
+    const VisibleLines v = splitByVisibility(segment({-2, 0.1, -1}, {2, 0.1, -1}), grid, {}, st);
+    ASSERT_EQ(v.lines.polylineCount(), 3u) << perspective;
+    const double edge = perspective ? 0.6 : 0.5;
+    EXPECT_EQ(v.visible, (std::vector<std::uint8_t>{1, 0, 1}));
+    const glm::dvec3 cut1 = v.lines.points[v.lines.starts[1]], cut2 = v.lines.points[v.lines.starts[2] - 1];
+    EXPECT_NEAR(cut1.x, -edge, 1e-4);
+    EXPECT_NEAR(cut2.x, edge, 1e-4);
+    EXPECT_NEAR(st.hiddenLength, 2 * edge, 2e-4);
+    EXPECT_NEAR(st.visibleLength, 4 - 2 * edge, 2e-4);
+    for (std::uint32_t src : v.source) EXPECT_EQ(src, 0u);
+  }
+}
+
+// An edge on the square (its border and its diagonal, which runs over both triangles' common
+// edge) is seen whole: a point is not hidden by the triangle it lies on. A segment in front is
+// seen; one through the square is split where it crosses z = 0 (x = 0 here).
+TEST(EdgeVisibility, EdgesOnTheSurfaceAreSeen) {
+  const Scene s = squareScene(true);
+  const OcclusionGrid grid(s, *s.camera, 640, 480);
+  VisibilityStats st;
+  for (const PolylineSet& l : {segment({-0.5, -0.5, 0}, {0.5, -0.5, 0}), segment({-0.5, -0.5, 0}, {0.5, 0.5, 0}),
+                               segment({-0.4, 0, 1}, {0.4, 0, 1})}) {
+    const VisibleLines v = splitByVisibility(l, grid, {}, st);
+    ASSERT_EQ(v.lines.polylineCount(), 1u);
+    EXPECT_EQ(v.visible[0], 1);
+  }
+  const VisibleLines v = splitByVisibility(segment({-0.2, 0, 1}, {0.2, 0, -1}), grid, {}, st);
+  ASSERT_EQ(v.lines.polylineCount(), 2u);
+  EXPECT_EQ(v.visible, (std::vector<std::uint8_t>{1, 0}));
+  EXPECT_NEAR(v.lines.points[1].x, 0.0, 1e-4);
+}
+
+// Bad input: a non-finite point ends a piece and is left out; a point behind the eye is not
+// hidden; no NaN reaches the output.
+TEST(EdgeVisibility, NonFinitePointsAndPointsBehindTheEye) {
+  const Scene s = squareScene(true);
+  const OcclusionGrid grid(s, *s.camera, 640, 480);
+  VisibilityStats st;
+  PolylineSet l;
+  l.add({{-1, 0, 1}, {1, 0, 1}, {NAN, 0, 0}, {1, 1, 1}, {1, 1, 2}, {0, 0, 10}});
+  const VisibleLines v = splitByVisibility(l, grid, {}, st);
+  ASSERT_EQ(v.lines.polylineCount(), 2u);
+  for (const glm::dvec3& p : v.lines.points) EXPECT_TRUE(std::isfinite(p.x + p.y + p.z));
+  EXPECT_EQ(v.visible, (std::vector<std::uint8_t>{1, 1}));
+}
+
+}  // namespace wf

@@ -1,0 +1,161 @@
+#include "surface/mesh_edges.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numeric>
+#include <unordered_map>
+
+#include <glm/gtc/type_precision.hpp>
+
+namespace wf {
+namespace {
+
+struct HalfEdge {
+  std::uint32_t a, b;    // welded vertex ids, a < b
+  std::uint32_t tri;     // triangle index into `normals`
+  bool forward;          // the triangle runs a -> b
+};
+
+}  // namespace
+
+ClassifiedEdges classifyMeshEdges(const TriangleMesh& mesh, const EdgeSelection& selection) {
+  ClassifiedEdges out;
+  // Weld vertices within 1e-9 of the mesh's size of each other (a tessellation's seam computes
+  // the same point twice, cos(2 pi) != 1): a hash grid of that cell size, the 27 cells around
+  // each vertex searched, vertices taken in index order so the first one stands for the rest.
+  const std::size_t nv = mesh.positions.size();
+  std::vector<std::uint32_t> weld(nv);
+  glm::dvec3 lo(INFINITY), hi(-INFINITY);
+  for (const glm::dvec3& p : mesh.positions)
+    if (std::isfinite(p.x + p.y + p.z)) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  const double size = glm::all(glm::lessThanEqual(lo, hi)) ? glm::length(hi - lo) : 0.0;
+  const double eps = size > 0 && std::isfinite(size) ? 1e-9 * size : 0.0;
+  struct KeyHash {
+    std::size_t operator()(const glm::i64vec3& k) const {
+      return std::size_t(k.x * 73856093LL) ^ std::size_t(k.y * 19349663LL) ^ std::size_t(k.z * 83492791LL);
+    }
+  };
+  std::unordered_map<glm::i64vec3, std::vector<std::uint32_t>, KeyHash> cells;
+  for (std::size_t i = 0; i < nv; ++i) {
+    const glm::dvec3& p = mesh.positions[i];
+    weld[i] = std::uint32_t(i);
+    if (!std::isfinite(p.x + p.y + p.z)) continue;
+    const glm::i64vec3 key = eps > 0 ? glm::i64vec3(glm::floor((p - lo) / eps)) : glm::i64vec3(0);
+    std::uint32_t best = std::uint32_t(i);
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const auto it = cells.find(key + glm::i64vec3(dx, dy, dz));
+          if (it == cells.end()) continue;
+          for (std::uint32_t j : it->second)
+            if (weld[j] < best && glm::length(mesh.positions[j] - p) <= eps) best = weld[j];
+        }
+    weld[i] = best;
+    cells[key].push_back(std::uint32_t(i));
+  }
+
+  std::vector<HalfEdge> halves;
+  std::vector<glm::dvec3> normals;
+  halves.reserve(3 * mesh.triangles.size());
+  for (const glm::uvec3& t : mesh.triangles) {
+    if (t.x >= nv || t.y >= nv || t.z >= nv) continue;
+    const glm::dvec3 &p0 = mesh.positions[t.x], &p1 = mesh.positions[t.y], &p2 = mesh.positions[t.z];
+    const glm::dvec3 n = glm::cross(p1 - p0, p2 - p0);
+    const double len = glm::length(n);
+    if (!(len > 0) || !std::isfinite(len)) continue;
+    const std::uint32_t tri = std::uint32_t(normals.size());
+    normals.push_back(n / len);
+    const std::uint32_t w[3] = {weld[t.x], weld[t.y], weld[t.z]};
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = w[k], b = w[(k + 1) % 3];
+      if (a == b) continue;
+      halves.push_back({std::min(a, b), std::max(a, b), tri, a < b});
+    }
+  }
+  std::stable_sort(halves.begin(), halves.end(),
+                   [](const HalfEdge& x, const HalfEdge& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
+
+  // One entry per edge: its class and angle.
+  struct Edge {
+    std::uint32_t a, b;
+    EdgeClass cls;
+    float angle;
+  };
+  std::vector<Edge> edges;
+  for (std::size_t i = 0; i < halves.size();) {
+    std::size_t j = i + 1;
+    while (j < halves.size() && halves[j].a == halves[i].a && halves[j].b == halves[i].b) ++j;
+    const std::size_t n = j - i;
+    Edge e{halves[i].a, halves[i].b, EdgeClass::Boundary, std::numeric_limits<float>::quiet_NaN()};
+    if (n == 2) {
+      // Consistently oriented neighbours run the edge in opposite directions; if they run it
+      // the same way, one of them is flipped and its normal is turned back for the comparison.
+      const glm::dvec3 n0 = normals[halves[i].tri];
+      const glm::dvec3 n1 = halves[i].forward != halves[i + 1].forward ? normals[halves[i + 1].tri] : -normals[halves[i + 1].tri];
+      // The angle from atan2 of |cross| and dot: accurate near 0 and 180, unlike acos.
+      const double angle = std::atan2(glm::length(glm::cross(n0, n1)), glm::dot(n0, n1)) * (180.0 / 3.14159265358979323846);
+      e.angle = float(angle);
+      e.cls = EdgeSelection::byAngle(angle, selection.featureAngle);
+    } else if (n > 2) {
+      e.cls = EdgeClass::NonManifold;
+    }
+    ++out.counts[std::size_t(e.cls)];
+    if (selection.keeps(e.cls, e.angle)) edges.push_back(e);
+    i = j;
+  }
+
+  // Chains: through a vertex where exactly two kept edges of one class meet. Incidence as a
+  // sorted list of (vertex, edge) pairs.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> incident;
+  incident.reserve(2 * edges.size());
+  for (std::uint32_t k = 0; k < edges.size(); ++k) {
+    incident.push_back({edges[k].a, k});
+    incident.push_back({edges[k].b, k});
+  }
+  std::sort(incident.begin(), incident.end());
+  auto around = [&](std::uint32_t v) {
+    const auto lo = std::lower_bound(incident.begin(), incident.end(), std::make_pair(v, 0u));
+    auto hi = lo;
+    while (hi != incident.end() && hi->first == v) ++hi;
+    return std::make_pair(lo, hi);
+  };
+  // The other edge through v that continues edge k, or -1.
+  auto next = [&](std::uint32_t v, std::uint32_t k) -> long long {
+    const auto [lo, hi] = around(v);
+    if (hi - lo != 2) return -1;
+    const std::uint32_t other = lo->second == k ? (lo + 1)->second : lo->second;
+    return edges[other].cls == edges[k].cls ? (long long)(other) : -1;
+  };
+  std::vector<char> used(edges.size(), 0);
+  std::vector<glm::dvec3> line;
+  auto walk = [&](std::uint32_t k, std::uint32_t from) {
+    line.assign(1, mesh.positions[from]);
+    float worst = edges[k].angle;
+    const EdgeClass cls = edges[k].cls;
+    std::uint32_t v = from;
+    for (long long e = k; e >= 0 && !used[std::size_t(e)];) {
+      used[std::size_t(e)] = 1;
+      const Edge& ed = edges[std::size_t(e)];
+      v = ed.a == v ? ed.b : ed.a;
+      line.push_back(mesh.positions[v]);
+      worst = std::isnan(worst) || ed.angle > worst ? ed.angle : worst;
+      e = next(v, std::uint32_t(e));
+    }
+    out.lines.add(line);
+    out.classes.push_back(cls);
+    out.angles.push_back(worst);
+  };
+  // Open chains first (from an end that does not continue), then closed loops.
+  for (std::uint32_t k = 0; k < edges.size(); ++k) {
+    if (used[k]) continue;
+    if (next(edges[k].a, k) < 0) walk(k, edges[k].a);
+    else if (next(edges[k].b, k) < 0) walk(k, edges[k].b);
+  }
+  for (std::uint32_t k = 0; k < edges.size(); ++k)
+    if (!used[k]) walk(k, edges[k].a);
+  return out;
+}
+
+}  // namespace wf
