@@ -270,8 +270,9 @@ TEST(CadEdges, ClassesOfBoxFilletsCylinderFaceAndWire) {
     const std::map<int, int> n = classes(r);
     EXPECT_EQ(n.count(1), 0u) << "a fully filleted box has no sharp edge";
     EXPECT_GE(n.at(2), 24);
-    for (const Line& l : lines(r))
+    for (const Line& l : lines(r)) {
       if (l.edgeClass == 2) EXPECT_LT(l.angle, 1e-6);
+    }
   }
   {
     const Read r = readOk(writeBrep(BRepPrimAPI_MakeCylinder(5, 10).Shape(), "classes_cyl.brep"));
