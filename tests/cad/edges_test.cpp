@@ -271,15 +271,20 @@ TEST(CadEdges, ClassesOfBoxFilletsCylinderFaceAndWire) {
     EXPECT_EQ(n.count(1), 0u) << "a fully filleted box has no sharp edge";
     EXPECT_GE(n.at(2), 24);
     for (const Line& l : lines(r)) {
-      if (l.edgeClass == 2) EXPECT_LT(l.angle, 1e-6);
+      if (l.edgeClass == 2) {
+        EXPECT_LT(l.angle, 1e-6);
+      }
     }
   }
   {
     const Read r = readOk(writeBrep(BRepPrimAPI_MakeCylinder(5, 10).Shape(), "classes_cyl.brep"));
     EXPECT_EQ(classes(r), (std::map<int, int>{{1, 2}, {3, 1}}));
     for (const Line& l : lines(r)) {
-      if (l.edgeClass == 1) EXPECT_NEAR(l.angle, 90.0, 1e-9);
-      else EXPECT_TRUE(std::isnan(l.angle));
+      if (l.edgeClass == 1) {
+        EXPECT_NEAR(l.angle, 90.0, 1e-9);
+      } else {
+        EXPECT_TRUE(std::isnan(l.angle));
+      }
     }
   }
   {
