@@ -21,14 +21,24 @@ struct HalfEdge {
 }  // namespace
 
 ClassifiedEdges classifyMeshEdges(const TriangleMesh& mesh, const EdgeSelection& selection) {
+  std::vector<std::uint32_t> starts(mesh.triangles.size() + 1), ids(3 * mesh.triangles.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    starts[t + 1] = std::uint32_t(3 * (t + 1));
+    for (int k = 0; k < 3; ++k) ids[3 * t + std::size_t(k)] = mesh.triangles[t][k];
+  }
+  return classifyPolygonEdges(mesh.positions, starts, ids, selection);
+}
+
+ClassifiedEdges classifyPolygonEdges(const std::vector<glm::dvec3>& positions, const std::vector<std::uint32_t>& starts,
+                                     const std::vector<std::uint32_t>& ids, const EdgeSelection& selection) {
   ClassifiedEdges out;
   // Weld vertices within 1e-9 of the mesh's size of each other (a tessellation's seam computes
   // the same point twice, cos(2 pi) != 1): a hash grid of that cell size, the 27 cells around
   // each vertex searched, vertices taken in index order so the first one stands for the rest.
-  const std::size_t nv = mesh.positions.size();
+  const std::size_t nv = positions.size();
   std::vector<std::uint32_t> weld(nv);
   glm::dvec3 lo(INFINITY), hi(-INFINITY);
-  for (const glm::dvec3& p : mesh.positions)
+  for (const glm::dvec3& p : positions)
     if (std::isfinite(p.x + p.y + p.z)) lo = glm::min(lo, p), hi = glm::max(hi, p);
   const double size = glm::all(glm::lessThanEqual(lo, hi)) ? glm::length(hi - lo) : 0.0;
   const double eps = size > 0 && std::isfinite(size) ? 1e-9 * size : 0.0;
@@ -39,7 +49,7 @@ ClassifiedEdges classifyMeshEdges(const TriangleMesh& mesh, const EdgeSelection&
   };
   std::unordered_map<glm::i64vec3, std::vector<std::uint32_t>, KeyHash> cells;
   for (std::size_t i = 0; i < nv; ++i) {
-    const glm::dvec3& p = mesh.positions[i];
+    const glm::dvec3& p = positions[i];
     weld[i] = std::uint32_t(i);
     if (!std::isfinite(p.x + p.y + p.z)) continue;
     const glm::i64vec3 key = eps > 0 ? glm::i64vec3(glm::floor((p - lo) / eps)) : glm::i64vec3(0);
@@ -50,7 +60,7 @@ ClassifiedEdges classifyMeshEdges(const TriangleMesh& mesh, const EdgeSelection&
           const auto it = cells.find(key + glm::i64vec3(dx, dy, dz));
           if (it == cells.end()) continue;
           for (std::uint32_t j : it->second)
-            if (weld[j] < best && glm::length(mesh.positions[j] - p) <= eps) best = weld[j];
+            if (weld[j] < best && glm::length(positions[j] - p) <= eps) best = weld[j];
         }
     weld[i] = best;
     cells[key].push_back(std::uint32_t(i));
@@ -58,18 +68,26 @@ ClassifiedEdges classifyMeshEdges(const TriangleMesh& mesh, const EdgeSelection&
 
   std::vector<HalfEdge> halves;
   std::vector<glm::dvec3> normals;
-  halves.reserve(3 * mesh.triangles.size());
-  for (const glm::uvec3& t : mesh.triangles) {
-    if (t.x >= nv || t.y >= nv || t.z >= nv) continue;
-    const glm::dvec3 &p0 = mesh.positions[t.x], &p1 = mesh.positions[t.y], &p2 = mesh.positions[t.z];
-    const glm::dvec3 n = glm::cross(p1 - p0, p2 - p0);
+  halves.reserve(ids.size());
+  std::vector<std::uint32_t> w;
+  for (std::size_t f = 0; f + 1 < starts.size(); ++f) {
+    const std::uint32_t a0 = starts[f], a1 = std::min<std::uint32_t>(starts[f + 1], std::uint32_t(ids.size()));
+    if (a1 < a0 + 3) continue;
+    // Newell's normal about the first vertex (no cancellation far from the origin): exact for
+    // planar polygons, the best plane's for the rest.
+    glm::dvec3 n(0.0);
+    bool ok = true;
+    for (std::uint32_t k = a0; k < a1 && ok; ++k) ok = ids[k] < nv;
+    for (std::uint32_t k = a0 + 1; ok && k + 1 < a1; ++k)
+      n += glm::cross(positions[ids[k]] - positions[ids[a0]], positions[ids[k + 1]] - positions[ids[a0]]);
     const double len = glm::length(n);
-    if (!(len > 0) || !std::isfinite(len)) continue;
+    if (!ok || !(len > 0) || !std::isfinite(len)) continue;
     const std::uint32_t tri = std::uint32_t(normals.size());
     normals.push_back(n / len);
-    const std::uint32_t w[3] = {weld[t.x], weld[t.y], weld[t.z]};
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t a = w[k], b = w[(k + 1) % 3];
+    w.clear();
+    for (std::uint32_t k = a0; k < a1; ++k) w.push_back(weld[ids[k]]);
+    for (std::size_t k = 0; k < w.size(); ++k) {
+      const std::uint32_t a = w[k], b = w[(k + 1) % w.size()];
       if (a == b) continue;
       halves.push_back({std::min(a, b), std::max(a, b), tri, a < b});
     }
@@ -131,7 +149,7 @@ ClassifiedEdges classifyMeshEdges(const TriangleMesh& mesh, const EdgeSelection&
   std::vector<char> used(edges.size(), 0);
   std::vector<glm::dvec3> line;
   auto walk = [&](std::uint32_t k, std::uint32_t from) {
-    line.assign(1, mesh.positions[from]);
+    line.assign(1, positions[from]);
     float worst = edges[k].angle;
     const EdgeClass cls = edges[k].cls;
     std::uint32_t v = from;
@@ -139,7 +157,7 @@ ClassifiedEdges classifyMeshEdges(const TriangleMesh& mesh, const EdgeSelection&
       used[std::size_t(e)] = 1;
       const Edge& ed = edges[std::size_t(e)];
       v = ed.a == v ? ed.b : ed.a;
-      line.push_back(mesh.positions[v]);
+      line.push_back(positions[v]);
       worst = std::isnan(worst) || ed.angle > worst ? ed.angle : worst;
       e = next(v, std::uint32_t(e));
     }

@@ -26,4 +26,9 @@ struct ClassifiedEdges {
 /// a feature line. The same output for the same mesh, in the triangles' order.
 ClassifiedEdges classifyMeshEdges(const TriangleMesh& mesh, const EdgeSelection& selection);
 
+/// The same for polygons: polygon f is positions[ids[starts[f]]] ... positions[ids[starts[f+1]-1]],
+/// its normal by Newell's method (a polygon's own edges only: no triangulation's diagonals).
+ClassifiedEdges classifyPolygonEdges(const std::vector<glm::dvec3>& positions, const std::vector<std::uint32_t>& starts,
+                                     const std::vector<std::uint32_t>& ids, const EdgeSelection& selection);
+
 }  // namespace wf

@@ -1,0 +1,199 @@
+// The CAD engineer's filters (docs/cad.md "Edge classes and visibility", docs/vtk.md):
+// vtkWireFurEdgeClasses, vtkWireFurSilhouette (mesh path; the exact path is tested with the CAD
+// reader in tests/cad) and vtkWireFurEdgeVisibility, against closed forms.
+#include "vtkWireFurEdgeClasses.h"
+#include "vtkWireFurEdgeVisibility.h"
+#include "vtkWireFurSilhouette.h"
+
+#include "vtkCamera.h"
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkCubeSource.h"
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkIdList.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkPlaneSource.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSphereSource.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace
+{
+
+int cellValue(vtkPolyData* pd, const char* name, vtkIdType c)
+{
+  return int(pd->GetCellData()->GetArray(name)->GetTuple1(c));
+}
+
+} // namespace
+
+// A cube of six quads (24 points, split): 12 sharp edges at 90 degrees, none smooth (a quad has no
+// diagonal), none boundary. Sharp and all both give the 12; boundary gives none. A 4 x 4 plane:
+// its 16 border edges chained into one closed loop of 17 points; its inner edges smooth at 0.
+TEST(EdgeClassesFilter, CubeAndPlane)
+{
+  vtkNew<vtkCubeSource> cube;
+  vtkNew<vtkWireFurEdgeClasses> f;
+  f->SetInputConnection(cube->GetOutputPort());
+  f->SetModeToSharp();
+  f->Update();
+  vtkPolyData* out = f->GetOutput();
+  ASSERT_EQ(out->GetNumberOfLines(), 12);
+  EXPECT_EQ(f->GetNumberOfEdgesOfClass(1), 12);
+  EXPECT_EQ(f->GetNumberOfEdgesOfClass(2), 0);
+  for (vtkIdType c = 0; c < 12; ++c)
+  {
+    EXPECT_EQ(cellValue(out, "EdgeClass", c), 1);
+    EXPECT_NEAR(out->GetCellData()->GetArray("EdgeAngle")->GetTuple1(c), 90.0, 1e-4);
+  }
+  f->SetModeToAll();
+  f->Update();
+  EXPECT_EQ(f->GetOutput()->GetNumberOfLines(), 12);
+  f->SetModeToBoundary();
+  f->Update();
+  EXPECT_EQ(f->GetOutput()->GetNumberOfLines(), 0);
+
+  vtkNew<vtkPlaneSource> plane;
+  plane->SetResolution(4, 4);
+  f->SetInputConnection(plane->GetOutputPort());
+  f->Update();
+  ASSERT_EQ(f->GetOutput()->GetNumberOfLines(), 1);
+  vtkNew<vtkIdList> ids;
+  f->GetOutput()->GetLines()->InitTraversal();
+  f->GetOutput()->GetLines()->GetNextCell(ids);
+  EXPECT_EQ(ids->GetNumberOfIds(), 17);
+  EXPECT_EQ(f->GetNumberOfEdgesOfClass(0), 16);
+  EXPECT_EQ(f->GetNumberOfEdgesOfClass(2), 24);
+}
+
+// Lines already classified (as the CAD reader gives them): chosen by class, sharp and smooth
+// judged again by EdgeAngle against FeatureAngle; iso lines (-1) left out; cell data passed on.
+TEST(EdgeClassesFilter, ChoosesAmongClassifiedLines)
+{
+  vtkNew<vtkPolyData> pd;
+  vtkNew<vtkPoints> pts;
+  vtkNew<vtkCellArray> lines;
+  vtkNew<vtkIntArray> cls, tag;
+  vtkNew<vtkDoubleArray> angle;
+  cls->SetName("EdgeClass");
+  angle->SetName("EdgeAngle");
+  tag->SetName("Tag");
+  const int classes[] = { 1, 2, 3, 0, -1, 1 };
+  const double angles[] = { 90, 0.5, NAN, NAN, NAN, 15 };
+  for (int i = 0; i < 6; ++i)
+  {
+    const vtkIdType a = pts->InsertNextPoint(i, 0, 0), b = pts->InsertNextPoint(i, 1, 0);
+    const vtkIdType ids[2] = { a, b };
+    lines->InsertNextCell(2, ids);
+    cls->InsertNextValue(classes[i]);
+    angle->InsertNextValue(angles[i]);
+    tag->InsertNextValue(100 + i);
+  }
+  pd->SetPoints(pts);
+  pd->SetLines(lines);
+  pd->GetCellData()->AddArray(cls);
+  pd->GetCellData()->AddArray(angle);
+  pd->GetCellData()->AddArray(tag);
+  vtkNew<vtkWireFurEdgeClasses> f;
+  f->SetInputData(pd);
+  f->SetModeToSharp();
+  f->Update();
+  // Sharp at 10: cells 0 (90), 3 (boundary), 5 (15).
+  vtkPolyData* out = f->GetOutput();
+  ASSERT_EQ(out->GetNumberOfLines(), 3);
+  EXPECT_EQ(cellValue(out, "Tag", 0), 100);
+  EXPECT_EQ(cellValue(out, "Tag", 1), 103);
+  EXPECT_EQ(cellValue(out, "Tag", 2), 105);
+  f->SetFeatureAngle(20);  // 15 becomes smooth
+  f->SeamsOn();            // the seam joins
+  f->Update();
+  ASSERT_EQ(f->GetOutput()->GetNumberOfLines(), 3);
+  EXPECT_EQ(cellValue(f->GetOutput(), "Tag", 1), 102);
+  EXPECT_EQ(cellValue(f->GetOutput(), "EdgeClass", 1), 3);
+}
+
+// A sphere of radius R = 1 seen from distance D = 4 in perspective: its true silhouette is the
+// circle of the points P with (P - C) . (E - P) = 0, at distance R^2 / D = 0.25 from the centre
+// towards the eye and of radius sqrt(1 - 1/16). From the point normals of a 128 x 64 tessellation,
+// every silhouette point lies within 2e-3 of that circle (the tessellation's O(h^2)), and it is one
+// closed curve. Moving the camera re-executes the filter (its MTime).
+TEST(SilhouetteFilter, SphereMeshAgainstTheTrueCircle)
+{
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetThetaResolution(128);
+  sphere->SetPhiResolution(64);
+  vtkNew<vtkCamera> camera;
+  camera->SetPosition(0, 0, 4);
+  camera->SetFocalPoint(0, 0, 0);
+  sphere->SetRadius(1.0);
+  vtkNew<vtkWireFurSilhouette> f;
+  f->SetInputConnection(sphere->GetOutputPort());
+  f->SetCamera(camera);
+  f->Update();
+  EXPECT_FALSE(f->UsedExactSurfaces());
+  vtkPolyData* out = f->GetOutput();
+  ASSERT_GE(out->GetNumberOfLines(), 1);
+  EXPECT_LE(out->GetNumberOfLines(), 2);  // (the stripper may cut a closed loop once)
+  ASSERT_GT(out->GetNumberOfPoints(), 100);
+  const double z = 0.25, r = std::sqrt(1.0 - 1.0 / 16.0);
+  double worst = 0;
+  for (vtkIdType i = 0; i < out->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    out->GetPoint(i, p);
+    worst = std::max({ worst, std::abs(p[2] - z), std::abs(std::hypot(p[0], p[1]) - r) });
+  }
+  EXPECT_LT(worst, 2e-3);
+  EXPECT_EQ(cellValue(out, "EdgeClass", 0), 6);
+  camera->SetPosition(0, 0, 2);  // now at 0.5, radius sqrt(3)/2
+  f->Update();
+  double p[3];
+  f->GetOutput()->GetPoint(0, p);
+  EXPECT_NEAR(p[2], 0.5, 5e-3);
+}
+
+// A line from x = -2 to 2 at z = -1, y = 0.1 behind a unit square at z = 0, eye at z = 5: hidden
+// for |x| <= 0.6 (x * 5/6 inside the square), so three pieces seen, hidden, seen, with the line's
+// cell data on each; lengths 2.8 seen, 1.2 hidden (1e-4).
+TEST(EdgeVisibilityFilter, LineBehindASquare)
+{
+  vtkNew<vtkPlaneSource> square;  // [-0.5, 0.5]^2 at z = 0
+  vtkNew<vtkPolyData> line;
+  vtkNew<vtkPoints> pts;
+  pts->InsertNextPoint(-2, 0.1, -1);
+  pts->InsertNextPoint(2, 0.1, -1);
+  vtkNew<vtkCellArray> cells;
+  const vtkIdType ids[2] = { 0, 1 };
+  cells->InsertNextCell(2, ids);
+  line->SetPoints(pts);
+  line->SetLines(cells);
+  vtkNew<vtkIntArray> tag;
+  tag->SetName("Tag");
+  tag->InsertNextValue(7);
+  line->GetCellData()->AddArray(tag);
+  vtkNew<vtkCamera> camera;
+  camera->SetPosition(0, 0, 5);
+  camera->SetFocalPoint(0, 0, 0);
+  vtkNew<vtkWireFurEdgeVisibility> f;
+  f->SetInputData(line);
+  f->SetSurfaceConnection(square->GetOutputPort());
+  f->SetCamera(camera);
+  f->SetViewportSize(640, 480);
+  f->Update();
+  vtkPolyData* out = f->GetOutput();
+  ASSERT_EQ(out->GetNumberOfLines(), 3);
+  EXPECT_EQ(cellValue(out, "Visible", 0), 1);
+  EXPECT_EQ(cellValue(out, "Visible", 1), 0);
+  EXPECT_EQ(cellValue(out, "Visible", 2), 1);
+  for (vtkIdType c = 0; c < 3; ++c)
+    EXPECT_EQ(cellValue(out, "Tag", c), 7);
+  EXPECT_NEAR(f->GetVisibleLength(), 2.8, 1e-4);
+  EXPECT_NEAR(f->GetHiddenLength(), 1.2, 1e-4);
+  EXPECT_EQ(f->GetNumberOfSplits(), 2);
+}

@@ -1,0 +1,176 @@
+#include "vtkWireFurEdgeVisibility.h"
+
+#include "scene/edge_visibility.h"
+#include "wf_render_pass_scene.h"
+#include "wf_vtk_surfaces.h"
+
+#include "vtkCamera.h"
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkIdList.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkRenderer.h"
+#include "vtkUnsignedCharArray.h"
+
+#include <vector>
+
+vtkStandardNewMacro(vtkWireFurEdgeVisibility);
+
+vtkWireFurEdgeVisibility::vtkWireFurEdgeVisibility()
+{
+  this->SetNumberOfInputPorts(2);
+}
+vtkWireFurEdgeVisibility::~vtkWireFurEdgeVisibility() = default;
+
+void vtkWireFurEdgeVisibility::SetCamera(vtkCamera* camera)
+{
+  if (this->Camera != camera)
+  {
+    this->Camera = camera;
+    this->Modified();
+  }
+}
+vtkCamera* vtkWireFurEdgeVisibility::GetCamera() { return this->Camera; }
+void vtkWireFurEdgeVisibility::SetRenderer(vtkRenderer* renderer)
+{
+  if (this->Renderer != renderer)
+  {
+    this->Renderer = renderer;
+    this->Modified();
+  }
+}
+vtkRenderer* vtkWireFurEdgeVisibility::GetRenderer() { return this->Renderer; }
+
+vtkMTimeType vtkWireFurEdgeVisibility::GetMTime()
+{
+  vtkMTimeType t = this->Superclass::GetMTime();
+  if (this->Camera)
+    t = std::max(t, this->Camera->GetMTime());
+  else if (vtkRenderer* ren = this->Renderer; ren && ren->GetActiveCamera())
+    t = std::max(t, ren->GetActiveCamera()->GetMTime());
+  return t;
+}
+
+int vtkWireFurEdgeVisibility::FillInputPortInformation(int port, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+  (void)port;
+  return 1;
+}
+
+int vtkWireFurEdgeVisibility::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
+  vtkPolyData* surfaces = vtkPolyData::GetData(inputVector[1], 0);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector);
+  output->Initialize();
+  this->VisibleLength = this->HiddenLength = 0;
+  this->Splits = 0;
+  vtkCamera* camera = this->Camera ? this->Camera.Get() : this->Renderer ? this->Renderer->GetActiveCamera() : nullptr;
+  if (!camera)
+  {
+    vtkErrorMacro(<< "no camera (SetCamera or SetRenderer)");
+    return 1;
+  }
+  int w = this->ViewportSize[0], h = this->ViewportSize[1];
+  if (this->Renderer)
+  {
+    const int* s = this->Renderer->GetSize();
+    if (s && s[0] > 0 && s[1] > 0)
+      w = s[0], h = s[1];
+  }
+  if (!input || input->GetNumberOfLines() == 0)
+    return 1;
+  for (vtkPolyData* pd : { input, surfaces })
+  {
+    if (!pd)
+      continue;
+    if (const std::int64_t bad = wf::vtkio::firstCellWithMissingPoints(pd); bad >= 0)
+    {
+      vtkErrorMacro(<< (pd == input ? "input" : "surface") << " cell " << bad << " names a point the input does not have");
+      return 1;
+    }
+    if (const std::int64_t bad = wf::vtkio::firstNonFinitePoint(pd); bad >= 0)
+    {
+      vtkErrorMacro(<< (pd == input ? "input" : "surface") << " point " << bad << " is not finite");
+      return 1;
+    }
+  }
+
+  // The occluders as one surface (polygons fanned, strips split).
+  wf::Scene scene;
+  if (surfaces && surfaces->GetNumberOfPoints() > 0)
+  {
+    wf::SceneSurface s;
+    s.mesh.positions.resize(size_t(surfaces->GetNumberOfPoints()));
+    for (vtkIdType i = 0; i < surfaces->GetNumberOfPoints(); ++i)
+      surfaces->GetPoint(i, &s.mesh.positions[size_t(i)].x);
+    vtkNew<vtkIdList> cell;
+    vtkCellArray* polys = surfaces->GetPolys();
+    for (polys->InitTraversal(); polys->GetNextCell(cell);)
+      for (vtkIdType k = 1; k + 1 < cell->GetNumberOfIds(); ++k)
+        s.mesh.triangles.emplace_back(cell->GetId(0), cell->GetId(k), cell->GetId(k + 1));
+    vtkCellArray* strips = surfaces->GetStrips();
+    for (strips->InitTraversal(); strips->GetNextCell(cell);)
+      for (vtkIdType k = 0; k + 2 < cell->GetNumberOfIds(); ++k)
+        s.mesh.triangles.emplace_back(cell->GetId(k), cell->GetId(k + 1), cell->GetId(k + 2));
+    scene.surfaces.push_back(std::move(s));
+  }
+  const wf::Camera cam = wfvtk::convertCamera(camera, w, h);
+  const wf::OcclusionGrid grid(scene, cam, w, h);
+  wf::VisibilityOptions options;
+  options.samplePx = this->SamplePixels;
+  wf::VisibilityStats stats;
+
+  // Each input line on its own (its cell data goes to its pieces).
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkCellArray> lines;
+  vtkCellData* inCd = input->GetCellData();
+  vtkCellData* outCd = output->GetCellData();
+  outCd->CopyAllocate(inCd);
+  vtkNew<vtkUnsignedCharArray> visible;
+  visible->SetName("Visible");
+  const vtkIdType firstLine = input->GetNumberOfVerts();
+  vtkNew<vtkIdList> cell;
+  vtkCellArray* in = input->GetLines();
+  vtkIdType c = 0;
+  for (in->InitTraversal(); in->GetNextCell(cell); ++c)
+  {
+    wf::PolylineSet one;
+    std::vector<glm::dvec3> pts(size_t(cell->GetNumberOfIds()));
+    for (vtkIdType k = 0; k < cell->GetNumberOfIds(); ++k)
+      input->GetPoint(cell->GetId(k), &pts[size_t(k)].x);
+    one.add(pts);
+    const wf::VisibleLines v = wf::splitByVisibility(one, grid, options, stats);
+    for (size_t k = 0; k < v.lines.polylineCount(); ++k)
+    {
+      const vtkIdType out = lines->InsertNextCell(vtkIdType(v.lines.starts[k + 1] - v.lines.starts[k]));
+      for (std::uint32_t i = v.lines.starts[k]; i < v.lines.starts[k + 1]; ++i)
+        lines->InsertCellPoint(points->InsertNextPoint(&v.lines.points[i].x));
+      outCd->CopyData(inCd, firstLine + c, out);
+      visible->InsertNextValue(v.visible[k]);
+    }
+  }
+  output->SetPoints(points);
+  output->SetLines(lines);
+  outCd->AddArray(visible);
+  outCd->Squeeze();
+  this->VisibleLength = stats.visibleLength;
+  this->HiddenLength = stats.hiddenLength;
+  this->Splits = vtkIdType(stats.splits);
+  return 1;
+}
+
+void vtkWireFurEdgeVisibility::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "ViewportSize: " << this->ViewportSize[0] << " x " << this->ViewportSize[1] << "\n";
+  os << indent << "SamplePixels: " << this->SamplePixels << "\n";
+}

@@ -1,0 +1,83 @@
+/**
+ * @class   vtkWireFurEdgeVisibility
+ * @brief   a wire-frame cut where surfaces hide it from a camera, each piece marked seen or hidden
+ *
+ * Input port 0: vtkPolyData whose lines are the wire-frame (edges, silhouettes). Port 1: the
+ * occluding surfaces (vtkPolyData polygons and strips; often the CAD reader's faces). Output: the
+ * lines cut into pieces each wholly seen or wholly hidden, with the input line's cell data
+ * copied to each of its pieces and the cell array "Visible" (unsigned char: 1 seen, 0 hidden).
+ * As `wirefur export --visibility` (src/scene/edge_visibility.h): the polygons binned on the
+ * screen, a point hidden when the segment from it to the eye (orthographic: back along the view)
+ * crosses a polygon more than 1e-7 of its distance in front of it (exact ray tests in double,
+ * so an edge on its own face's tessellation is seen), each segment sampled every SamplePixels on
+ * a ViewportSize screen and each change of answer bisected to 1e-3 px.
+ * Camera: SetCamera, else the Renderer's active camera (held weakly; its size, when it has one,
+ * replaces ViewportSize). Re-executes when the camera moves.
+ */
+#ifndef vtkWireFurEdgeVisibility_h
+#define vtkWireFurEdgeVisibility_h
+
+#include "WireFurFiltersModule.h"
+#include "vtkPolyDataAlgorithm.h"
+#include "vtkSmartPointer.h"
+#include "vtkWeakPointer.h"
+
+class vtkCamera;
+class vtkRenderer;
+
+class WIREFURFILTERS_EXPORT vtkWireFurEdgeVisibility : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkWireFurEdgeVisibility* New();
+  vtkTypeMacro(vtkWireFurEdgeVisibility, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /// The occluding surfaces (input port 1).
+  void SetSurfaceConnection(vtkAlgorithmOutput* output) { this->SetInputConnection(1, output); }
+  void SetSurfaceData(vtkDataObject* data) { this->SetInputData(1, data); }
+
+  ///@{
+  void SetCamera(vtkCamera* camera);
+  vtkCamera* GetCamera();
+  void SetRenderer(vtkRenderer* renderer);
+  vtkRenderer* GetRenderer();
+  ///@}
+
+  ///@{
+  /// The screen the sampling is measured on, pixels (default 1000 x 1000).
+  vtkSetVector2Macro(ViewportSize, int);
+  vtkGetVector2Macro(ViewportSize, int);
+  ///@}
+
+  ///@{
+  /// Sample spacing along each segment on screen, pixels (default 0.5, 0.01 ... 100).
+  vtkSetClampMacro(SamplePixels, double, 0.01, 100.0);
+  vtkGetMacro(SamplePixels, double);
+  ///@}
+
+  /// World length of the seen and hidden pieces, and the cuts made, in the last update.
+  double GetVisibleLength() const { return this->VisibleLength; }
+  double GetHiddenLength() const { return this->HiddenLength; }
+  vtkIdType GetNumberOfSplits() const { return this->Splits; }
+
+  vtkMTimeType GetMTime() override;
+
+protected:
+  vtkWireFurEdgeVisibility();
+  ~vtkWireFurEdgeVisibility() override;
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  vtkSmartPointer<vtkCamera> Camera;
+  vtkWeakPointer<vtkRenderer> Renderer;
+  int ViewportSize[2] = { 1000, 1000 };
+  double SamplePixels = 0.5;
+  double VisibleLength = 0, HiddenLength = 0;
+  vtkIdType Splits = 0;
+
+private:
+  vtkWireFurEdgeVisibility(const vtkWireFurEdgeVisibility&) = delete;
+  void operator=(const vtkWireFurEdgeVisibility&) = delete;
+};
+
+#endif
