@@ -137,7 +137,7 @@ CadGeometry readCadInProcess(const std::string& path, const CadOptions& o, bool 
   out.warning = reader->GetWarningMessage();
 
   try {
-    out.geometry.mesh = wfcad::facesToMesh(reader->GetOutput(0), &out.trianglePart);
+    out.geometry.mesh = wfcad::facesToMesh(reader->GetOutput(0), &out.trianglePart, &out.triangleFace);
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(path + ": " + e.what());
   }
@@ -243,7 +243,7 @@ class BlobReader {
 void writeGeometry(BlobWriter& w, const CadGeometry& g) {
   const wf::TriangleMesh& m = g.geometry.mesh;
   w.vec(m.positions), w.vec(m.normals), w.vec(m.derivU), w.vec(m.derivV), w.vec(m.uvs), w.vec(m.colours), w.vec(m.triangles);
-  w.vec(g.trianglePart);
+  w.vec(g.trianglePart), w.vec(g.triangleFace);
   w.vec(g.geometry.lines.points), w.vec(g.geometry.lines.starts), w.vec(g.edgeClasses), w.vec(g.edgeAngles);
   w.vec(g.isoLines.points), w.vec(g.isoLines.starts);
   w.pod(std::uint64_t(g.partNames.size()));
@@ -263,6 +263,7 @@ CadGeometry readGeometry(BlobReader& r) {
   m.colours = r.vec<glm::vec3>();
   m.triangles = r.vec<glm::uvec3>();
   g.trianglePart = r.vec<int>();
+  g.triangleFace = r.vec<int>();
   g.geometry.lines.points = r.vec<glm::dvec3>();
   g.geometry.lines.starts = r.vec<std::uint32_t>();
   g.edgeClasses = r.vec<wf::EdgeClass>();
@@ -280,7 +281,8 @@ CadGeometry readGeometry(BlobReader& r) {
     if (n != nv) throw std::runtime_error("CAD worker result is inconsistent");
   for (const glm::uvec3& t : m.triangles)
     if (t.x >= nv || t.y >= nv || t.z >= nv) throw std::runtime_error("CAD worker result is inconsistent");
-  if (g.trianglePart.size() != m.triangles.size()) throw std::runtime_error("CAD worker result is inconsistent");
+  if (g.trianglePart.size() != m.triangles.size() || g.triangleFace.size() != m.triangles.size())
+    throw std::runtime_error("CAD worker result is inconsistent");
   const size_t edges = g.geometry.lines.polylineCount();
   if (g.edgeClasses.size() != edges || g.edgeAngles.size() != edges) throw std::runtime_error("CAD worker result is inconsistent");
   for (wf::EdgeClass c : g.edgeClasses)
@@ -435,6 +437,7 @@ std::shared_ptr<wf::GeometryData> cadGeometryData(CadGeometry&& cad) {
   g->isoLines = std::move(cad.isoLines);
   g->partNames = std::move(cad.partNames);
   g->trianglePart = std::move(cad.trianglePart);
+  g->triangleFace = std::move(cad.triangleFace);
   for (const WireFurCadFace& f : cad.faces) g->faces.push_back({f.surface, f.inside, f.faceId, f.part});
   return g;
 }

@@ -30,6 +30,7 @@ struct CadGeometry {
   std::vector<float> edgeAngles;           ///< per polyline: degrees between the faces, NaN if none
   std::vector<std::string> partNames;
   std::vector<int> trianglePart;       ///< part of each triangle of geometry.mesh
+  std::vector<int> triangleFace;       ///< face (FaceId) of each triangle of geometry.mesh
   nlohmann::ordered_json info;         ///< counts, deflection, seconds (for --stats)
   std::string warning;                 ///< faces skipped, or empty
   /// The exact faces with their trimming masks (wf_cad_plugin.h), when asked for (readCad's

@@ -224,7 +224,7 @@ void addEdgeOptions(CLI::App& app, wf::EdgeOverrides& edges) {
   app.add_option_function<std::string>(
          "--edges",
          [&edges](const std::string& v) {
-           wf::EdgeSelection::Mode m;
+           wf::EdgeSelection::Mode m = wf::EdgeSelection::Mode::All;
            wf::parseEdgeMode(v, m);
            edges.mode = m;
          },
@@ -246,6 +246,64 @@ void addEdgeOptions(CLI::App& app, wf::EdgeOverrides& edges) {
                    0.0, 180.0))
       ->check(numberIn(0.0, 180.0))
       ->type_name("DEG")
+      ->trigger_on_parse();
+}
+
+namespace {
+// "PX,PY,PZ,DX,DY,DZ": six finite numbers, the direction not zero.
+std::string parseAxis(const std::string& v, glm::dvec3& point, glm::dvec3& direction) {
+  double x[6];
+  std::string rest = v;
+  for (int i = 0; i < 6; ++i) {
+    const size_t comma = rest.find(',');
+    const std::string part = rest.substr(0, comma);
+    const std::optional<double> n = readNumber(part);
+    if (!n || !std::isfinite(*n) || (i < 5) == (comma == std::string::npos))
+      return "expected PX,PY,PZ,DX,DY,DZ (a point of the axis and its direction), got '" + v + "'";
+    x[i] = *n;
+    rest = comma == std::string::npos ? std::string() : rest.substr(comma + 1);
+  }
+  point = {x[0], x[1], x[2]};
+  direction = {x[3], x[4], x[5]};
+  if (!(glm::length(direction) > 0) || !std::isfinite(glm::length(direction))) return "the axis direction must not be zero";
+  return {};
+}
+}  // namespace
+
+void addBurnishOptions(CLI::App& app, wf::BurnishOverrides& b) {
+  app.add_option_function<std::string>(
+         "--grain",
+         [&b](const std::string& v) {
+           using G = wf::BurnishOverrides::Grain;
+           b.grain = v == "u" ? G::U : v == "v" ? G::V : v == "longer" ? G::Longer : v == "circular" ? G::Circular : G::Radial;
+         },
+         "brushed steel's grain (burnished surfaces): along each face's u, v, or longer extent (default for CAD "
+         "files), circular or radial about --grain-axis (turned parts)")
+      ->check(oneOf({"u", "v", "longer", "circular", "radial"}))
+      ->type_name("u|v|longer|circular|radial")
+      ->trigger_on_parse();
+  app.add_option_function<std::string>(
+         "--grain-axis",
+         [&b](const std::string& v) {
+           glm::dvec3 p, d;
+           parseAxis(v, p, d);
+           b.axisPoint = p, b.axisDirection = d;
+         },
+         "the axis of circular and radial grain: a point and a direction (default: through the part's bounding-box "
+         "centre, along z)")
+      ->check(checkedBy([](const std::string& v) {
+        glm::dvec3 p, d;
+        return parseAxis(v, p, d);
+      }))
+      ->type_name("PX,PY,PZ,DX,DY,DZ")
+      ->trigger_on_parse();
+  app.add_option_function<std::string>(
+         "--grooves-per-mm", [&b](const std::string& v) { b.groovesPerUnit = *readNumber(v); },
+         withRange("visible grooves of brushed steel per millimetre (world unit) across the grain (default 10 for "
+                   "the burnished style; 0: none), {range}",
+                   0.0, 1e6))
+      ->check(numberIn(0.0, 1e6))
+      ->type_name("N")
       ->trigger_on_parse();
 }
 

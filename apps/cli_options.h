@@ -75,6 +75,8 @@ std::string parseHidden(const std::string& text, wf::HiddenLines& hidden);
 CLI::Option* addHiddenOption(CLI::App& app, std::optional<wf::HiddenLines>& hidden);
 /// --edges all|sharp|boundary, --seams on|off, --feature-angle DEG (render/edge_classes.h).
 void addEdgeOptions(CLI::App& app, wf::EdgeOverrides& edges);
+/// --grain u|v|longer|circular|radial, --grain-axis P,D, --grooves-per-mm N (scene/style_presets.h).
+void addBurnishOptions(CLI::App& app, wf::BurnishOverrides& burnish);
 /// --silhouettes on|off (the silhouettes of curved faces with the wire-frame).
 CLI::Option* addSilhouettesOption(CLI::App& app, std::optional<bool>& silhouettes);
 CLI::Option* addMaskOption(CLI::App& app, std::string& mask);

@@ -220,12 +220,21 @@ int runExport(const ExportOptions& o) {
   if (o.visibility) {
     if (!sf.scene.camera) throw std::runtime_error(input + ": the scene has no camera for --visibility");
     const wf::OcclusionGrid grid(sf.scene, *sf.scene.camera, sf.width, sf.height);
+    double silhouetteSlack = 0.0;
+    glm::dvec3 centre;
+    double radius = 0.0;
+    if (sf.inputStats.contains("linear_deflection") && sf.scene.boundingSphere(centre, radius))
+      silhouetteSlack = std::sqrt(2.0 * sf.inputStats["linear_deflection"].get<double>() * radius);
     wf::VisibilityStats stats;
     visible.resize(sf.scene.wires.size());
     for (size_t i = 0; i < sf.scene.wires.size(); ++i) {
       wf::SceneWire& w = sf.scene.wires[i];
       if (w.aggregate) continue;
-      wf::VisibleLines v = wf::splitByVisibility(w.lines, grid, {}, stats);
+      wf::VisibilityOptions vo;
+      // Silhouettes lie on the exact surface, where the tessellation's chords can pass in front of
+      // a grazing ray: hits within sqrt(2 deflection r) of such a point do not count.
+      if (!w.edgeClasses.empty() && w.edgeClasses.front() == wf::EdgeClass::Silhouette) vo.slack = silhouetteSlack;
+      wf::VisibleLines v = wf::splitByVisibility(w.lines, grid, vo, stats);
       if (w.edgeClasses.size() == w.lines.polylineCount()) {
         std::vector<wf::EdgeClass> classes;
         for (std::uint32_t s : v.source) classes.push_back(w.edgeClasses[s]);

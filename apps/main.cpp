@@ -103,6 +103,7 @@ void declareRender(CLI::App& wirefur, wfapp::RenderCommandOptions& o) {
   wfapp::addHiddenOption(*c, o.hidden);
   wfapp::addSilhouettesOption(*c, o.silhouettes);
   wfapp::addEdgeOptions(*c, o.edges);
+  wfapp::addBurnishOptions(*c, o.burnish);
   wfapp::addTimeOption(*c, o.time);
   wfapp::addQuietOption(*c, o.quiet);
   wfapp::addCadOptions(*c, o.cad);
@@ -118,6 +119,7 @@ void declareExport(CLI::App& wirefur, wfapp::ExportOptions& o) {
   wfapp::addTimeOption(*c, o.overrides.time);
   wfapp::addSilhouettesOption(*c, o.overrides.silhouettes);
   wfapp::addEdgeOptions(*c, o.overrides.edges);
+  wfapp::addBurnishOptions(*c, o.overrides.burnish);
   wfapp::addFlag(*c, "--visibility", o.visibility,
                  "split every wire-frame where the opaque surfaces start and stop hiding it from the camera; cell array "
                  "Visible (1 seen, 0 hidden)");
@@ -145,6 +147,7 @@ void declareView(CLI::App& wirefur, wfapp::ViewOptions& o) {
   wfapp::addHiddenOption(*c, o.hidden);
   wfapp::addSilhouettesOption(*c, o.silhouettes);
   wfapp::addEdgeOptions(*c, o.edges);
+  wfapp::addBurnishOptions(*c, o.burnish);
   wfapp::addQuietOption(*c, o.quiet);
   wfapp::addCadOptions(*c, o.cad);
 }

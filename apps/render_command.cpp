@@ -1,5 +1,7 @@
 #include "render_command.h"
 
+#include "texture/grooves.h"
+
 #include "cad_input.h"
 #include "cli.h"
 #include "image_io.h"
@@ -173,6 +175,7 @@ int runRender(const RenderCommandOptions& o) {
   overrides.hidden = o.hidden;
   overrides.silhouettes = o.silhouettes;
   overrides.edges = o.edges;
+  overrides.burnish = o.burnish;
   overrides.cad.threads = o.threads;
   overrides.cad.showProgress = progress.enabled();
   SceneFile sf = loadInput(o.input, o.style, overrides);
@@ -259,6 +262,18 @@ int runRender(const RenderCommandOptions& o) {
   stats["seconds"]["generate"] = sf.generateSeconds;  // fur and scales, part of read_input
   stats["generated"] = {{"hairs", sf.hairsGrown}, {"scales", sf.scalesGrown}};
   {
+    // Brushed steel: its grain laid out per face (surface/grain_layout.h), and its grooves.
+    json b = json::object();
+    for (const wf::Material& m : sf.scene.materials)
+      if (m.burnish.active() && m.burnish.grooves) {
+        b["grooves_per_unit"] = m.burnish.grooves->count();
+        b["groove_depth"] = m.burnish.grooves->depth();
+        break;
+      }
+    if (sf.grainFaces > 0) b["faces"] = {{"laid_out", sf.grainFaces}, {"along_u", sf.grainAlongU}, {"along_v", sf.grainAlongV}};
+    if (!b.empty()) stats["burnish"] = b;
+  }
+  {
     // The materials the drawn surfaces and wires use, by name, in the scene's order.
     const int nm = std::max(1, int(sf.scene.materials.size()));
     std::vector<bool> used(size_t(nm), false);
@@ -295,13 +310,13 @@ int runRender(const RenderCommandOptions& o) {
   }
   {
     // The classified lines drawn (a model's edges by class, silhouettes): render/edge_classes.h.
-    std::size_t byClass[7] = {};
+    std::size_t byClass[wf::kEdgeClasses] = {};
     bool any = false;
     for (const wf::SceneWire& w : sf.scene.wires)
       for (wf::EdgeClass c : w.edgeClasses) ++byClass[std::size_t(c)], any = true;
     if (any) {
       nlohmann::ordered_json j = nlohmann::ordered_json::object();
-      for (int c = 0; c < 7; ++c) j[wf::edgeClassName(wf::EdgeClass(c))] = byClass[c];
+      for (int c = 0; c < wf::kEdgeClasses; ++c) j[wf::edgeClassName(wf::EdgeClass(c))] = byClass[c];
       stats["edges_drawn"] = j;
     }
   }

@@ -36,6 +36,7 @@ struct RenderCommandOptions {
   std::optional<wf::HiddenLines> hidden;  ///< --hidden
   std::optional<bool> silhouettes;        ///< --silhouettes
   wf::EdgeOverrides edges;                ///< --edges, --seams, --feature-angle
+  wf::BurnishOverrides burnish;           ///< --grain, --grain-axis, --grooves-per-mm
 };
 
 int runRender(const RenderCommandOptions& options);

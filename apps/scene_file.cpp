@@ -414,10 +414,12 @@ wf::ObjectDescription readObject(const Reader& r, const json& j, const std::stri
       o.drawSurface = s.get<bool>();
       o.surfaceExplicit = o.drawSurface;  // `true` on an object without polygons is an error
     } else {
-      r.keys(s, o.surfaceWhere, {"material", "holdout"});
+      r.keys(s, o.surfaceWhere, {"material", "holdout", "colours"});
       if (s.contains("material")) o.surfaceMaterial = materialRef(r, s["material"], Reader::at(o.surfaceWhere, "material"), materials);
       // A hold-out: hides the wires behind it, draws nothing (hidden-line removal)
       if (s.contains("holdout")) o.surfaceHoldout = r.boolean(s["holdout"], Reader::at(o.surfaceWhere, "holdout"));
+      // The file's colours multiply the material (default); false: the material alone (steel).
+      if (s.contains("colours")) o.keepColours = r.boolean(s["colours"], Reader::at(o.surfaceWhere, "colours"));
     }
   }
   if (j.contains("wire")) o.wire = readWire(r, j["wire"], Reader::at(ptr, "wire"), materials);
@@ -474,6 +476,7 @@ static void build(SceneFile& sf, const wf::SceneDescription& d, const std::strin
   sf.scene = std::move(b.scene);
   sf.generateSeconds = b.generateSeconds;
   sf.hairsGrown = b.hairsGrown;
+  sf.grainFaces = b.grainFaces, sf.grainAlongU = b.grainAlongU, sf.grainAlongV = b.grainAlongV;
   sf.scalesGrown = b.scalesGrown;
   sf.framed = b.framed;
   sf.camera = d.camera;
@@ -536,6 +539,7 @@ SceneFile parseScene(const std::string& path, const std::string& text, const std
   if (overrides.hidden) wf::applyHiddenLines(d, *overrides.hidden);
   if (overrides.silhouettes) wf::applySilhouettes(d, *overrides.silhouettes);
   wf::applyEdgeSelection(d, overrides.edges);
+  wf::applyBurnish(d, overrides.burnish);
   build(sf, d, path);
   if (sf.title.empty()) sf.title = std::filesystem::path(path).stem().string();
   return sf;
@@ -577,6 +581,7 @@ void buildStyled(SceneFile& sf, const std::string& path, std::shared_ptr<const w
   if (overrides.hidden) wf::applyHiddenLines(d, *overrides.hidden);
   if (overrides.silhouettes) wf::applySilhouettes(d, *overrides.silhouettes);
   wf::applyEdgeSelection(d, overrides.edges);
+  wf::applyBurnish(d, overrides.burnish);
   d.width = sf.width, d.height = sf.height;
   d.maxPrimitives = SceneBudget::kMaxPrimitives;
   build(sf, d, path);

@@ -26,6 +26,7 @@ struct SceneFile {
   /// Seconds spent growing fur and scales, and counts of what was grown (part of reading).
   double generateSeconds = 0.0;
   std::size_t hairsGrown = 0, scalesGrown = 0;
+  std::size_t grainFaces = 0, grainAlongU = 0, grainAlongV = 0;  ///< BuiltScene's
   /// The camera was framed from the bounds (no eye given): reframe() fits it to another size.
   bool framed = false;
   wf::CameraDescription camera;  ///< as described (framing direction, projection, field of view)
@@ -65,6 +66,8 @@ struct SceneOverrides {
   std::optional<bool> silhouettes;
   /// `--edges`, `--seams`, `--feature-angle`: which edges every wire-frame draws.
   wf::EdgeOverrides edges;
+  /// `--grain`, `--grain-axis`, `--grooves-per-mm`: brushed steel of every burnished surface.
+  wf::BurnishOverrides burnish;
 };
 
 /// Refits an automatically framed camera to a width x height image (after --size).

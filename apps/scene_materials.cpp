@@ -73,9 +73,11 @@ std::shared_ptr<const wf::ScalarTexture> readBump(const Reader& r, const json& j
 void readBurnish(const Reader& r, const json& j, const std::string& ptr, wf::Material& mat) {
   r.keys(j, ptr, {"grain", "axis", "grooves"});
   if (mat.kind == wf::Material::Kind::Chrome) r.fail(ptr, "burnish applies to Phong materials, not chrome");
-  const std::string g = j.contains("grain") ? r.choice(j["grain"], Reader::at(ptr, "grain"), {"u", "v", "radial", "circular"}) : "u";
+  const std::string g = j.contains("grain") ? r.choice(j["grain"], Reader::at(ptr, "grain"), {"u", "v", "longer", "radial", "circular"}) : "u";
   using Grain = wf::Burnish::Grain;
-  mat.burnish.grain = g == "u" ? Grain::U : g == "v" ? Grain::V : g == "radial" ? Grain::Radial : Grain::Circular;
+  mat.burnish.grain = g == "u" || g == "longer" ? Grain::U : g == "v" ? Grain::V : g == "radial" ? Grain::Radial : Grain::Circular;
+  // "longer": each face's grain along its longer extent, in world lengths (surface/grain_layout.h).
+  if (g == "longer") mat.burnish.layout = wf::GrainLayout::Longer;
   if (j.contains("axis")) {
     const std::string ap = Reader::at(ptr, "axis");
     if (mat.burnish.grain == Grain::U || mat.burnish.grain == Grain::V)
@@ -90,8 +92,16 @@ void readBurnish(const Reader& r, const json& j, const std::string& ptr, wf::Mat
   if (j.contains("grooves")) {
     const std::string gp = Reader::at(ptr, "grooves");
     const json& gj = j["grooves"];
-    r.keys(gj, gp, {"count", "depth", "seed"});
-    const double count = gj.contains("count") ? r.number(gj["count"], Reader::at(gp, "count"), 1e-9, 1e9) : 100.0;
+    r.keys(gj, gp, {"count", "per_mm", "depth", "seed"});
+    if (gj.contains("count") && gj.contains("per_mm")) r.fail(gp, "give count (per unit of the texture coordinate) or per_mm, not both");
+    double count = gj.contains("count") ? r.number(gj["count"], Reader::at(gp, "count"), 1e-9, 1e9) : 100.0;
+    if (gj.contains("per_mm")) {
+      // Per millimetre (world unit) across the grain: u and v made world lengths.
+      if (mat.burnish.grain != Grain::U && mat.burnish.grain != Grain::V)
+        r.fail(Reader::at(gp, "per_mm"), "per_mm belongs to grain u, v or longer (circular grooves are per unit of distance already)");
+      count = r.number(gj["per_mm"], Reader::at(gp, "per_mm"), 1e-9, 1e9);
+      if (mat.burnish.layout == wf::GrainLayout::Raw) mat.burnish.layout = wf::GrainLayout::U;
+    }
     const double depth = gj.contains("depth") ? r.number(gj["depth"], Reader::at(gp, "depth"), 0.0, 1.0) : 0.5;
     const auto seed = std::uint64_t(gj.contains("seed") ? r.integer(gj["seed"], Reader::at(gp, "seed"), 0, 2147483647) : 1);
     mat.burnish.grooves = std::make_shared<wf::GrooveTexture>(count, depth, seed);

@@ -92,6 +92,7 @@ int runView(const ViewOptions& o) {
   overrides.hidden = o.hidden;
   overrides.silhouettes = o.silhouettes;
   overrides.edges = o.edges;
+  overrides.burnish = o.burnish;
   SceneFile sf = loadInput(o.input, o.style, overrides);  // bad input first: exit 2, whatever the display
   // Debian's VTK 9.1 draws through X (GLX) even off-screen, and aborts the process when it
   // cannot open the display: check first, and say so in one line.

@@ -28,6 +28,7 @@ struct ViewOptions {
   std::optional<wf::HiddenLines> hidden;  ///< --hidden
   std::optional<bool> silhouettes;        ///< --silhouettes
   wf::EdgeOverrides edges;                ///< --edges, --seams, --feature-angle
+  wf::BurnishOverrides burnish;           ///< --grain, --grain-axis, --grooves-per-mm
 };
 
 /// Runs the command. Returns the exit status.

@@ -74,7 +74,8 @@ int vtkWireFurEdgeClasses::RequestData(
       {
         // Every other triangle of a strip turns the other way.
         const vtkIdType a = cell->GetId(k), b = cell->GetId(k + 1), c = cell->GetId(k + 2);
-        for (vtkIdType id : (k % 2 == 0 ? std::initializer_list<vtkIdType>{ a, b, c } : std::initializer_list<vtkIdType>{ b, a, c }))
+        const vtkIdType tri[3] = { k % 2 == 0 ? a : b, k % 2 == 0 ? b : a, c };
+        for (vtkIdType id : tri)
           ids.push_back(std::uint32_t(id));
         starts.push_back(std::uint32_t(ids.size()));
       }

@@ -4,13 +4,15 @@
  *
  * Input port 0: vtkPolyData whose lines are the wire-frame (edges, silhouettes). Port 1: the
  * occluding surfaces (vtkPolyData polygons and strips; often the CAD reader's faces). Output: the
- * lines cut into pieces each wholly seen or wholly hidden, with the input line's cell data
- * copied to each of its pieces and the cell array "Visible" (unsigned char: 1 seen, 0 hidden).
- * As `wirefur export --visibility` (src/scene/edge_visibility.h): the polygons binned on the
- * screen, a point hidden when the segment from it to the eye (orthographic: back along the view)
- * crosses a polygon more than 1e-7 of its distance in front of it (exact ray tests in double,
- * so an edge on its own face's tessellation is seen), each segment sampled every SamplePixels on
- * a ViewportSize screen and each change of answer bisected to 1e-3 px.
+ * lines cut into pieces each wholly seen or not, with the input line's cell data copied to each
+ * of its pieces and the cell array "Visible" (unsigned char: 1 seen, 0 not seen: hidden, or
+ * outside the view: before the near plane, beyond the far one, off the ViewportSize image).
+ * As `wirefur export --visibility` (src/scene/edge_visibility.h): each segment clipped to the
+ * view, the polygons binned on the screen, a point hidden when the ray from it towards the viewer
+ * (as far as the near plane) crosses a polygon more than 1e-7 of its distance in front of it
+ * (exact ray tests in double, so an edge on its own face's tessellation is seen), the part in the
+ * view sampled every SamplePixels of its screen length and each change bisected to 1e-3 px. The
+ * camera's clipping range is used as it is (ResetCameraClippingRange to fit it to the data).
  * Camera: SetCamera, else the Renderer's active camera (held weakly; its size, when it has one,
  * replaces ViewportSize). Re-executes when the camera moves.
  */

@@ -20,7 +20,9 @@ enum class EdgeClass : std::uint8_t {
   Free = 4,         ///< no face: a curve of the model on its own
   NonManifold = 5,  ///< three faces or more
   Silhouette = 6,   ///< not an edge: a silhouette traced for a view (export marks its lines so)
+  IsoLine = 7,      ///< not an edge: an iso-parameter line drawn with the edges
 };
+inline constexpr int kEdgeClasses = 8;
 
 inline const char* edgeClassName(EdgeClass c) {
   switch (c) {
@@ -31,6 +33,7 @@ inline const char* edgeClassName(EdgeClass c) {
     case EdgeClass::Free: return "free";
     case EdgeClass::NonManifold: return "non-manifold";
     case EdgeClass::Silhouette: return "silhouette";
+    case EdgeClass::IsoLine: return "iso line";
   }
   return "?";
 }
@@ -63,7 +66,7 @@ struct EdgeSelection {
   bool keeps(EdgeClass c, double angle) const {
     if (c == EdgeClass::Sharp || c == EdgeClass::Smooth) c = byAngle(angle, featureAngle);
     if (c == EdgeClass::Seam) return seams;
-    if (c == EdgeClass::Silhouette) return true;
+    if (c == EdgeClass::Silhouette || c == EdgeClass::IsoLine) return true;
     switch (mode) {
       case Mode::All: return true;
       case Mode::Sharp: return c != EdgeClass::Smooth;

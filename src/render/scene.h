@@ -45,6 +45,12 @@ struct PolylineSet {
 
 class GrooveTexture;
 
+/// How the scene builder lays a burnish's grain out over each face of a surface
+/// (surface/grain_layout.h): along its u, its v, or the longer of the two by the face's extent in
+/// world units; each then with (u, v) scaled to world lengths, so grooves per unit are per
+/// millimetre of a CAD part. Raw: the surface's own (u, v), as given.
+enum class GrainLayout : std::uint8_t { Raw, U, V, Longer };
+
 /// Burnished metal (paper §2.2, images 5-8, 19): the surface is taken to be fine parallel
 /// cylinders (grooves) along a grain direction, shaded through the pseudo-reflectance map of the
 /// material's Phong model by the eye-space grain tangent, exactly as a wire is. Grooves made
@@ -64,6 +70,9 @@ struct Burnish {
   /// Visible grooves (optional). Their coordinate: v for grain U, u for grain V, the turn
   /// (angle / 2 pi) for radial grain, the distance from the axis (world units) for circular.
   std::shared_ptr<const GrooveTexture> grooves;
+  /// Grain U or V only: how the scene builder lays it out per face (the renderer reads the
+  /// result, not this).
+  GrainLayout layout = GrainLayout::Raw;
   bool active() const { return grain != Grain::None; }
 };
 
@@ -161,5 +170,9 @@ struct Scene {
   template <class F>
   void forEachPoint(F&& f) const;
 };
+
+/// `camera` with its near and far planes, where it leaves them open (0), from the scene's bounding
+/// sphere as tight as it allows: the planes a render uses (render/view_setup.cpp).
+Camera withDepthRange(Camera camera, const Scene& scene);
 
 }  // namespace wf

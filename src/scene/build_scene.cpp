@@ -184,24 +184,22 @@ std::vector<TriangleMesh> splitParts(const TriangleMesh& all, const std::vector<
 }
 
 // A CAD model's lines as a wire: its B-rep edges that the selection keeps, each with its class,
-// then whatever follows them in `lines` (iso lines drawn with the edges), unclassified.
+// then whatever follows them in `lines` (iso lines drawn with the edges), of class IsoLine.
 void selectEdges(const GeometryData& g, const PolylineSet& lines, const EdgeSelection& selection, SceneWire& w) {
   const std::size_t edges = g.lines.polylineCount();
   const bool classified = g.lineClasses.size() == edges && g.lineAngles.size() == edges;
   for (std::size_t k = 0; k < lines.polylineCount(); ++k) {
     const bool edge = k < edges && classified;
     if (edge && !selection.keeps(g.lineClasses[k], g.lineAngles[k])) continue;
-    const EdgeClass c = !edge ? EdgeClass::Free
-                      : g.lineClasses[k] == EdgeClass::Sharp || g.lineClasses[k] == EdgeClass::Smooth
-                          ? EdgeSelection::byAngle(g.lineAngles[k], selection.featureAngle)
-                          : g.lineClasses[k];
+    const EdgeClass c = k >= edges ? EdgeClass::IsoLine
+                        : g.lineClasses[k] == EdgeClass::Sharp || g.lineClasses[k] == EdgeClass::Smooth
+                            ? EdgeSelection::byAngle(g.lineAngles[k], selection.featureAngle)
+                            : g.lineClasses[k];
     if (w.lines.starts.empty()) w.lines.starts.push_back(0);
     w.lines.points.insert(w.lines.points.end(), lines.points.begin() + lines.starts[k], lines.points.begin() + lines.starts[k + 1]);
     w.lines.starts.push_back(std::uint32_t(w.lines.points.size()));
-    if (k < edges) w.edgeClasses.push_back(c);
+    if (classified) w.edgeClasses.push_back(c);
   }
-  // Classes only when every polyline has one (iso lines drawn with the edges have none).
-  if (w.edgeClasses.size() != w.lines.polylineCount()) w.edgeClasses.clear();
 }
 
 void buildObject(const SceneDescription& d, const ObjectDescription& o, std::uint32_t index, Budget& budget, BuiltScene& out) {
@@ -355,6 +353,13 @@ void buildObject(const SceneDescription& d, const ObjectDescription& o, std::uin
     const Burnish::Grain grain = scene.materials[size_t(o.surfaceMaterial)].burnish.grain;
     if (grain == Burnish::Grain::U || grain == Burnish::Grain::V) fillGrainFrame(mesh);
     const GeometryData* g = isSource ? nullptr : o.geometry.get();
+    const GrainLayout layout = scene.materials[size_t(o.surfaceMaterial)].burnish.layout;
+    if (layout != GrainLayout::Raw && (grain == Burnish::Grain::U || grain == Burnish::Grain::V)) {
+      // (A material of grain V is only scaled: both coordinates become world lengths.)
+      const std::vector<int> none;
+      const GrainLayoutStats st = layoutGrain(mesh, g ? g->triangleFace : none, grain == Burnish::Grain::U ? layout : GrainLayout::U);
+      out.grainFaces += st.faces, out.grainAlongU += st.alongU, out.grainAlongV += st.alongV;
+    }
     if (g && o.splitParts && g->partNames.size() > 1 && g->trianglePart.size() == mesh.triangles.size()) {
       std::vector<TriangleMesh> parts = splitParts(mesh, g->trianglePart, g->partNames.size());
       for (size_t p = 0; p < parts.size(); ++p)

@@ -18,6 +18,7 @@
 #include "growth/scales.h"
 #include "render/scene.h"
 #include "render/edge_classes.h"
+#include "surface/grain_layout.h"
 #include "surface/silhouette.h"
 #include "surface/surface.h"
 #include "texture/texture.h"
@@ -61,6 +62,7 @@ struct GeometryData {
   bool cad = false;                    ///< a CAD model: its edges are `lines`, not the tessellation's
   std::vector<std::string> partNames;  ///< CAD: one surface per part, named
   std::vector<int> trianglePart;       ///< CAD: part of each triangle of mesh (empty: one part)
+  std::vector<int> triangleFace;       ///< CAD: face of each triangle of mesh (empty: one face)
   std::vector<FaceSurface> faces;      ///< CAD: the exact faces (fur and scales grow on them)
 };
 
@@ -176,6 +178,8 @@ struct BuiltScene {
   std::vector<SilhouetteSource> silhouettes;
   SilhouetteStats silhouetteStats;
   double silhouetteSeconds = 0.0;
+  /// Faces whose brushed grain was laid out (Burnish::layout), and along which.
+  std::size_t grainFaces = 0, grainAlongU = 0, grainAlongV = 0;
 };
 
 /// Builds the scene: tessellates sources, makes edges and isolines, places everything by its

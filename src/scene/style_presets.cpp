@@ -1,5 +1,7 @@
 #include "scene/style_presets.h"
 
+#include "texture/grooves.h"
+
 #include <cmath>
 #include <limits>
 
@@ -96,6 +98,11 @@ SceneDescription describeStyled(std::shared_ptr<const GeometryData> geometry, St
   if (style == Style::Burnished) {
     o.surfaceMaterial = kSteel;
     o.keepColours = false;  // steel: the file's colours would paint it
+    // Brushed along each face's longer extent, with visible grooves at a physical density
+    // (kDefaultGroovesPerUnit a millimetre for CAD files) where the surface has its (u, v).
+    d.materials[kSteel].burnish.layout = GrainLayout::Longer;
+    if (g.mesh.uvs.size() == g.mesh.positions.size())
+      d.materials[kSteel].burnish.grooves = std::make_shared<GrooveTexture>(kDefaultGroovesPerUnit, kDefaultGrooveDepth, 1);
   }
   if (style == Style::Scales || style == Style::Fur) {
     o.surfaceMaterial = style == Style::Fur ? kFurSkin : kSkin;
@@ -181,6 +188,47 @@ void applyHiddenLines(SceneDescription& d, const HiddenLines& hidden) {
 void applySilhouettes(SceneDescription& d, bool on) {
   for (ObjectDescription& o : d.objects)
     if (o.wire && !o.wire->wire.aggregate) o.wire->silhouettes = on;
+}
+
+void applyBurnish(SceneDescription& d, const BurnishOverrides& b) {
+  for (ObjectDescription& o : d.objects) {
+    if (!o.drawSurface || o.surfaceMaterial < 0 || std::size_t(o.surfaceMaterial) >= d.materials.size()) continue;
+    Burnish& burnish = d.materials[std::size_t(o.surfaceMaterial)].burnish;
+    if (!burnish.active()) continue;
+    if (b.grain) {
+      if (*b.grain == BurnishOverrides::Grain::Circular || *b.grain == BurnishOverrides::Grain::Radial) {
+        burnish.grain = *b.grain == BurnishOverrides::Grain::Circular ? Burnish::Grain::Circular : Burnish::Grain::Radial;
+        burnish.layout = GrainLayout::Raw;
+        if (b.axisPoint) {
+          burnish.axisPoint = *b.axisPoint;
+          burnish.axisDirection = *b.axisDirection;
+        } else {
+          // The object's bounding-box centre (placed), along z.
+          glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+          if (o.geometry)
+            for (const glm::dvec3& p : o.geometry->mesh.positions) {
+              const glm::dvec3 q(o.transform * glm::dvec4(p, 1.0));
+              if (std::isfinite(q.x + q.y + q.z)) lo = glm::min(lo, q), hi = glm::max(hi, q);
+            }
+          burnish.axisPoint = lo.x <= hi.x ? 0.5 * (lo + hi) : glm::dvec3(o.transform[3]);
+          burnish.axisDirection = glm::dvec3(0, 0, 1);
+        }
+      } else {
+        burnish.grain = Burnish::Grain::U;
+        burnish.layout = *b.grain == BurnishOverrides::Grain::U   ? GrainLayout::U
+                         : *b.grain == BurnishOverrides::Grain::V ? GrainLayout::V
+                                                                  : GrainLayout::Longer;
+      }
+    }
+    if (b.groovesPerUnit) {
+      const double depth = burnish.grooves ? burnish.grooves->depth() : kDefaultGrooveDepth;
+      const std::uint64_t seed = burnish.grooves ? burnish.grooves->seed() : 1;
+      burnish.grooves = *b.groovesPerUnit > 0 ? std::make_shared<GrooveTexture>(*b.groovesPerUnit, depth, seed) : nullptr;
+      // Grooves per unit of length: u and v made world lengths where the grain runs along them.
+      if (burnish.layout == GrainLayout::Raw && (burnish.grain == Burnish::Grain::U || burnish.grain == Burnish::Grain::V))
+        burnish.layout = GrainLayout::U;
+    }
+  }
 }
 
 void applyEdgeSelection(SceneDescription& d, const EdgeOverrides& e) {

@@ -7,7 +7,9 @@
 
 #include "scene/scene_description.h"
 
+#include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace wf {
@@ -54,6 +56,24 @@ struct EdgeOverrides {
   std::optional<double> featureAngle;
 };
 void applyEdgeSelection(SceneDescription& description, const EdgeOverrides& edges);
+
+/// Brushed steel's visible grooves by default (the burnished style): grooves per world unit
+/// across the grain (per millimetre for CAD files), and their depth (GrooveTexture).
+inline constexpr double kDefaultGroovesPerUnit = 10.0;
+inline constexpr double kDefaultGrooveDepth = 0.3;
+
+/// Brushed steel as the command line overrides it (`--grain`, `--grain-axis`,
+/// `--grooves-per-mm`), for every object whose surface's material is burnished: the grain laid
+/// along each face's u, v or longer extent (surface/grain_layout.h), or circular or radial about
+/// an axis (default: through the object's bounding-box centre, along z); grooves per world unit
+/// across the grain (0: none visible; u and v are then made world lengths where they are not).
+struct BurnishOverrides {
+  enum class Grain : std::uint8_t { U, V, Longer, Circular, Radial };
+  std::optional<Grain> grain;
+  std::optional<glm::dvec3> axisPoint, axisDirection;  ///< both or neither
+  std::optional<double> groovesPerUnit;
+};
+void applyBurnish(SceneDescription& description, const BurnishOverrides& burnish);
 /// "off", "dashed", "ghost", "hide"; false for anything else.
 bool parseHiddenMode(const std::string& name, HiddenLines::Mode& mode);
 

@@ -12,6 +12,8 @@
 namespace wf {
 namespace {
 
+double maxAbs(const glm::dvec3& v) { return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}); }
+
 struct HalfEdge {
   std::uint32_t a, b;    // welded vertex ids, a < b
   std::uint32_t tri;     // triangle index into `normals`
@@ -32,15 +34,20 @@ ClassifiedEdges classifyMeshEdges(const TriangleMesh& mesh, const EdgeSelection&
 ClassifiedEdges classifyPolygonEdges(const std::vector<glm::dvec3>& positions, const std::vector<std::uint32_t>& starts,
                                      const std::vector<std::uint32_t>& ids, const EdgeSelection& selection) {
   ClassifiedEdges out;
-  // Weld vertices within 1e-9 of the mesh's size of each other (a tessellation's seam computes
+  // Weld vertices within 1e-9 of the mesh's size of each other (in each coordinate) (a tessellation's seam computes
   // the same point twice, cos(2 pi) != 1): a hash grid of that cell size, the 27 cells around
-  // each vertex searched, vertices taken in index order so the first one stands for the rest.
+  // each vertex searched, vertices taken in index order so that the first one within reach
+  // stands for the rest. The size is the largest extent of the vertices the polygons use (a stray
+  // unused vertex far away does not weld the mesh into a point); no overflow up to 1e308.
   const std::size_t nv = positions.size();
   std::vector<std::uint32_t> weld(nv);
+  std::vector<char> used(nv, 0);
+  for (std::uint32_t id : ids)
+    if (id < nv) used[id] = 1;
   glm::dvec3 lo(INFINITY), hi(-INFINITY);
-  for (const glm::dvec3& p : positions)
-    if (std::isfinite(p.x + p.y + p.z)) lo = glm::min(lo, p), hi = glm::max(hi, p);
-  const double size = glm::all(glm::lessThanEqual(lo, hi)) ? glm::length(hi - lo) : 0.0;
+  for (std::size_t i = 0; i < nv; ++i)
+    if (used[i] && std::isfinite(maxAbs(positions[i]))) lo = glm::min(lo, positions[i]), hi = glm::max(hi, positions[i]);
+  const double size = lo.x <= hi.x ? std::max({hi.x / 2 - lo.x / 2, hi.y / 2 - lo.y / 2, hi.z / 2 - lo.z / 2}) * 2 : 0.0;
   const double eps = size > 0 && std::isfinite(size) ? 1e-9 * size : 0.0;
   struct KeyHash {
     std::size_t operator()(const glm::i64vec3& k) const {
@@ -51,8 +58,12 @@ ClassifiedEdges classifyPolygonEdges(const std::vector<glm::dvec3>& positions, c
   for (std::size_t i = 0; i < nv; ++i) {
     const glm::dvec3& p = positions[i];
     weld[i] = std::uint32_t(i);
-    if (!std::isfinite(p.x + p.y + p.z)) continue;
-    const glm::i64vec3 key = eps > 0 ? glm::i64vec3(glm::floor((p - lo) / eps)) : glm::i64vec3(0);
+    if (!used[i] || !std::isfinite(maxAbs(p))) continue;
+    // (eps 0: all used vertices are one point, or the size overflowed: exact matches only, in
+    // one cell where the first vertex answers at once.)
+    glm::i64vec3 key(0);
+    if (eps > 0)
+      for (int c = 0; c < 3; ++c) key[c] = std::int64_t(std::clamp(std::floor(p[c] / eps - lo[c] / eps), -1e18, 1e18));
     std::uint32_t best = std::uint32_t(i);
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy)
@@ -60,7 +71,10 @@ ClassifiedEdges classifyPolygonEdges(const std::vector<glm::dvec3>& positions, c
           const auto it = cells.find(key + glm::i64vec3(dx, dy, dz));
           if (it == cells.end()) continue;
           for (std::uint32_t j : it->second)
-            if (weld[j] < best && glm::length(positions[j] - p) <= eps) best = weld[j];
+            if (maxAbs(positions[j] - p) <= eps) {
+              best = std::min(best, weld[j]);
+              break;  // the first within reach in this cell (index order)
+            }
         }
     weld[i] = best;
     cells[key].push_back(std::uint32_t(i));
@@ -73,19 +87,30 @@ ClassifiedEdges classifyPolygonEdges(const std::vector<glm::dvec3>& positions, c
   for (std::size_t f = 0; f + 1 < starts.size(); ++f) {
     const std::uint32_t a0 = starts[f], a1 = std::min<std::uint32_t>(starts[f + 1], std::uint32_t(ids.size()));
     if (a1 < a0 + 3) continue;
-    // Newell's normal about the first vertex (no cancellation far from the origin): exact for
-    // planar polygons, the best plane's for the rest.
-    glm::dvec3 n(0.0);
     bool ok = true;
     for (std::uint32_t k = a0; k < a1 && ok; ++k) ok = ids[k] < nv;
-    for (std::uint32_t k = a0 + 1; ok && k + 1 < a1; ++k)
-      n += glm::cross(positions[ids[k]] - positions[ids[a0]], positions[ids[k + 1]] - positions[ids[a0]]);
-    const double len = glm::length(n);
-    if (!ok || !(len > 0) || !std::isfinite(len)) continue;
-    const std::uint32_t tri = std::uint32_t(normals.size());
-    normals.push_back(n / len);
+    if (!ok) continue;
+    // Welded, a polygon must keep all its corners distinct (a sliver whose two corners weld
+    // together is no polygon: its edges would count twice).
     w.clear();
     for (std::uint32_t k = a0; k < a1; ++k) w.push_back(weld[ids[k]]);
+    std::vector<std::uint32_t> sorted = w;
+    std::sort(sorted.begin(), sorted.end());
+    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) continue;
+    // Newell's normal about the first vertex, on edges scaled to about 1 (no cancellation far
+    // from the origin, no overflow or underflow at 1e+-150 and beyond): exact for planar
+    // polygons, the best plane's for the rest.
+    const glm::dvec3 o = positions[ids[a0]];
+    double sc = 0;
+    for (std::uint32_t k = a0 + 1; k < a1; ++k) sc = std::max(sc, maxAbs(positions[ids[k]] - o));
+    if (!(sc > 0) || !std::isfinite(sc)) continue;
+    glm::dvec3 n(0.0);
+    for (std::uint32_t k = a0 + 1; k + 1 < a1; ++k)
+      n += glm::cross((positions[ids[k]] - o) / sc, (positions[ids[k + 1]] - o) / sc);
+    const double len = glm::length(n);
+    if (!(len > 0) || !std::isfinite(len)) continue;
+    const std::uint32_t tri = std::uint32_t(normals.size());
+    normals.push_back(n / len);
     for (std::size_t k = 0; k < w.size(); ++k) {
       const std::uint32_t a = w[k], b = w[(k + 1) % w.size()];
       if (a == b) continue;
@@ -146,15 +171,15 @@ ClassifiedEdges classifyPolygonEdges(const std::vector<glm::dvec3>& positions, c
     const std::uint32_t other = lo->second == k ? (lo + 1)->second : lo->second;
     return edges[other].cls == edges[k].cls ? (long long)(other) : -1;
   };
-  std::vector<char> used(edges.size(), 0);
+  std::vector<char> done(edges.size(), 0);
   std::vector<glm::dvec3> line;
   auto walk = [&](std::uint32_t k, std::uint32_t from) {
     line.assign(1, positions[from]);
     float worst = edges[k].angle;
     const EdgeClass cls = edges[k].cls;
     std::uint32_t v = from;
-    for (long long e = k; e >= 0 && !used[std::size_t(e)];) {
-      used[std::size_t(e)] = 1;
+    for (long long e = k; e >= 0 && !done[std::size_t(e)];) {
+      done[std::size_t(e)] = 1;
       const Edge& ed = edges[std::size_t(e)];
       v = ed.a == v ? ed.b : ed.a;
       line.push_back(positions[v]);
@@ -167,12 +192,12 @@ ClassifiedEdges classifyPolygonEdges(const std::vector<glm::dvec3>& positions, c
   };
   // Open chains first (from an end that does not continue), then closed loops.
   for (std::uint32_t k = 0; k < edges.size(); ++k) {
-    if (used[k]) continue;
+    if (done[k]) continue;
     if (next(edges[k].a, k) < 0) walk(k, edges[k].a);
     else if (next(edges[k].b, k) < 0) walk(k, edges[k].b);
   }
   for (std::uint32_t k = 0; k < edges.size(); ++k)
-    if (!used[k]) walk(k, edges[k].a);
+    if (!done[k]) walk(k, edges[k].a);
   return out;
 }
 

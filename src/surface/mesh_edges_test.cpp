@@ -64,7 +64,9 @@ TEST(MeshEdges, SquareLoopWindingAndNonManifold) {
   e = classifyMeshEdges(m, select(EdgeSelection::Mode::All));
   EXPECT_EQ(count(e, EdgeClass::Smooth), 1u);
   for (std::size_t k = 0; k < e.classes.size(); ++k)
-    if (e.classes[k] == EdgeClass::Smooth) EXPECT_EQ(e.angles[k], 0.0f);
+    if (e.classes[k] == EdgeClass::Smooth) {
+      EXPECT_EQ(e.angles[k], 0.0f);
+    }
 
   m.positions.push_back({0.5, 0.5, 1});
   m.triangles.push_back({0, 2, 4});
@@ -92,9 +94,9 @@ TEST(MeshEdges, FoldAngleAgainstTheFeatureAngle) {
   }
 }
 
-// A tessellated sphere computes its seam's points twice (u = 0 and 2 pi): welded, it has no
-// boundary at all, and at 64 x 32 no facet turns by more than 10 degrees, so sharp mode keeps
-// nothing. Degenerate pole triangles are left out, never NaN.
+// A tessellated sphere computes its seam's points twice (u = 0 and 2 pi; here they come out
+// equal): welded, it has no boundary at all, and at 64 x 32 no facet turns by more than 10
+// degrees, so sharp mode keeps nothing.
 TEST(MeshEdges, SphereSeamIsWelded) {
   ParametricSource s;
   s.type = ParametricSource::Type::Sphere;
@@ -105,6 +107,25 @@ TEST(MeshEdges, SphereSeamIsWelded) {
   EXPECT_EQ(count(e, EdgeClass::Sharp), 0u);
   EXPECT_EQ(e.lines.polylineCount(), 0u);
   EXPECT_GT(count(e, EdgeClass::Smooth), 64u * 30u);
+}
+
+// The weld tolerance and slivers (from a review): the square's corner 2 given twice, the copy
+// moved by 1e-12 (within 1e-9 of the mesh's size) so that the two triangles meet only once
+// welded; a sliver triangle (1, 4, 2) whose corners 4 and 2 weld together adds nothing (it left
+// the border non-manifold before); an unused vertex at 1e10 does not widen the tolerance (it
+// welded the whole square into one point); the same square scaled by 1e+-120 gives the same
+// classes (the cross products underflowed or overflowed to no edges at all).
+TEST(MeshEdges, WeldToleranceSliversStrayVerticesAndScale) {
+  for (double scale : {1.0, 1e-120, 1e120}) {
+    TriangleMesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {1, 1 + 1e-12, 0}, {1e10, 0, 0}};
+    for (glm::dvec3& p : m.positions) p *= scale;
+    m.triangles = {{0, 1, 2}, {0, 4, 3}, {1, 4, 2}};
+    const ClassifiedEdges e = classifyMeshEdges(m, select(EdgeSelection::Mode::All));
+    EXPECT_EQ(count(e, EdgeClass::Boundary), 4u) << scale;
+    EXPECT_EQ(count(e, EdgeClass::Smooth), 1u) << scale;
+    EXPECT_EQ(count(e, EdgeClass::NonManifold), 0u) << scale;
+  }
 }
 
 }  // namespace wf

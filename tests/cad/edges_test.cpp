@@ -3,6 +3,16 @@
 #include "cad_fixtures.h"
 
 #include <BRepAdaptor_Curve.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_Sewing.hxx>
+#include <Geom2d_Curve.hxx>
+#include <Geom2d_Line.hxx>
+#include <Geom_CylindricalSurface.hxx>
+#include <Geom_Plane.hxx>
+#include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
+#include <TopoDS_Shell.hxx>
+#include <gp.hxx>
+#include <gp_Ax3.hxx>
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
 #include <gp_Circ.hxx>
@@ -324,4 +334,77 @@ TEST(CadEdges, FeatureAngleSplitsAChamfer) {
   int smooth = 0;
   for (const Line& l : lines(wide)) smooth += l.edgeClass == 2;
   EXPECT_EQ(smooth, 2);
+}
+
+// From a review: two kinds of B-rep that real files carry, each with one tangent edge that must
+// read smooth at 0 degrees, not sharp at 180.
+// - A cylinder of radius 5 made of two lateral faces sewn at z = 5, the seam circle's curve on one
+//   face re-parametrised (the same points over [pi, 3 pi] instead of [0, 2 pi]): the edge is no
+//   longer SameParameter, so the two faces' curves cannot share a parameter (each is projected).
+// - A box with one filleted edge as a shell whose fillet face is flipped (an unfixed surface
+//   model): both faces run the tangent edges the same way, and one normal is turned back.
+TEST(CadEdges, TangentEdgesOfReparametrisedAndFlippedFaces) {
+  auto smoothAtZero = [](const TopoDS_Shape& shape, const std::string& name) {
+    int smooth = 0;
+    for (const Line& l : lines(readOk(writeBrep(shape, name))))
+      if (l.edgeClass == 2) {
+        ++smooth;
+        EXPECT_LT(l.angle, 1e-6) << name;
+      }
+    return smooth;
+  };
+  BRepBuilderAPI_Sewing sew;
+  for (double z0 : {0.0, 5.0}) {
+    Handle(Geom_CylindricalSurface) s = new Geom_CylindricalSurface(gp_Ax3(gp::XOY()), 5.0);
+    sew.Add(BRepBuilderAPI_MakeFace(s, 0, 2 * kPi, z0, z0 + 5, 1e-7).Face());
+  }
+  sew.Perform();
+  const TopoDS_Shape cylinder = sew.SewedShape();
+  EXPECT_EQ(smoothAtZero(cylinder, "tangent_cyl.brep"), 1);
+  TopTools_IndexedDataMapOfShapeListOfShape edgeFaces;
+  TopExp::MapShapesAndAncestors(cylinder, TopAbs_EDGE, TopAbs_FACE, edgeFaces);
+  bool changed = false;
+  for (int i = 1; i <= edgeFaces.Extent() && !changed; ++i) {
+    const TopoDS_Edge e = TopoDS::Edge(edgeFaces.FindKey(i));
+    Standard_Real f, l;
+    const Handle(Geom_Curve) c = BRep_Tool::Curve(e, f, l);
+    if (c.IsNull() || std::abs(c->Value(0.5 * (f + l)).Z() - 5) > 1e-6 || edgeFaces(i).Extent() < 2) continue;
+    const TopoDS_Face face = TopoDS::Face(edgeFaces(i).First());
+    Standard_Real pf, pl;
+    const Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(e, face, pf, pl);
+    gp_Pnt2d p0;
+    gp_Vec2d d;
+    pc->D1(pf, p0, d);
+    BRep_Builder b;
+    b.UpdateEdge(e, new Geom2d_Line(gp_Pnt2d(p0.X() - d.X() / d.Magnitude() * kPi, p0.Y()), gp_Dir2d(d.X(), d.Y())), face,
+                 BRep_Tool::Tolerance(e));
+    b.Range(e, face, pf + kPi, pl + kPi);
+    b.SameParameter(e, Standard_False);
+    b.SameRange(e, Standard_False);
+    changed = true;
+  }
+  ASSERT_TRUE(changed);
+  EXPECT_EQ(smoothAtZero(cylinder, "tangent_cyl_reparam.brep"), 1);
+
+  const TopoDS_Shape box = BRepPrimAPI_MakeBox(10, 20, 30).Shape();
+  BRepFilletAPI_MakeFillet fillet(box);
+  TopTools_IndexedMapOfShape edges;
+  TopExp::MapShapes(box, TopAbs_EDGE, edges);
+  fillet.Add(2, TopoDS::Edge(edges(1)));
+  const TopoDS_Shape filleted = fillet.Shape();
+  EXPECT_EQ(smoothAtZero(filleted, "tangent_fillet.brep"), 2);
+  TopoDS_Shell shell;
+  BRep_Builder b;
+  b.MakeShell(shell);
+  bool flipped = false;
+  for (TopExp_Explorer x(filleted, TopAbs_FACE); x.More(); x.Next()) {
+    TopoDS_Face face = TopoDS::Face(x.Current());
+    if (!flipped && BRep_Tool::Surface(face)->DynamicType() != STANDARD_TYPE(Geom_Plane)) {
+      face.Reverse();
+      flipped = true;
+    }
+    b.Add(shell, face);
+  }
+  ASSERT_TRUE(flipped);
+  EXPECT_EQ(smoothAtZero(shell, "tangent_fillet_flipped.brep"), 2);
 }

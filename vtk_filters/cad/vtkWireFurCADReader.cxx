@@ -305,9 +305,12 @@ std::vector<gp_Pnt> edgePoints(const TopoDS_Edge& edge, const TopTools_ListOfSha
 
 // The class of an edge from the faces on its sides (render/edge_classes.h), and for an edge
 // between two faces the largest angle, in degrees, between their oriented normals at 9 points
-// along it (0 along a fillet's tangent edge, 90 along a box's). The normals come from each face's
-// own surface at the edge's curve on that face (same parameter); where neither sample gives both
-// normals (a degenerate surface), the angle is NaN and the edge counts as sharp.
+// along it (0 along a fillet's tangent edge, 90 along a box's). Each normal comes from its face's
+// own surface: at the edge's curve on that face, each curve over its own parameter range, where
+// the edge is SameParameter; else at the 3-D point projected onto the surface. Two faces that run
+// the edge the same way (an unsewn or unfixed shell) have one normal turned, as a consistently
+// oriented shell would have it. Where no sample gives both normals (a degenerate surface) or
+// OpenCASCADE fails, the angle is NaN and the edge counts as sharp, so it is drawn.
 std::pair<wf::EdgeClass, double> classifyEdge(const TopoDS_Edge& edge, const TopTools_ListOfShape* faces, double featureAngle)
 {
   constexpr double nan = std::numeric_limits<double>::quiet_NaN();
@@ -320,37 +323,64 @@ std::pair<wf::EdgeClass, double> classifyEdge(const TopoDS_Edge& edge, const Top
     return { wf::EdgeClass::Free, nan };
   if (distinct.size() > 2)
     return { wf::EdgeClass::NonManifold, nan };
-  if (distinct.size() == 1)
-    return { BRep_Tool::IsClosed(edge, distinct[0]) ? wf::EdgeClass::Seam : wf::EdgeClass::Boundary, nan };
-  double worst = -1.0;
-  Standard_Real first = 0.0, last = 0.0;
-  Handle(Geom2d_Curve) c[2];
-  for (int k = 0; k < 2; ++k)
-    c[k] = BRep_Tool::CurveOnSurface(edge, distinct[size_t(k)], first, last);
-  if (!c[0].IsNull() && !c[1].IsNull() && std::isfinite(first) && std::isfinite(last))
+  try
   {
+    if (distinct.size() == 1)
+      return { BRep_Tool::IsClosed(edge, distinct[0]) ? wf::EdgeClass::Seam : wf::EdgeClass::Boundary, nan };
+    // How each face runs the edge (its orientation as explored in the face, the face's own
+    // orientation composed in).
+    TopAbs_Orientation runs[2] = { TopAbs_EXTERNAL, TopAbs_EXTERNAL };
+    for (int k = 0; k < 2; ++k)
+      for (TopExp_Explorer x(distinct[size_t(k)], TopAbs_EDGE); x.More(); x.Next())
+        if (x.Current().IsSame(edge))
+        {
+          runs[k] = x.Current().Orientation();
+          break;
+        }
+    const bool sameWay = (runs[0] == TopAbs_FORWARD || runs[0] == TopAbs_REVERSED) && runs[0] == runs[1];
+    const bool sameParameter = BRep_Tool::SameParameter(edge) && BRep_Tool::SameRange(edge);
+    Standard_Real first[2] = { 0, 0 }, last[2] = { 0, 0 };
+    Handle(Geom2d_Curve) c[2];
+    for (int k = 0; k < 2; ++k)
+      c[k] = BRep_Tool::CurveOnSurface(edge, distinct[size_t(k)], first[k], last[k]);
+    const BRepAdaptor_Curve curve(edge);
     const BRepAdaptor_Surface s0(distinct[0]), s1(distinct[1]);
     const BRepAdaptor_Surface* s[2] = { &s0, &s1 };
+    Handle(ShapeAnalysis_Surface) projector[2];
+    double worst = -1.0;
     for (int i = 0; i <= 8; ++i)
     {
-      const double t = first + (last - first) * (0.05 + 0.9 * i / 8.0);
+      const double f = 0.05 + 0.9 * i / 8.0;
       gp_Dir n[2];
       bool ok = true;
       for (int k = 0; k < 2 && ok; ++k)
       {
-        const gp_Pnt2d uv = c[k]->Value(t);
+        gp_Pnt2d uv;
+        if (sameParameter && !c[k].IsNull() && std::isfinite(first[k]) && std::isfinite(last[k]))
+          uv = c[k]->Value(first[k] + (last[k] - first[k]) * f);
+        else
+        {
+          const double t = curve.FirstParameter() + (curve.LastParameter() - curve.FirstParameter()) * f;
+          if (projector[k].IsNull())
+            projector[k] = new ShapeAnalysis_Surface(BRep_Tool::Surface(distinct[size_t(k)]));
+          uv = projector[k]->ValueOfUV(curve.Value(t), Precision::Confusion());
+        }
         BRepLProp_SLProps props(*s[k], uv.X(), uv.Y(), 1, Precision::Confusion());
         ok = props.IsNormalDefined();
         if (ok)
           n[k] = distinct[size_t(k)].Orientation() == TopAbs_REVERSED ? props.Normal().Reversed() : props.Normal();
       }
       if (ok)
-        worst = std::max(worst, n[0].Angle(n[1]) * 180.0 / M_PI);
+        worst = std::max(worst, (sameWay ? n[0].Angle(n[1].Reversed()) : n[0].Angle(n[1])) * 180.0 / M_PI);
     }
+    if (worst < 0.0)
+      return { wf::EdgeClass::Sharp, nan };
+    return { wf::EdgeSelection::byAngle(worst, featureAngle), worst };
   }
-  if (worst < 0.0)
+  catch (const Standard_Failure&)
+  {
     return { wf::EdgeClass::Sharp, nan };
-  return { wf::EdgeSelection::byAngle(worst, featureAngle), worst };
+  }
 }
 
 // OpenCASCADE's progress of one meshing run, forwarded to the algorithm's progress events (the

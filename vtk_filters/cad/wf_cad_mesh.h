@@ -23,7 +23,8 @@
 
 namespace wfcad {
 
-inline wf::TriangleMesh facesToMesh(vtkPolyData* faces, std::vector<int>* trianglePart = nullptr) {
+inline wf::TriangleMesh facesToMesh(vtkPolyData* faces, std::vector<int>* trianglePart = nullptr,
+                                    std::vector<int>* triangleFace = nullptr) {
   wf::TriangleMesh m;
   const vtkIdType np = faces->GetNumberOfPoints();
   vtkDataArray* normals = faces->GetPointData()->GetNormals();
@@ -56,6 +57,7 @@ inline wf::TriangleMesh facesToMesh(vtkPolyData* faces, std::vector<int>* triang
                             wf::srgbToLinear(float(c[2]) / 255.0f)};
   }
   vtkDataArray* part = faces->GetCellData()->GetArray("PartId");
+  vtkDataArray* face = faces->GetCellData()->GetArray("FaceId");
   vtkCellArray* polys = faces->GetPolys();
   vtkNew<vtkIdList> ids;
   m.triangles.reserve(size_t(polys->GetNumberOfCells()));
@@ -64,6 +66,7 @@ inline wf::TriangleMesh facesToMesh(vtkPolyData* faces, std::vector<int>* triang
     if (ids->GetNumberOfIds() == 3) {
       m.triangles.emplace_back(std::uint32_t(ids->GetId(0)), std::uint32_t(ids->GetId(1)), std::uint32_t(ids->GetId(2)));
       if (trianglePart) trianglePart->push_back(part ? int(part->GetTuple1(cell)) : 0);
+      if (triangleFace) triangleFace->push_back(face ? int(face->GetTuple1(cell)) : 0);
     }
   return m;
 }
