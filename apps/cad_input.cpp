@@ -90,7 +90,9 @@ nlohmann::ordered_json edgesByClass(vtkWireFurCADReader* reader) {
   return j;
 }
 
-CadGeometry readCadInProcess(const std::string& path, const CadOptions& o, bool withSurfaces) {
+// facesOnly: the exact faces alone (CadGeometry::faces), nothing meshed (vtkWireFurCADReader's
+// FacesOnly), for a tessellation that came from the worker.
+CadGeometry readCadInProcess(const std::string& path, const CadOptions& o, bool withSurfaces, bool facesOnly = false) {
   vtkSmartPointer<vtkWireFurCADReader> reader;
   reader.TakeReference(cadFactory()());
   reader->SetFileName(path.c_str());
@@ -124,14 +126,19 @@ CadGeometry readCadInProcess(const std::string& path, const CadOptions& o, bool 
     });
     reader->AddObserver(vtkCommand::ProgressEvent, progress);
   }
+  reader->SetFacesOnly(facesOnly);
   reader->Update();
   const std::string error = reader->GetErrorMessage();
   if (!error.empty()) throw UsageError(error);
 
   CadGeometry out;
-  if (withSurfaces) {
+  if (withSurfaces || facesOnly) {
     if (!facesFunction) throw std::runtime_error("the CAD module has no entry point wirefur_cad_face_surfaces");
     facesFunction(reader, &out.faces);
+  }
+  if (facesOnly) {
+    out.info = {{"seconds_read", reader->GetReadSeconds()}};
+    return out;
   }
   for (int p = 0; p < reader->GetNumberOfParts(); ++p) out.partNames.push_back(reader->GetPartName(p));
   out.warning = reader->GetWarningMessage();
@@ -166,7 +173,7 @@ CadGeometry readCadInProcess(const std::string& path, const CadOptions& o, bool 
 #else
 
 namespace {
-CadGeometry readCadInProcess(const std::string& path, const CadOptions&, bool) {
+CadGeometry readCadInProcess(const std::string& path, const CadOptions&, bool, bool = false) {
   throw std::runtime_error(path + ": this build has no CAD support (configure with WIREFUR_WITH_CAD=ON and OpenCASCADE)");
 }
 }  // namespace
@@ -372,8 +379,17 @@ CadGeometry readCad(const std::string& path, const CadOptions& o, bool withSurfa
   if (!o.isolate) return readCadInProcess(path, o, withSurfaces);
   CadGeometry g = readCadInWorker(path, o);
   // The exact surfaces live in this process only: once the worker has shown the file reads
-  // cleanly, it is read again here for them.
-  if (withSurfaces) return readCadInProcess(path, o, true);
+  // cleanly, it is read again here for them, without meshing it again; the faces the worker
+  // meshed are kept (a face that failed to mesh there is left out here too).
+  if (withSurfaces) {
+    CadGeometry s = readCadInProcess(path, o, true, true);
+    std::vector<int> meshed = g.triangleFace;
+    std::sort(meshed.begin(), meshed.end());
+    meshed.erase(std::unique(meshed.begin(), meshed.end()), meshed.end());
+    for (WireFurCadFace& f : s.faces)
+      if (std::binary_search(meshed.begin(), meshed.end(), f.faceId)) g.faces.push_back(std::move(f));
+    g.info["seconds_read_faces"] = s.info["seconds_read"];
+  }
   return g;
 }
 

@@ -184,3 +184,28 @@ TEST(CadFaceSurfaces, SilhouettesOfExactFacesLieOnTheTrueSilhouette) {
                 st.curves, st.points, worst);
   }
 }
+
+// FacesOnly (the wirefur command's second, in-process read): every face of the plate with a hole,
+// with the FaceIds of a full update and the same surfaces (S at the domain's centre to 1e-12),
+// nothing meshed and both outputs empty.
+TEST(CadFaceSurfaces, FacesOnlyGivesTheSameFacesWithoutMeshing) {
+  const std::string path = writeBrep(plateWithHole(), "plate_hole_faces_only.brep");
+  const Read full = readOk(path);
+  std::vector<WireFurCadFace> a, b;
+  ASSERT_EQ(wirefur_cad_face_surfaces(full.reader, &a), 7);
+  vtkNew<vtkWireFurCADReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->FacesOnlyOn();
+  reader->Update();
+  EXPECT_EQ(reader->GetErrorMessage(), "");
+  EXPECT_EQ(reader->GetOutput(0)->GetNumberOfCells(), 0);
+  EXPECT_EQ(reader->GetOutput(1)->GetNumberOfCells(), 0);
+  EXPECT_EQ(reader->GetNumberOfFaces(), 7);
+  ASSERT_EQ(wirefur_cad_face_surfaces(reader, &b), 7);
+  for (size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].faceId, b[i].faceId);
+    const wf::ParameterDomain d = a[i].surface->domain();
+    const double u = 0.5 * (d.u0 + d.u1), v = 0.5 * (d.v0 + d.v1);
+    EXPECT_LT(glm::length(a[i].surface->frame(u, v).P - b[i].surface->frame(u, v).P), 1e-12);
+  }
+}

@@ -587,6 +587,7 @@ int vtkWireFurCADReader::RequestData(vtkInformation*, vtkInformationVector**, vt
   // Mesh each distinct shape once (instances share their faces' triangulations), dropping any
   // triangulation the file carried so that the deflection asked for is the one used.
   const auto tm = std::chrono::steady_clock::now();
+  if (!this->FacesOnly)
   {
     std::vector<TopoDS_Shape> distinct;
     for (const wfcad::Part& p : model.parts)
@@ -633,6 +634,19 @@ int vtkWireFurCADReader::RequestData(vtkInformation*, vtkInformationVector**, vt
     }
   }
   in.faces = int(jobs.size());
+  if (this->FacesOnly)
+  {
+    // The exact faces alone (wirefur_cad_face_surfaces), every one: nothing meshed, no output.
+    for (const FaceJob& j : jobs)
+    {
+      in.faceShapes.push_back(j.face);
+      in.faceIds.push_back(j.faceId);
+      in.faceParts.push_back(j.part);
+    }
+    in.meshSeconds = seconds(tm);
+    this->UpdateProgress(1.0);
+    return 1;
+  }
   // The triangle budget, checked before any vertex data is made.
   {
     double total = 0;
@@ -892,5 +906,6 @@ void vtkWireFurCADReader::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfVIsoLines: " << this->NumberOfVIsoLines << "\n";
   os << indent << "MaximumTriangles: " << this->MaximumTriangles << "\n";
   os << indent << "FeatureAngle: " << this->FeatureAngle << "\n";
+  os << indent << "FacesOnly: " << this->FacesOnly << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
 }

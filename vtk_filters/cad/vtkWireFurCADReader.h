@@ -112,6 +112,15 @@ public:
   ///@}
 
   ///@{
+  /// On: read the file and keep its exact faces for wirefur_cad_face_surfaces (every face, FaceId
+  /// as a full update numbers them), with nothing meshed and both outputs empty: for a program
+  /// that has the tessellation already (the wirefur command, from its worker process). Default off.
+  vtkSetMacro(FacesOnly, bool);
+  vtkGetMacro(FacesOnly, bool);
+  vtkBooleanMacro(FacesOnly, bool);
+  ///@}
+
+  ///@{
   /// Worker threads for meshing and evaluating faces (0: oneTBB's default). The output is the
   /// same, bit for bit, for any count.
   vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
@@ -158,6 +167,7 @@ protected:
   vtkIdType MaximumTriangles = 20000000;
   int NumberOfThreads = 0;
   double FeatureAngle = 10.0;
+  bool FacesOnly = false;
 
 public:
 #ifndef __VTK_WRAP__
