@@ -120,13 +120,15 @@ int vtkWireFurEdgeClasses::RequestData(
   for (in->InitTraversal(); in->GetNextCell(cell); ++c)
   {
     const double cls = inClass->GetTuple1(firstLine + c);
-    if (!(cls >= 0 && cls <= 5))
+    if (!(cls >= 0 && cls <= 7))
       continue;
     wf::EdgeClass k = wf::EdgeClass(int(cls));
     const double angle = inAngle ? inAngle->GetTuple1(firstLine + c) : std::nan("");
-    if (k == wf::EdgeClass::Sharp || k == wf::EdgeClass::Smooth)
+    // (Without an EdgeAngle array, as after appending other lines, the given class stands.)
+    if (inAngle && (k == wf::EdgeClass::Sharp || k == wf::EdgeClass::Smooth))
       k = wf::EdgeSelection::byAngle(angle, this->FeatureAngle);
-    ++this->Counts[int(k)];
+    if (int(k) < 6)
+      ++this->Counts[int(k)];
     if (!selection.keeps(k, angle))
       continue;
     const vtkIdType out = lines->InsertNextCell(cell);

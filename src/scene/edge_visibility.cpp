@@ -216,6 +216,7 @@ VisibleLines splitByVisibility(const PolylineSet& lines, const OcclusionGrid& gr
       double c0, c1;
       if (!grid.clipToView(p0, p1, c0, c1)) {
         to(p0, false);  // outside the view: not seen
+        to(p1, false);
         continue;
       }
       auto at = [&](double t) { return p0 + (p1 - p0) * t; };

@@ -153,3 +153,21 @@ TEST(EdgeVisibility, LongTrianglesBinBounded) {
 }
 
 }  // namespace wf
+
+namespace wf {
+// From a review: a segment wholly outside the view is kept as not seen, not dropped; the pieces
+// add up to the polyline's length (1e-12).
+TEST(EdgeVisibility, SegmentsOutsideTheViewAreKeptAsNotSeen) {
+  const Scene s = squareScene(true);
+  const OcclusionGrid grid(s, *s.camera, 640, 480);
+  PolylineSet l;
+  l.add({{-0.2, 0.3, 1}, {0.2, 0.3, 1}, {0.2, 0.3, 20}, {5, 0.3, 30}});  // the last two behind the eye
+  VisibilityStats st;
+  const VisibleLines v = splitByVisibility(l, grid, {}, st);
+  const double total = 0.4 + 19.0 + std::sqrt(4.8 * 4.8 + 100.0);
+  EXPECT_NEAR(st.visibleLength + st.hiddenLength, total, 1e-12 * total);
+  ASSERT_GE(v.visible.size(), 2u);
+  EXPECT_EQ(v.visible.front(), 1);
+  EXPECT_EQ(v.visible.back(), 0);
+}
+}  // namespace wf

@@ -91,9 +91,13 @@ ClassifiedEdges classifyPolygonEdges(const std::vector<glm::dvec3>& positions, c
     for (std::uint32_t k = a0; k < a1 && ok; ++k) ok = ids[k] < nv;
     if (!ok) continue;
     // Welded, a polygon must keep all its corners distinct (a sliver whose two corners weld
-    // together is no polygon: its edges would count twice).
+    // together is no polygon: its edges would count twice). Repeated neighbours are one corner
+    // (a quad with a collapsed edge at a pole is a triangle).
     w.clear();
-    for (std::uint32_t k = a0; k < a1; ++k) w.push_back(weld[ids[k]]);
+    for (std::uint32_t k = a0; k < a1; ++k)
+      if (w.empty() || w.back() != weld[ids[k]]) w.push_back(weld[ids[k]]);
+    while (w.size() > 1 && w.back() == w.front()) w.pop_back();
+    if (w.size() < 3) continue;
     std::vector<std::uint32_t> sorted = w;
     std::sort(sorted.begin(), sorted.end());
     if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) continue;

@@ -128,4 +128,17 @@ TEST(MeshEdges, WeldToleranceSliversStrayVerticesAndScale) {
   }
 }
 
+// From a review: a quad with a collapsed edge (two corners at one point, as a quad mesh has at a
+// pole) is a triangle, not left out: two such quads and a triangle closing a tetrahedron-like cap
+// leave no false border.
+TEST(MeshEdges, QuadWithACollapsedEdgeIsATriangle) {
+  const std::vector<glm::dvec3> p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  // Faces of a tetrahedron, two of them as quads with a repeated corner.
+  const std::vector<std::uint32_t> ids = {0, 2, 1, 1, 0, 1, 3, 3, 0, 3, 2, 1, 2, 3};
+  const std::vector<std::uint32_t> starts = {0, 4, 8, 11, 14};
+  const ClassifiedEdges e = classifyPolygonEdges(p, starts, ids, select(EdgeSelection::Mode::All));
+  EXPECT_EQ(e.counts[std::size_t(EdgeClass::Boundary)], 0u);
+  EXPECT_EQ(e.counts[std::size_t(EdgeClass::Sharp)], 6u);
+}
+
 }  // namespace wf
