@@ -191,7 +191,8 @@ void selectEdges(const GeometryData& g, const PolylineSet& lines, const EdgeSele
   for (std::size_t k = 0; k < lines.polylineCount(); ++k) {
     const bool edge = k < edges && classified;
     if (edge && !selection.keeps(g.lineClasses[k], g.lineAngles[k])) continue;
-    const EdgeClass c = k >= edges ? EdgeClass::IsoLine
+    const EdgeClass c = !classified ? EdgeClass::Free  // (not stored: no classes at all)
+                        : k >= edges ? EdgeClass::IsoLine
                         : g.lineClasses[k] == EdgeClass::Sharp || g.lineClasses[k] == EdgeClass::Smooth
                             ? EdgeSelection::byAngle(g.lineAngles[k], selection.featureAngle)
                             : g.lineClasses[k];
