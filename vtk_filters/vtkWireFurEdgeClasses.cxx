@@ -34,14 +34,9 @@ int vtkWireFurEdgeClasses::RequestData(
     c = 0;
   if (!input || input->GetNumberOfPoints() == 0)
     return 1;
-  if (const std::int64_t bad = wf::vtkio::firstCellWithMissingPoints(input); bad >= 0)
+  if (const std::string problem = wf::vtkio::inputProblem(input); !problem.empty())
   {
-    vtkErrorMacro(<< "input cell " << bad << " names a point the input does not have");
-    return 1;
-  }
-  if (const std::int64_t bad = wf::vtkio::firstNonFinitePoint(input); bad >= 0)
-  {
-    vtkErrorMacro(<< "input point " << bad << " is not finite");
+    vtkErrorMacro(<< problem);
     return 1;
   }
   wf::EdgeSelection selection;

@@ -91,14 +91,9 @@ int vtkWireFurEdgeVisibility::RequestData(
   {
     if (!pd)
       continue;
-    if (const std::int64_t bad = wf::vtkio::firstCellWithMissingPoints(pd); bad >= 0)
+    if (const std::string problem = wf::vtkio::inputProblem(pd, pd == input ? "input" : "surface"); !problem.empty())
     {
-      vtkErrorMacro(<< (pd == input ? "input" : "surface") << " cell " << bad << " names a point the input does not have");
-      return 1;
-    }
-    if (const std::int64_t bad = wf::vtkio::firstNonFinitePoint(pd); bad >= 0)
-    {
-      vtkErrorMacro(<< (pd == input ? "input" : "surface") << " point " << bad << " is not finite");
+      vtkErrorMacro(<< problem);
       return 1;
     }
   }

@@ -231,6 +231,14 @@ std::int64_t firstCellWithMissingPoints(vtkPolyData* mesh) {
   return bad;
 }
 
+std::string inputProblem(vtkPolyData* mesh, const std::string& what) {
+  if (const std::int64_t bad = firstCellWithMissingPoints(mesh); bad >= 0)
+    return what + " cell " + std::to_string(bad) + " names a point the input does not have";
+  if (const std::int64_t bad = firstNonFinitePoint(mesh); bad >= 0)
+    return what + " point " + std::to_string(bad) + " is not finite";
+  return {};
+}
+
 std::int64_t firstNonFinitePoint(vtkPolyData* mesh) {
   if (!mesh || !mesh->GetPoints()) return -1;
   vtkPoints* pts = mesh->GetPoints();

@@ -151,6 +151,9 @@ WIREFURFILTERS_EXPORT std::int64_t firstCellWithMissingPoints(vtkPolyData* mesh)
 
 /// Index of the first point of `mesh` with a NaN or infinite coordinate, or -1.
 WIREFURFILTERS_EXPORT std::int64_t firstNonFinitePoint(vtkPolyData* mesh);
+/// The two checks above as one line for an error ("WHAT cell 3 names a point the input does not
+/// have", "WHAT point 7 is not finite"), or empty.
+WIREFURFILTERS_EXPORT std::string inputProblem(vtkPolyData* mesh, const std::string& what = "input");
 
 /// A surface whose front is the other side: the same S, Su, Sv with normalSign() turned round
 /// (vtkParametricTorus and some other VTK functions have Su x Sv pointing inward).
