@@ -7,6 +7,8 @@
 #include "vtkCamera.h"
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
+#include "vtkDataArray.h"
+#include "vtkFieldData.h"
 #include "vtkIdList.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
@@ -17,49 +19,52 @@
 #include "vtkRenderer.h"
 #include "vtkUnsignedCharArray.h"
 
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 vtkStandardNewMacro(vtkWireFurEdgeVisibility);
 
+class vtkWireFurEdgeVisibility::vtkInternals : public wfvtk::FilterView
+{
+};
+
 vtkWireFurEdgeVisibility::vtkWireFurEdgeVisibility()
+  : Internals(new vtkInternals)
 {
   this->SetNumberOfInputPorts(2);
 }
-vtkWireFurEdgeVisibility::~vtkWireFurEdgeVisibility() = default;
+vtkWireFurEdgeVisibility::~vtkWireFurEdgeVisibility() { delete this->Internals; }
 
 void vtkWireFurEdgeVisibility::SetCamera(vtkCamera* camera)
 {
-  if (this->Camera != camera)
+  if (this->Internals->camera != camera)
   {
-    this->Camera = camera;
+    this->Internals->camera = camera;
     this->Modified();
   }
 }
-vtkCamera* vtkWireFurEdgeVisibility::GetCamera() { return this->Camera; }
+vtkCamera* vtkWireFurEdgeVisibility::GetCamera() { return this->Internals->camera; }
 void vtkWireFurEdgeVisibility::SetRenderer(vtkRenderer* renderer)
 {
-  if (this->Renderer != renderer)
+  if (this->Internals->renderer != renderer)
   {
-    this->Renderer = renderer;
+    this->Internals->renderer = renderer;
     this->Modified();
   }
 }
-vtkRenderer* vtkWireFurEdgeVisibility::GetRenderer() { return this->Renderer; }
+vtkRenderer* vtkWireFurEdgeVisibility::GetRenderer() { return this->Internals->renderer; }
 
 vtkMTimeType vtkWireFurEdgeVisibility::GetMTime()
 {
-  vtkMTimeType t = this->Superclass::GetMTime();
-  if (this->Camera)
-    t = std::max(t, this->Camera->GetMTime());
-  else if (vtkRenderer* ren = this->Renderer; ren && ren->GetActiveCamera())
-    t = std::max(t, ren->GetActiveCamera()->GetMTime());
-  return t;
+  return std::max(this->Superclass::GetMTime(), this->Internals->mtime(this->ViewportSize));
 }
 
 int vtkWireFurEdgeVisibility::FillInputPortInformation(int port, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
-  (void)port;
+  if (port == 1)
+    info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
   return 1;
 }
 
@@ -72,19 +77,14 @@ int vtkWireFurEdgeVisibility::RequestData(
   output->Initialize();
   this->VisibleLength = this->HiddenLength = 0;
   this->Splits = 0;
-  vtkCamera* camera = this->Camera ? this->Camera.Get() : this->Renderer ? this->Renderer->GetActiveCamera() : nullptr;
+  vtkCamera* camera = this->Internals->active();
   if (!camera)
   {
     vtkErrorMacro(<< "no camera (SetCamera or SetRenderer)");
     return 1;
   }
-  int w = this->ViewportSize[0], h = this->ViewportSize[1];
-  if (this->Renderer)
-  {
-    const int* s = this->Renderer->GetSize();
-    if (s && s[0] > 0 && s[1] > 0)
-      w = s[0], h = s[1];
-  }
+  int w, h;
+  this->Internals->size(this->ViewportSize, w, h);
   if (!input || input->GetNumberOfLines() == 0)
     return 1;
   for (vtkPolyData* pd : { input, surfaces })
@@ -121,6 +121,16 @@ int vtkWireFurEdgeVisibility::RequestData(
   const wf::OcclusionGrid grid(scene, cam, w, h);
   wf::VisibilityOptions options;
   options.samplePx = this->SamplePixels;
+
+  // Silhouettes (EdgeClass 6) lie on the exact surface, where the tessellation's chords can pass
+  // in front of a grazing ray within about sqrt(2 deflection r) of the point (r: the surfaces'
+  // bounding radius; the deflection from the CAD reader's "LinearDeflection" field).
+  this->AppliedSilhouetteSlack = std::max(this->SilhouetteSlack, 0.0);
+  if (this->SilhouetteSlack < 0 && surfaces && surfaces->GetNumberOfPoints() > 0)
+    if (vtkDataArray* d = vtkDataArray::SafeDownCast(surfaces->GetFieldData()->GetAbstractArray("LinearDeflection")))
+      if (d->GetNumberOfTuples() > 0 && std::isfinite(d->GetTuple1(0)) && d->GetTuple1(0) > 0)
+        this->AppliedSilhouetteSlack = std::sqrt(2.0 * d->GetTuple1(0) * 0.5 * surfaces->GetLength());
+  vtkDataArray* classes = input->GetCellData()->GetArray("EdgeClass");
   wf::VisibilityStats stats;
 
   // Each input line on its own (its cell data goes to its pieces).
@@ -143,6 +153,9 @@ int vtkWireFurEdgeVisibility::RequestData(
     for (vtkIdType k = 0; k < cell->GetNumberOfIds(); ++k)
       input->GetPoint(cell->GetId(k), &pts[size_t(k)].x);
     one.add(pts);
+    options.slack = classes && int(classes->GetTuple1(firstLine + c)) == int(wf::EdgeClass::Silhouette)
+      ? this->AppliedSilhouetteSlack
+      : 0.0;
     const wf::VisibleLines v = wf::splitByVisibility(one, grid, options, stats);
     for (size_t k = 0; k < v.lines.polylineCount(); ++k)
     {
@@ -168,4 +181,5 @@ void vtkWireFurEdgeVisibility::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "ViewportSize: " << this->ViewportSize[0] << " x " << this->ViewportSize[1] << "\n";
   os << indent << "SamplePixels: " << this->SamplePixels << "\n";
+  os << indent << "SilhouetteSlack: " << this->SilhouetteSlack << "\n";
 }

@@ -2,8 +2,9 @@
  * @class   vtkWireFurEdgeVisibility
  * @brief   a wire-frame cut where surfaces hide it from a camera, each piece marked seen or hidden
  *
- * Input port 0: vtkPolyData whose lines are the wire-frame (edges, silhouettes). Port 1: the
- * occluding surfaces (vtkPolyData polygons and strips; often the CAD reader's faces). Output: the
+ * Input port 0: vtkPolyData whose lines are the wire-frame (edges, silhouettes). Port 1
+ * (optional; without it nothing hides, and only the view clips): the occluding surfaces
+ * (vtkPolyData polygons and strips; often the CAD reader's faces). Output: the
  * lines cut into pieces each wholly seen or not, with the input line's cell data copied to each
  * of its pieces and the cell array "Visible" (unsigned char: 1 seen, 0 not seen: hidden, or
  * outside the view: before the near plane, beyond the far one, off the ViewportSize image).
@@ -13,6 +14,7 @@
  * (exact ray tests in double, so an edge on its own face's tessellation is seen), the part in the
  * view sampled every SamplePixels of its screen length and each change bisected to 1e-3 px. The
  * camera's clipping range is used as it is (ResetCameraClippingRange to fit it to the data).
+ * Silhouettes get SilhouetteSlack.
  * Camera: SetCamera, else the Renderer's active camera (held weakly; its size, when it has one,
  * replaces ViewportSize). Re-executes when the camera moves.
  */
@@ -21,8 +23,6 @@
 
 #include "WireFurFiltersModule.h"
 #include "vtkPolyDataAlgorithm.h"
-#include "vtkSmartPointer.h"
-#include "vtkWeakPointer.h"
 
 class vtkCamera;
 class vtkRenderer;
@@ -57,6 +57,18 @@ public:
   vtkGetMacro(SamplePixels, double);
   ///@}
 
+  ///@{
+  /// Hits nearer than this to a point of a silhouette (a line whose "EdgeClass" is 6) do not
+  /// hide it, world units. Negative (default): sqrt(2 deflection r), the deflection from the
+  /// surfaces' "LinearDeflection" field (the CAD reader writes it) and r half their bounding
+  /// box's diagonal; 0 where the surfaces carry none (a mesh's silhouettes from
+  /// vtkWireFurSilhouette lie on the mesh itself).
+  vtkSetMacro(SilhouetteSlack, double);
+  vtkGetMacro(SilhouetteSlack, double);
+  ///@}
+  /// The slack the last update gave silhouettes.
+  double GetAppliedSilhouetteSlack() const { return this->AppliedSilhouetteSlack; }
+
   /// World length of the seen and hidden pieces, and the cuts made, in the last update.
   double GetVisibleLength() const { return this->VisibleLength; }
   double GetHiddenLength() const { return this->HiddenLength; }
@@ -70,10 +82,11 @@ protected:
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  vtkSmartPointer<vtkCamera> Camera;
-  vtkWeakPointer<vtkRenderer> Renderer;
+  class vtkInternals;  // the camera and renderer (wfvtk::FilterView)
+  vtkInternals* Internals;
   int ViewportSize[2] = { 1000, 1000 };
   double SamplePixels = 0.5;
+  double SilhouetteSlack = -1.0, AppliedSilhouetteSlack = 0.0;
   double VisibleLength = 0, HiddenLength = 0;
   vtkIdType Splits = 0;
 

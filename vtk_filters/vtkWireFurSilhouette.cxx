@@ -33,36 +33,38 @@
 
 vtkStandardNewMacro(vtkWireFurSilhouette);
 
-vtkWireFurSilhouette::vtkWireFurSilhouette() = default;
-vtkWireFurSilhouette::~vtkWireFurSilhouette() = default;
+class vtkWireFurSilhouette::vtkInternals : public wfvtk::FilterView
+{
+};
+
+vtkWireFurSilhouette::vtkWireFurSilhouette()
+  : Internals(new vtkInternals)
+{
+}
+vtkWireFurSilhouette::~vtkWireFurSilhouette() { delete this->Internals; }
 
 void vtkWireFurSilhouette::SetCamera(vtkCamera* camera)
 {
-  if (this->Camera != camera)
+  if (this->Internals->camera != camera)
   {
-    this->Camera = camera;
+    this->Internals->camera = camera;
     this->Modified();
   }
 }
-vtkCamera* vtkWireFurSilhouette::GetCamera() { return this->Camera; }
+vtkCamera* vtkWireFurSilhouette::GetCamera() { return this->Internals->camera; }
 void vtkWireFurSilhouette::SetRenderer(vtkRenderer* renderer)
 {
-  if (this->Renderer != renderer)
+  if (this->Internals->renderer != renderer)
   {
-    this->Renderer = renderer;
+    this->Internals->renderer = renderer;
     this->Modified();
   }
 }
-vtkRenderer* vtkWireFurSilhouette::GetRenderer() { return this->Renderer; }
+vtkRenderer* vtkWireFurSilhouette::GetRenderer() { return this->Internals->renderer; }
 
 vtkMTimeType vtkWireFurSilhouette::GetMTime()
 {
-  vtkMTimeType t = this->Superclass::GetMTime();
-  if (this->Camera)
-    t = std::max(t, this->Camera->GetMTime());
-  else if (vtkRenderer* ren = this->Renderer; ren && ren->GetActiveCamera())
-    t = std::max(t, ren->GetActiveCamera()->GetMTime());
-  return t;
+  return std::max(this->Superclass::GetMTime(), this->Internals->mtime(this->ViewportSize));
 }
 
 namespace
@@ -93,19 +95,14 @@ int vtkWireFurSilhouette::RequestData(
   vtkPolyData* output = vtkPolyData::GetData(outputVector);
   output->Initialize();
   this->Exact = false;
-  vtkCamera* camera = this->Camera ? this->Camera.Get() : this->Renderer ? this->Renderer->GetActiveCamera() : nullptr;
+  vtkCamera* camera = this->Internals->active();
   if (!camera)
   {
     vtkErrorMacro(<< "no camera (SetCamera or SetRenderer)");
     return 1;
   }
-  int w = this->ViewportSize[0], h = this->ViewportSize[1];
-  if (this->Renderer)
-  {
-    const int* s = this->Renderer->GetSize();
-    if (s && s[0] > 0 && s[1] > 0)
-      w = s[0], h = s[1];
-  }
+  int w, h;
+  this->Internals->size(this->ViewportSize, w, h);
   if (!input || input->GetNumberOfPoints() == 0)
     return 1;
   if (const std::string problem = wf::vtkio::inputProblem(input); !problem.empty())
@@ -114,7 +111,7 @@ int vtkWireFurSilhouette::RequestData(
     return 1;
   }
   const wf::Camera cam = wfvtk::convertCamera(camera, w, h);
-  const wf::ViewTransform view = wf::ViewTransform::make(cam, std::max(w, 1), std::max(h, 1));
+  const wf::ViewTransform view = wf::ViewTransform::make(cam, w, h);
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
   vtkNew<vtkCellArray> lines;
@@ -172,7 +169,14 @@ int vtkWireFurSilhouette::RequestData(
     }
     // One point per crossed mesh edge, shared by the triangles on both sides.
     std::map<std::pair<vtkIdType, vtkIdType>, vtkIdType> crossing;
+    // A crossing within 1e-9 of an edge's end is that vertex, one point for every edge through
+    // it (no pieces of zero length where N . V vanishes at a vertex).
     auto cross = [&](vtkIdType a, vtkIdType b) -> vtkIdType {
+      const double t = g[size_t(a)] / (g[size_t(a)] - g[size_t(b)]);
+      if (!(t > 1e-9))
+        b = a;
+      else if (!(t < 1.0 - 1e-9))
+        a = b;
       if (a > b)
         std::swap(a, b);
       const auto it = crossing.find({ a, b });
@@ -181,35 +185,55 @@ int vtkWireFurSilhouette::RequestData(
       double pa[3], pb[3];
       mesh->GetPoint(a, pa);
       mesh->GetPoint(b, pb);
-      const double t = g[size_t(a)] / (g[size_t(a)] - g[size_t(b)]);
+      const double s = a == b ? 0.0 : g[size_t(a)] / (g[size_t(a)] - g[size_t(b)]);
       const vtkIdType id =
-        points->InsertNextPoint(pa[0] + t * (pb[0] - pa[0]), pa[1] + t * (pb[1] - pa[1]), pa[2] + t * (pb[2] - pa[2]));
+        points->InsertNextPoint(pa[0] + s * (pb[0] - pa[0]), pa[1] + s * (pb[1] - pa[1]), pa[2] + s * (pb[2] - pa[2]));
       crossing.emplace(std::make_pair(a, b), id);
       return id;
     };
     auto positive = [&](vtkIdType i) { return g[size_t(i)] > 0.0; };
     vtkNew<vtkCellArray> segments;
     vtkNew<vtkIdList> cell;
+    auto triangle = [&](vtkIdType a, vtkIdType b, vtkIdType c) {
+      const vtkIdType t[3] = { a, b, c };
+      vtkIdType ends[2], m = 0;
+      for (int e = 0; e < 3; ++e)
+        if (positive(t[e]) != positive(t[(e + 1) % 3]))
+          ends[m < 2 ? m++ : 1] = cross(t[e], t[(e + 1) % 3]);
+      if (m == 2 && ends[0] != ends[1])
+        segments->InsertNextCell(2, ends);
+    };
     vtkCellArray* polys = mesh->GetPolys();
     for (polys->InitTraversal(); polys->GetNextCell(cell);)
       for (vtkIdType k = 1; k + 1 < cell->GetNumberOfIds(); ++k)
-      {
-        const vtkIdType t[3] = { cell->GetId(0), cell->GetId(k), cell->GetId(k + 1) };
-        vtkIdType ends[2], m = 0;
-        for (int e = 0; e < 3; ++e)
-          if (positive(t[e]) != positive(t[(e + 1) % 3]))
-            ends[m < 2 ? m++ : 1] = cross(t[e], t[(e + 1) % 3]);
-        if (m == 2)
-          segments->InsertNextCell(2, ends);
-      }
+        triangle(cell->GetId(0), cell->GetId(k), cell->GetId(k + 1));
+    vtkCellArray* strips = mesh->GetStrips();
+    for (strips->InitTraversal(); strips->GetNextCell(cell);)
+      for (vtkIdType k = 0; k + 2 < cell->GetNumberOfIds(); ++k)
+        triangle(cell->GetId(k), cell->GetId(k + 1), cell->GetId(k + 2));
     vtkNew<vtkPolyData> raw;
     raw->SetPoints(points);
     raw->SetLines(segments);
     vtkNew<vtkStripper> join;
     join->SetInputData(raw);
     join->JoinContiguousSegmentsOn();
+    join->SetMaximumLength(100000);
     join->Update();
-    output->ShallowCopy(join->GetOutput());
+    // The stripper can repeat a point where it joins pieces (zero-length segments): left out.
+    vtkNew<vtkCellArray> joined;
+    vtkCellArray* pieces = join->GetOutput()->GetLines();
+    std::vector<vtkIdType> ids;
+    for (pieces->InitTraversal(); pieces->GetNextCell(cell);)
+    {
+      ids.clear();
+      for (vtkIdType k = 0; k < cell->GetNumberOfIds(); ++k)
+        if (ids.empty() || ids.back() != cell->GetId(k))
+          ids.push_back(cell->GetId(k));
+      if (ids.size() >= 2)
+        joined->InsertNextCell(vtkIdType(ids.size()), ids.data());
+    }
+    output->SetPoints(join->GetOutput()->GetPoints());
+    output->SetLines(joined);
     output->GetCellData()->Initialize();
     output->GetPointData()->Initialize();
   }

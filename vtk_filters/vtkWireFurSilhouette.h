@@ -14,7 +14,7 @@
  *   found through the reader object itself: nothing here links OpenCASCADE.
  * - Mesh path (any other input, or UseExactSurfaces off): g = N . V at each point from the point
  *   normals ("Normals", else computed by vtkPolyDataNormals without splitting), its zero set
- *   traced linearly across each triangle (polygons fanned) and joined into polylines
+ *   traced linearly across each triangle (polygons fanned, strips split) and joined into polylines
  *   (vtkStripper). Its error is the tessellation's: O(h^2) across a face of curvature 1/R for
  *   triangles of size h.
  * Camera: SetCamera, else the Renderer's active camera (the Renderer, held weakly, also gives
@@ -26,8 +26,6 @@
 
 #include "WireFurFiltersModule.h"
 #include "vtkPolyDataAlgorithm.h"
-#include "vtkSmartPointer.h"
-#include "vtkWeakPointer.h"
 
 class vtkCamera;
 class vtkRenderer;
@@ -75,8 +73,8 @@ protected:
   ~vtkWireFurSilhouette() override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  vtkSmartPointer<vtkCamera> Camera;
-  vtkWeakPointer<vtkRenderer> Renderer;
+  class vtkInternals;  // the camera and renderer (wfvtk::FilterView)
+  vtkInternals* Internals;
   int ViewportSize[2] = { 1000, 1000 };
   double TolerancePixels = 0.1;
   vtkTypeBool UseExactSurfaces = true;

@@ -374,6 +374,32 @@ wf::Camera convertCamera(vtkCamera* camera, int width, int height) {
   return c;
 }
 
+vtkCamera* FilterView::active() const {
+  if (camera) return camera;
+  vtkRenderer* ren = renderer;
+  return ren ? ren->GetActiveCamera() : nullptr;
+}
+
+void FilterView::size(const int fallback[2], int& width, int& height) const {
+  width = fallback[0], height = fallback[1];
+  if (vtkRenderer* ren = renderer) {
+    const int* s = ren->GetSize();
+    if (s && s[0] > 0 && s[1] > 0) width = s[0], height = s[1];
+  }
+  width = std::max(width, 1), height = std::max(height, 1);
+}
+
+vtkMTimeType FilterView::mtime(const int fallback[2]) {
+  vtkCamera* c = active();
+  int w, h;
+  size(fallback, w, h);
+  if (c != last_ || w != lastWidth_ || h != lastHeight_) {
+    last_ = c, lastWidth_ = w, lastHeight_ = h;
+    changed_.Modified();
+  }
+  return std::max<vtkMTimeType>(changed_.GetMTime(), c ? c->GetMTime() : 0);
+}
+
 wf::LightRig convertLights(vtkRenderer* renderer, vtkCamera* camera, const double ambient[3]) {
   wf::LightRig rig;
   rig.ambient = vec(ambient);

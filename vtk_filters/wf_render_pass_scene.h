@@ -1,4 +1,4 @@
-// Private to vtkWireFurRenderPass: the conversion of marked vtkActors into a scene description
+// Private to the module (vtkWireFurRenderPass, and the view-dependent filters' camera): the conversion of marked vtkActors into a scene description
 // (src/scene/scene_description.h) built by the core's buildScene, of the renderer's vtkLights and
 // its vtkCamera into the core's, and of the OpenGL depth buffer into view depth. Kept apart from
 // the OpenGL code so that each step reads on its own (docs/vtk.md).
@@ -7,6 +7,8 @@
 #include "render/scene.h"
 #include "scene/scene_description.h"
 
+#include <vtkSmartPointer.h>
+#include <vtkTimeStamp.h>
 #include <vtkType.h>
 #include <vtkWeakPointer.h>
 
@@ -58,6 +60,26 @@ wf::Scene assembleScene(const std::vector<ActorPiece>& pieces, const wf::Scene* 
 /// The vtkCamera as the core's camera for a width x height viewport: position, focal point,
 /// view up, vertical view angle (a horizontal one converted) or 2 x parallel scale, clipping range.
 wf::Camera convertCamera(vtkCamera* camera, int width, int height);
+
+/// The view a view-dependent filter (vtkWireFurSilhouette, vtkWireFurEdgeVisibility) works
+/// for: its own camera, else the renderer's active camera, looked up at every use; the viewport
+/// the renderer's size when it has one, else the filter's. mtime() is what the filter's GetMTime
+/// adds: the camera's MTime, and the time the camera object or the viewport size last changed
+/// (an active camera replaced by an older one, a window resized, re-execute the filter too).
+class FilterView {
+ public:
+  vtkSmartPointer<vtkCamera> camera;
+  vtkWeakPointer<vtkRenderer> renderer;  ///< weak: the renderer usually holds the pipeline
+  vtkCamera* active() const;
+  /// The viewport: the renderer's size, else `fallback`, at least 1 x 1.
+  void size(const int fallback[2], int& width, int& height) const;
+  vtkMTimeType mtime(const int fallback[2]);
+
+ private:
+  vtkCamera* last_ = nullptr;
+  int lastWidth_ = -1, lastHeight_ = -1;
+  vtkTimeStamp changed_;
+};
 
 /// The renderer's switched-on vtkLights as world-space directional lights: headlights along the
 /// view direction, camera lights from the camera frame, scene lights from position to focal

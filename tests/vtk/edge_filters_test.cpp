@@ -9,15 +9,20 @@
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkCubeSource.h"
+#include "vtkCylinderSource.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkIdList.h"
 #include "vtkIntArray.h"
+#include "vtkMath.h"
 #include "vtkNew.h"
 #include "vtkPlaneSource.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
 #include "vtkSphereSource.h"
+#include "vtkStripper.h"
 
 #include <gtest/gtest.h>
 
@@ -196,4 +201,154 @@ TEST(EdgeVisibilityFilter, LineBehindASquare)
   EXPECT_NEAR(f->GetVisibleLength(), 2.8, 1e-4);
   EXPECT_NEAR(f->GetHiddenLength(), 1.2, 1e-4);
   EXPECT_EQ(f->GetNumberOfSplits(), 2);
+}
+
+// The mesh path reads triangle strips as it reads polygons: the same sphere as strips gives the
+// same circle (strips were once ignored: no output). On a cylinder seen square-on, N . V is exactly
+// 0 on two generators: the silhouette runs along those mesh edges, with no piece of zero length
+// (two crossings at one vertex were once two points), nor where vtkStripper joins long curves.
+TEST(SilhouetteFilter, StripsAndZerosAtVertices)
+{
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetThetaResolution(128);
+  sphere->SetPhiResolution(64);
+  sphere->SetRadius(1.0);
+  vtkNew<vtkStripper> strips;
+  strips->SetInputConnection(sphere->GetOutputPort());
+  strips->Update();
+  ASSERT_GT(strips->GetOutput()->GetNumberOfStrips(), 0);
+  ASSERT_EQ(strips->GetOutput()->GetNumberOfPolys(), 0);
+  vtkNew<vtkCamera> camera;
+  camera->SetPosition(0, 0, 4);
+  camera->SetFocalPoint(0, 0, 0);
+  vtkNew<vtkWireFurSilhouette> f;
+  f->SetInputConnection(strips->GetOutputPort());
+  f->SetCamera(camera);
+  f->Update();
+  vtkPolyData* out = f->GetOutput();
+  ASSERT_GT(out->GetNumberOfPoints(), 100);
+  double worst = 0;
+  for (vtkIdType i = 0; i < out->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    out->GetPoint(i, p);
+    worst = std::max({ worst, std::abs(p[2] - 0.25), std::abs(std::hypot(p[0], p[1]) - std::sqrt(1.0 - 1.0 / 16.0)) });
+  }
+  EXPECT_LT(worst, 2e-3);
+
+  vtkNew<vtkCylinderSource> cylinder;  // axis y, radius 0.5; generator i at angle 2 pi i / 8
+  cylinder->SetResolution(8);
+  cylinder->CappingOff();
+  vtkNew<vtkCamera> ortho;
+  ortho->ParallelProjectionOn();
+  ortho->SetPosition(0, 0, 10);
+  ortho->SetFocalPoint(0, 0, 0);
+  f->SetInputConnection(cylinder->GetOutputPort());
+  f->SetCamera(ortho);
+  f->Update();
+  out = f->GetOutput();
+  ASSERT_GE(out->GetNumberOfLines(), 2);
+  vtkNew<vtkIdList> cell;
+  double shortest = 1e300;
+  for (out->GetLines()->InitTraversal(); out->GetLines()->GetNextCell(cell);)
+    for (vtkIdType k = 0; k + 1 < cell->GetNumberOfIds(); ++k)
+    {
+      double a[3], b[3];
+      out->GetPoint(cell->GetId(k), a);
+      out->GetPoint(cell->GetId(k + 1), b);
+      shortest = std::min(shortest, std::sqrt(vtkMath::Distance2BetweenPoints(a, b)));
+      EXPECT_NEAR(std::abs(a[0]), 0.5, 1e-12);
+      EXPECT_NEAR(a[2], 0.0, 1e-12);
+    }
+  EXPECT_GT(shortest, 0.5);  // the generators' length is 1
+
+  // A silhouette of more than 1000 segments (vtkStripper's default maximum): one closed curve,
+  // no repeated point.
+  vtkNew<vtkSphereSource> fine;
+  fine->SetThetaResolution(3000);
+  fine->SetPhiResolution(20);
+  f->SetInputConnection(fine->GetOutputPort());
+  f->SetCamera(camera);
+  f->Update();
+  out = f->GetOutput();
+  EXPECT_LE(out->GetNumberOfLines(), 2);
+  vtkIdType segments = 0;
+  for (out->GetLines()->InitTraversal(); out->GetLines()->GetNextCell(cell);)
+    for (vtkIdType k = 0; k + 1 < cell->GetNumberOfIds(); ++k, ++segments)
+    {
+      double a[3], b[3];
+      out->GetPoint(cell->GetId(k), a);
+      out->GetPoint(cell->GetId(k + 1), b);
+      EXPECT_GT(vtkMath::Distance2BetweenPoints(a, b), 0.0);
+    }
+  EXPECT_GT(segments, 1000);
+}
+
+// Without a surface (port 1 is optional) nothing hides the line: one piece, seen.
+TEST(EdgeVisibilityFilter, NoSurfaceHidesNothing)
+{
+  vtkNew<vtkPolyData> line;
+  vtkNew<vtkPoints> pts;
+  pts->InsertNextPoint(-1, 0, 0);
+  pts->InsertNextPoint(1, 0, 0);
+  vtkNew<vtkCellArray> cells;
+  const vtkIdType ids[2] = { 0, 1 };
+  cells->InsertNextCell(2, ids);
+  line->SetPoints(pts);
+  line->SetLines(cells);
+  vtkNew<vtkCamera> camera;
+  camera->SetPosition(0, 0, 5);
+  vtkNew<vtkWireFurEdgeVisibility> f;
+  f->SetInputData(line);
+  f->SetCamera(camera);
+  f->Update();
+  ASSERT_EQ(f->GetOutput()->GetNumberOfLines(), 1);
+  EXPECT_EQ(cellValue(f->GetOutput(), "Visible", 0), 1);
+  EXPECT_NEAR(f->GetVisibleLength(), 2.0, 1e-9);
+}
+
+// The renderer's view, followed: the line x in [-2, 2] at z = -1, eye at z = 5 (distance 6, 30
+// degree vertical angle: half-height 6 tan 15 = 1.608). At 640 x 480 the image is 2.144 wide on
+// each side and the whole line is in it (2.8 seen, 1.2 behind the square). Resized to 240 x 480
+// (half-width 0.804) the parts beyond |x| = 0.804 are outside the view: not seen. Then the active
+// camera is replaced by an older camera looking from the other side at distance 2.5 ... the
+// re-executions come from the filter's MTime (the window's size, the camera object), not from
+// a call to Modified.
+TEST(EdgeVisibilityFilter, FollowsTheRenderersCameraAndSize)
+{
+  vtkNew<vtkCamera> older;  // created first: its MTime is older than the filter's last update
+  older->SetPosition(0, 0, -7);
+  older->SetFocalPoint(0, 0, 0);
+  vtkNew<vtkPlaneSource> square;
+  vtkNew<vtkPolyData> line;
+  vtkNew<vtkPoints> pts;
+  pts->InsertNextPoint(-2, 0.1, -1);
+  pts->InsertNextPoint(2, 0.1, -1);
+  vtkNew<vtkCellArray> cells;
+  const vtkIdType ids[2] = { 0, 1 };
+  cells->InsertNextCell(2, ids);
+  line->SetPoints(pts);
+  line->SetLines(cells);
+  vtkNew<vtkRenderWindow> window;
+  window->SetSize(640, 480);
+  vtkNew<vtkRenderer> renderer;
+  window->AddRenderer(renderer);
+  renderer->GetActiveCamera()->SetPosition(0, 0, 5);
+  renderer->GetActiveCamera()->SetFocalPoint(0, 0, 0);
+  vtkNew<vtkWireFurEdgeVisibility> f;
+  f->SetInputData(line);
+  f->SetSurfaceConnection(square->GetOutputPort());
+  f->SetRenderer(renderer);
+  f->Update();
+  EXPECT_NEAR(f->GetVisibleLength(), 2.8, 1e-4);
+  EXPECT_NEAR(f->GetHiddenLength(), 1.2, 1e-4);
+  window->SetSize(240, 480);
+  f->Update();
+  const double half = 6.0 * std::tan(vtkMath::RadiansFromDegrees(15.0)) * 0.5;  // at z = -1
+  EXPECT_NEAR(f->GetVisibleLength(), 2 * (half - 0.6), 1e-3);
+  renderer->SetActiveCamera(older);
+  f->Update();
+  // From z = -7, 6 away from the line again, nothing in front of it: 2 * half seen.
+  EXPECT_NEAR(f->GetVisibleLength(), 2 * half, 1e-3);
+  EXPECT_NEAR(f->GetHiddenLength(), 4.0 - 2 * half, 1e-3);
 }

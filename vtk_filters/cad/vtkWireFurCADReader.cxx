@@ -883,6 +883,12 @@ int vtkWireFurCADReader::RequestData(vtkInformation*, vtkInformationVector**, vt
     names->InsertNextValue(n);
   facesOut->GetFieldData()->AddArray(names);
   edgesOut->GetFieldData()->AddArray(names);
+  // The chord error of the tessellation, world units (vtkWireFurEdgeVisibility's silhouette slack).
+  vtkNew<vtkDoubleArray> deflection;
+  deflection->SetName("LinearDeflection");
+  deflection->InsertNextValue(in.appliedDeflection);
+  facesOut->GetFieldData()->AddArray(deflection);
+  edgesOut->GetFieldData()->AddArray(deflection);
   if (in.meshedFaces == 0 && in.edges == 0)
   {
     facesOut->Initialize();

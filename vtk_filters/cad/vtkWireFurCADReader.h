@@ -18,7 +18,8 @@
  * - point "Su" (double, active tangents) and "Sv": dS/du and dS/dv in world units;
  * - point "Colors" (unsigned char RGB, sRGB): the face's colour (grey where the file has none);
  * - cell "FaceId" (the face's index in the file, from 0) and "PartId" (index into "PartNames");
- * - field "PartNames" (vtkStringArray).
+ * - field "PartNames" (vtkStringArray) and "LinearDeflection" (the applied linear deflection,
+ *   world units: one double).
  * Triangles wind counter-clockwise about the normal.
  *
  * Output port 1 (edges): polylines, the model's edges (degenerate edges skipped) sampled to the
