@@ -276,6 +276,8 @@ void addBurnishOptions(CLI::App& app, wf::BurnishOverrides& b) {
          [&b](const std::string& v) {
            using G = wf::BurnishOverrides::Grain;
            b.grain = v == "u" ? G::U : v == "v" ? G::V : v == "longer" ? G::Longer : v == "circular" ? G::Circular : G::Radial;
+           if (b.axisPoint && *b.grain != G::Circular && *b.grain != G::Radial)
+             throw CLI::ValidationError("--grain " + v, "--grain-axis needs --grain circular or radial");
          },
          "brushed steel's grain (burnished surfaces): along each face's u, v, or longer extent (default for CAD "
          "files), circular or radial about --grain-axis (turned parts)")
@@ -288,6 +290,9 @@ void addBurnishOptions(CLI::App& app, wf::BurnishOverrides& b) {
            glm::dvec3 p, d;
            parseAxis(v, p, d);
            b.axisPoint = p, b.axisDirection = d;
+           using G = wf::BurnishOverrides::Grain;
+           if (b.grain && *b.grain != G::Circular && *b.grain != G::Radial)
+             throw CLI::ValidationError("--grain-axis", "needs --grain circular or radial");
          },
          "the axis of circular and radial grain: a point and a direction (default: through the part's bounding-box "
          "centre, along z)")
@@ -297,6 +302,10 @@ void addBurnishOptions(CLI::App& app, wf::BurnishOverrides& b) {
       }))
       ->type_name("PX,PY,PZ,DX,DY,DZ")
       ->trigger_on_parse();
+  // An axis with no grain at all (the check above sees only a grain given before it).
+  app.parse_complete_callback([&b] {
+    if (b.axisPoint && !b.grain) throw CLI::ValidationError("--grain-axis", "needs --grain circular or radial");
+  });
   app.add_option_function<std::string>(
          "--grooves-per-mm", [&b](const std::string& v) { b.groovesPerUnit = *readNumber(v); },
          withRange("visible grooves of brushed steel per millimetre (world unit) across the grain (default 10 for "

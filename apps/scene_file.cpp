@@ -539,7 +539,7 @@ SceneFile parseScene(const std::string& path, const std::string& text, const std
   if (overrides.hidden) wf::applyHiddenLines(d, *overrides.hidden);
   if (overrides.silhouettes) wf::applySilhouettes(d, *overrides.silhouettes);
   wf::applyEdgeSelection(d, overrides.edges);
-  wf::applyBurnish(d, overrides.burnish);
+  for (const std::string& w : wf::applyBurnish(d, overrides.burnish)) warn(path + ": " + w);
   build(sf, d, path);
   if (sf.title.empty()) sf.title = std::filesystem::path(path).stem().string();
   return sf;
@@ -581,7 +581,7 @@ void buildStyled(SceneFile& sf, const std::string& path, std::shared_ptr<const w
   if (overrides.hidden) wf::applyHiddenLines(d, *overrides.hidden);
   if (overrides.silhouettes) wf::applySilhouettes(d, *overrides.silhouettes);
   wf::applyEdgeSelection(d, overrides.edges);
-  wf::applyBurnish(d, overrides.burnish);
+  for (const std::string& w : wf::applyBurnish(d, overrides.burnish)) warn(path + ": " + w);
   d.width = sf.width, d.height = sf.height;
   d.maxPrimitives = SceneBudget::kMaxPrimitives;
   build(sf, d, path);

@@ -190,14 +190,16 @@ void applySilhouettes(SceneDescription& d, bool on) {
     if (o.wire && !o.wire->wire.aggregate) o.wire->silhouettes = on;
 }
 
-void applyBurnish(SceneDescription& d, const BurnishOverrides& b) {
+std::vector<std::string> applyBurnish(SceneDescription& d, const BurnishOverrides& b) {
+  std::vector<std::string> warnings;
   for (ObjectDescription& o : d.objects) {
     if (!o.drawSurface || o.surfaceMaterial < 0 || std::size_t(o.surfaceMaterial) >= d.materials.size()) continue;
     Burnish& burnish = d.materials[std::size_t(o.surfaceMaterial)].burnish;
     if (!burnish.active()) continue;
-    if (b.grain) {
-      if (*b.grain == BurnishOverrides::Grain::Circular || *b.grain == BurnishOverrides::Grain::Radial) {
-        burnish.grain = *b.grain == BurnishOverrides::Grain::Circular ? Burnish::Grain::Circular : Burnish::Grain::Radial;
+    const std::optional<BurnishOverrides::Grain>& grain = b.grain;
+    if (grain) {
+      if (*grain == BurnishOverrides::Grain::Circular || *grain == BurnishOverrides::Grain::Radial) {
+        burnish.grain = *grain == BurnishOverrides::Grain::Circular ? Burnish::Grain::Circular : Burnish::Grain::Radial;
         burnish.layout = GrainLayout::Raw;
         if (b.axisPoint) {
           burnish.axisPoint = *b.axisPoint;
@@ -215,12 +217,18 @@ void applyBurnish(SceneDescription& d, const BurnishOverrides& b) {
         }
       } else {
         burnish.grain = Burnish::Grain::U;
-        burnish.layout = *b.grain == BurnishOverrides::Grain::U   ? GrainLayout::U
-                         : *b.grain == BurnishOverrides::Grain::V ? GrainLayout::V
+        burnish.layout = *grain == BurnishOverrides::Grain::U   ? GrainLayout::U
+                         : *grain == BurnishOverrides::Grain::V ? GrainLayout::V
                                                                   : GrainLayout::Longer;
       }
     }
-    if (b.groovesPerUnit) {
+    // Grain along u or v: grooves run across (u, v), and a mesh without them would take one
+    // groove's shade all over (circular and radial grooves need only the position).
+    if (b.groovesPerUnit && *b.groovesPerUnit > 0 && o.geometry &&
+        (burnish.grain == Burnish::Grain::U || burnish.grain == Burnish::Grain::V) &&
+        o.geometry->mesh.uvs.size() != o.geometry->mesh.positions.size()) {
+      warnings.push_back(o.where + ": the mesh has no texture coordinates (u, v): --grooves-per-mm draws no grooves on it");
+    } else if (b.groovesPerUnit) {
       const double depth = burnish.grooves ? burnish.grooves->depth() : kDefaultGrooveDepth;
       const std::uint64_t seed = burnish.grooves ? burnish.grooves->seed() : 1;
       burnish.grooves = *b.groovesPerUnit > 0 ? std::make_shared<GrooveTexture>(*b.groovesPerUnit, depth, seed) : nullptr;
@@ -229,6 +237,7 @@ void applyBurnish(SceneDescription& d, const BurnishOverrides& b) {
         burnish.layout = GrainLayout::U;
     }
   }
+  return warnings;
 }
 
 void applyEdgeSelection(SceneDescription& d, const EdgeOverrides& e) {

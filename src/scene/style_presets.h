@@ -11,6 +11,8 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
+#include <string>
 
 namespace wf {
 
@@ -65,7 +67,8 @@ inline constexpr double kDefaultGrooveDepth = 0.3;
 /// Brushed steel as the command line overrides it (`--grain`, `--grain-axis`,
 /// `--grooves-per-mm`), for every object whose surface's material is burnished: the grain laid
 /// along each face's u, v or longer extent (surface/grain_layout.h), or circular or radial about
-/// an axis (default: through the object's bounding-box centre, along z); grooves per world unit
+/// an axis (default: through the object's bounding-box centre, along z; the command line refuses an
+/// axis without one of those two); grooves per world unit
 /// across the grain (0: none visible; u and v are then made world lengths where they are not).
 struct BurnishOverrides {
   enum class Grain : std::uint8_t { U, V, Longer, Circular, Radial };
@@ -73,7 +76,8 @@ struct BurnishOverrides {
   std::optional<glm::dvec3> axisPoint, axisDirection;  ///< both or neither
   std::optional<double> groovesPerUnit;
 };
-void applyBurnish(SceneDescription& description, const BurnishOverrides& burnish);
+/// Returns a warning for each object left without grooves because its mesh has no (u, v).
+std::vector<std::string> applyBurnish(SceneDescription& description, const BurnishOverrides& burnish);
 /// "off", "dashed", "ghost", "hide"; false for anything else.
 bool parseHiddenMode(const std::string& name, HiddenLines::Mode& mode);
 

@@ -492,7 +492,8 @@ TEST(CadCli, ExportCarriesEdgeClassAndVisibility) {
 // mesh: rendered at deflections 1e-3 and 3e-4 (640 x 480) the images differ by no more with
 // grooves than without them (RMS, 5e-4 of slack: what differs is the tessellation's shading, 2e-3
 // here), while the grooves themselves change the image by more than 5e-3. --grooves-per-mm 0 and
-// --grain circular are taken; bad values are one line, exit 2.
+// --grain circular are taken; bad values are one line, exit 2 (an axis needs circular or radial grain,
+// as the scene file's burnish.axis does).
 TEST(CadCli, BrushedSteelGroovesFollowThePartNotTheMesh) {
   const std::string in = kCad + "product.step";
   const json s = renderStats(in, "--style burnished", "steel_stats");
@@ -529,7 +530,8 @@ TEST(CadCli, BrushedSteelGroovesFollowThePartNotTheMesh) {
   EXPECT_GT(grooves, 5e-3);
   const json turned = renderStats(in, "--style burnished --grain circular --grain-axis 0,0,0,0,0,1", "steel_circular");
   EXPECT_FALSE(turned["burnish"].contains("faces"));  // circular grain: no per-face layout
-  for (const char* bad : {"--grain diagonal", "--grain-axis 0,0,0,0,0,0", "--grain-axis 1,2,3", "--grooves-per-mm -1"}) {
+  for (const char* bad : {"--grain diagonal", "--grain-axis 0,0,0,0,0,0", "--grain-axis 1,2,3", "--grooves-per-mm -1",
+                          "--grain-axis 0,0,0,0,0,1", "--grain u --grain-axis 0,0,0,0,0,1", "--grain-axis 0,0,0,0,0,1 --grain longer"}) {
     const fs::path png = dir() / "steel_bad.png";
     const Result r = run("render '" + in + "' -o '" + png.string() + "' --style burnished " + bad);
     EXPECT_EQ(r.status, 2) << bad;

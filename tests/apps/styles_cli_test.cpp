@@ -143,3 +143,27 @@ TEST(StylesCli, EveryStyleOnEveryInputKind) {
 }
 
 }  // namespace
+
+// --grooves-per-mm on a mesh without (u, v) (an STL): grooves along u or v would give the whole
+// surface one groove's shade, so there are none, with one warning naming the file; the image is
+// then the plain burnished one, bit for bit. Circular grooves need no (u, v) and are drawn.
+TEST(StylesCli, GroovesNeedTextureCoordinates) {
+  const fs::path d = wf::test::scratchDir("styles_grooves");
+  const std::string stl = wf::test::writeFile(d, "tetra.stl", stlTetrahedron());
+  auto render = [&](const std::string& extra, const std::string& name) {
+    const fs::path png = d / (name + ".png"), stats = d / (name + ".json");
+    const wf::test::CliResult r = wf::test::runWirefur("render " + q(stl) + " -o " + q(png.string()) +
+                                                       " --style burnished --size 96x72 --stats " + q(stats.string()) + " " + extra);
+    EXPECT_EQ(r.status, 0) << r.err;
+    return std::make_pair(r, json::parse(wf::test::readFile(stats)));
+  };
+  const auto [plain, plainStats] = render("", "plain");
+  const auto [grooved, groovedStats] = render("--grooves-per-mm 10", "grooved");
+  EXPECT_EQ(wf::test::lineCount(grooved.err), 1) << grooved.err;
+  EXPECT_NE(grooved.err.find("tetra.stl"), std::string::npos) << grooved.err;
+  EXPECT_NE(grooved.err.find("no texture coordinates"), std::string::npos) << grooved.err;
+  EXPECT_EQ(wf::test::readFile(d / "plain.png"), wf::test::readFile(d / "grooved.png"));
+  const auto [circular, circularStats] = render("--grain circular --grooves-per-mm 10", "circular");
+  EXPECT_EQ(circular.err.find("no texture coordinates"), std::string::npos) << circular.err;
+  EXPECT_NE(wf::test::readFile(d / "plain.png"), wf::test::readFile(d / "circular.png"));
+}
