@@ -50,9 +50,30 @@ int vtkWireFurBurnish::RequestData(
   const bool alongUv = grain == Grain::U || grain == Grain::V;
 
   // --- checks: every problem is reported and gives an empty output --------------------------------
-  if (!input || input->GetNumberOfPoints() == 0)
+  if (!input)
   {
-    vtkErrorMacro(<< "the input is empty");
+    vtkErrorMacro(<< "no input");
+    return 1;
+  }
+  if (input->GetNumberOfPoints() == 0)
+  {
+    // A rank's empty piece in a parallel pipeline: not an error; an empty output with the arrays
+    // (so that pieces append with them).
+    output->ShallowCopy(input);
+    vtkNew<vtkFloatArray> tangents;
+    tangents->SetName("Tangents");
+    tangents->SetNumberOfComponents(3);
+    output->GetPointData()->SetTangents(tangents);
+    if (this->GrooveCount > 0)
+    {
+      vtkNew<vtkFloatArray> grooves;
+      grooves->SetName("GrooveIntensity");
+      output->GetPointData()->AddArray(grooves);
+    }
+    vtkNew<vtkIntArray> grainFlag;
+    grainFlag->SetName("WireFurGrain");
+    grainFlag->InsertNextValue(this->Grain);
+    output->GetFieldData()->AddArray(grainFlag);
     return 1;
   }
   if (const std::int64_t bad = wf::vtkio::firstCellWithMissingPoints(input); bad >= 0)

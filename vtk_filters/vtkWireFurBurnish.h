@@ -33,7 +33,8 @@
  *
  * Defaults: Grain = U, AxisPoint = (0, 0, 0), AxisDirection = (0, 0, 1), GrooveCount = 0 (no groove
  * array), GrooveDepth = 0.5, GrooveSeed = 1, ParametricFunction = nullptr.
- * Errors (vtkErrorMacro, empty output): empty input, a NaN or infinite point, grain U or V without
+ * An input without points (a rank's empty piece in a parallel pipeline) gives an empty output and
+ * no error. Errors (vtkErrorMacro, empty output): no input, a NaN or infinite point, grain U or V without
  * texture coordinates, a zero or non-finite AxisDirection or a non-finite AxisPoint for Radial or
  * Circular grain, a negative or non-finite GrooveCount, a GrooveDepth outside [0, 1], an unusable
  * parametric function or one without texture coordinates on the input.

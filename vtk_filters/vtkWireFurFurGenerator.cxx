@@ -138,7 +138,8 @@ int vtkWireFurFurGenerator::RequestData(
     wf::vtkio::growthSurface(this->ParametricFunction, input, problem, this->FlipNormals != 0);
   if (!surface)
   {
-    vtkErrorMacro(<< problem);
+    if (!problem.empty())
+      vtkErrorMacro(<< problem);
     return 1;
   }
 

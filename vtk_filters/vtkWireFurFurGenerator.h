@@ -24,8 +24,8 @@
  * RootColor = (0.30, 0.20, 0.12), TipColor = (0.55, 0.42, 0.30), Thickness = 0.003, Seed = 1,
  * PatchIndex = 0. Ranges are those of wf::FurParams (docs/growth.md); a value out of range, NaN or
  * infinite is not clamped: RequestData reports it (vtkErrorMacro, naming the field) and outputs an
- * empty vtkPolyData. So do a missing surface, an empty mesh, a mesh without texture coordinates and
- * a mesh with a NaN point.
+ * empty vtkPolyData. So do a missing surface, a mesh without texture coordinates and a mesh with a
+ * NaN point. An empty mesh (a rank's empty piece in a parallel pipeline) grows nothing, no error.
  *
  * Growth runs in parallel (oneTBB, inside the core) and is bit-identical for any thread count.
  * Progress is reported and the abort flag checked around the growth and while filling the output.

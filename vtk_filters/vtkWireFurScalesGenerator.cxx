@@ -63,7 +63,8 @@ int vtkWireFurScalesGenerator::RequestData(
     wf::vtkio::growthSurface(this->ParametricFunction, input, problem, this->FlipNormals != 0);
   if (!surface)
   {
-    vtkErrorMacro(<< problem);
+    if (!problem.empty())
+      vtkErrorMacro(<< problem);
     return 1;
   }
 

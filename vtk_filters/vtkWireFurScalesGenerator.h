@@ -22,8 +22,9 @@
  * Defaults (the core's ScaleParams): CellsU = CellsV = 16, Size = 1.5, Lift = 0.25,
  * Deflection = 0.6, IntensityVariation = 0.25, Shoulder = 0.4, Color = (1, 1, 1), Seed = 1,
  * PatchIndex = 0. Out-of-range, NaN or infinite values are not clamped: RequestData reports them
- * (vtkErrorMacro, the core's message) and outputs an empty vtkPolyData, as for a missing or empty
- * surface, a mesh without texture coordinates or with a NaN point.
+ * (vtkErrorMacro, the core's message) and outputs an empty vtkPolyData, as for a missing surface,
+ * a mesh without texture coordinates or with a NaN point. An empty mesh (a rank's empty piece)
+ * grows nothing, no error.
  */
 #ifndef vtkWireFurScalesGenerator_h
 #define vtkWireFurScalesGenerator_h

@@ -173,12 +173,14 @@ int vtkWireFurTangentShading::RequestData(
   this->MeasuredError = 0.0;
   // Bad input is an error and an empty output (the generators and the command line do the same),
   // unless SkipNonFinitePoints asks for the rest to be shaded.
-  if (!input || input->GetNumberOfPoints() == 0)
+  if (!input)
   {
-    vtkErrorMacro("the input has no points");
+    vtkErrorMacro("no input");
     output->Initialize();
     return 1;
   }
+  // An empty input (a rank's empty piece in a parallel pipeline) is not an error: an empty output
+  // with the four arrays (below), so that pieces append with their arrays.
   if (!this->SkipNonFinitePoints)
   {
     vtkIdType bad = 0, first = -1;

@@ -25,8 +25,8 @@
  * sums the cells' tangents, each with the sign that agrees with the first cell's (T and -T are the
  * same cylinder). Where incoming and outgoing cancel (a hairpin) the incoming direction is used.
  * A point with no usable segment gets (0, 0, 0) and is counted in DegeneratePoints; it shades as
- * a cylinder seen end-on (the core's convention). Bad input is an error and an empty output: an
- * input without points, or one with a NaN or Inf coordinate (counted in NonFinitePoints). With
+ * a cylinder seen end-on (the core's convention). Bad input is an error and an empty output: no
+ * input, or one with a NaN or Inf coordinate (counted in NonFinitePoints). With
  * SkipNonFinitePoints on, such points get the tangent (0, 0, 0) and black instead, the others are
  * shaded, and one warning gives the count.
  *

@@ -172,7 +172,8 @@ class FlippedSurface final : public Surface {
 
 /// The surface a generator grows on: `function` when set, else `mesh` (which needs texture
 /// coordinates); its front turned round when `flip`. nullptr and a one-line `problem` when
-/// neither is usable.
+/// neither is usable; nullptr and no problem for an empty mesh (in a parallel pipeline a rank's
+/// piece is often empty: it grows nothing, and that is not an error).
 WIREFURFILTERS_EXPORT std::shared_ptr<const Surface> growthSurface(vtkParametricFunction* function, vtkPolyData* mesh,
                                              std::string& problem, bool flip = false);
 
