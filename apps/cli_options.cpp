@@ -302,7 +302,8 @@ void addBurnishOptions(CLI::App& app, wf::BurnishOverrides& b) {
       }))
       ->type_name("PX,PY,PZ,DX,DY,DZ")
       ->trigger_on_parse();
-  // An axis with no grain at all (the check above sees only a grain given before it).
+  // An axis with no grain at all (the check above sees only a grain given before it). This takes
+  // the subcommand's one parse-complete callback: a second check there must join this one.
   app.parse_complete_callback([&b] {
     if (b.axisPoint && !b.grain) throw CLI::ValidationError("--grain-axis", "needs --grain circular or radial");
   });

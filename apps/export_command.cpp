@@ -232,8 +232,9 @@ int runExport(const ExportOptions& o) {
       if (w.aggregate) continue;
       wf::VisibilityOptions vo;
       // Silhouettes lie on the exact surface, where the tessellation's chords can pass in front of
-      // a grazing ray: hits within sqrt(2 deflection r) of such a point do not count.
-      if (!w.edgeClasses.empty() && w.edgeClasses.front() == wf::EdgeClass::Silhouette) vo.slack = silhouetteSlack;
+      // a grazing ray: hits within sqrt(2 deflection r) of such a point, or within the width of
+      // the triangles there, do not count.
+      if (!w.edgeClasses.empty() && w.edgeClasses.front() == wf::EdgeClass::Silhouette) vo.slack = silhouetteSlack, vo.localSlack = true;
       wf::VisibleLines v = wf::splitByVisibility(w.lines, grid, vo, stats);
       if (w.edgeClasses.size() == w.lines.polylineCount()) {
         std::vector<wf::EdgeClass> classes;

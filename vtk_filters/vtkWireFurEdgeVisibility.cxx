@@ -122,14 +122,14 @@ int vtkWireFurEdgeVisibility::RequestData(
   wf::VisibilityOptions options;
   options.samplePx = this->SamplePixels;
 
-  // Silhouettes (EdgeClass 6) lie on the exact surface, where the tessellation's chords can pass
-  // in front of a grazing ray within about sqrt(2 deflection r) of the point (r: the surfaces'
-  // bounding radius; the deflection from the CAD reader's "LinearDeflection" field).
-  this->AppliedSilhouetteSlack = std::max(this->SilhouetteSlack, 0.0);
-  if (this->SilhouetteSlack < 0 && surfaces && surfaces->GetNumberOfPoints() > 0)
+  // Silhouettes (EdgeClass 6): the tessellation's chords can pass in front of their grazing rays
+  // (wf::VisibilityOptions::slack, localSlack), unless a fixed slack is given.
+  const bool fixedSlack = this->SilhouetteSlack >= 0 && std::isfinite(this->SilhouetteSlack);
+  double deflectionSlack = 0.0;
+  if (!fixedSlack && surfaces && surfaces->GetNumberOfPoints() > 0)
     if (vtkDataArray* d = vtkDataArray::SafeDownCast(surfaces->GetFieldData()->GetAbstractArray("LinearDeflection")))
       if (d->GetNumberOfTuples() > 0 && std::isfinite(d->GetTuple1(0)) && d->GetTuple1(0) > 0)
-        this->AppliedSilhouetteSlack = std::sqrt(2.0 * d->GetTuple1(0) * 0.5 * surfaces->GetLength());
+        deflectionSlack = std::sqrt(2.0 * d->GetTuple1(0) * 0.5 * surfaces->GetLength());
   vtkDataArray* classes = input->GetCellData()->GetArray("EdgeClass");
   wf::VisibilityStats stats;
 
@@ -153,9 +153,9 @@ int vtkWireFurEdgeVisibility::RequestData(
     for (vtkIdType k = 0; k < cell->GetNumberOfIds(); ++k)
       input->GetPoint(cell->GetId(k), &pts[size_t(k)].x);
     one.add(pts);
-    options.slack = classes && int(classes->GetTuple1(firstLine + c)) == int(wf::EdgeClass::Silhouette)
-      ? this->AppliedSilhouetteSlack
-      : 0.0;
+    const bool silhouette = classes && int(classes->GetTuple1(firstLine + c)) == int(wf::EdgeClass::Silhouette);
+    options.slack = !silhouette ? 0.0 : fixedSlack ? this->SilhouetteSlack : deflectionSlack;
+    options.localSlack = silhouette && !fixedSlack;
     const wf::VisibleLines v = wf::splitByVisibility(one, grid, options, stats);
     for (size_t k = 0; k < v.lines.polylineCount(); ++k)
     {

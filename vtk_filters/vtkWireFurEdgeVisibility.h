@@ -59,15 +59,16 @@ public:
 
   ///@{
   /// Hits nearer than this to a point of a silhouette (a line whose "EdgeClass" is 6) do not
-  /// hide it, world units. Negative (default): sqrt(2 deflection r), the deflection from the
-  /// surfaces' "LinearDeflection" field (the CAD reader writes it) and r half their bounding
-  /// box's diagonal; 0 where the surfaces carry none (a mesh's silhouettes from
-  /// vtkWireFurSilhouette lie on the mesh itself).
+  /// hide it, world units. Negative or NaN (default -1): the larger of sqrt(2 deflection r) (the
+  /// deflection from the surfaces' "LinearDeflection" field, which the CAD reader writes; r half
+  /// their bounding box's diagonal) and the width of the surface's triangles at the point
+  /// (wf::VisibilityOptions in src/scene/edge_visibility.h). A silhouette, exact (on the true
+  /// surface) or from a mesh's normals (inside a triangle), has a grazing ray that the
+  /// tessellation's chords can cross near the point: with no slack about half a sphere mesh's
+  /// silhouette is taken as hidden.
   vtkSetMacro(SilhouetteSlack, double);
   vtkGetMacro(SilhouetteSlack, double);
   ///@}
-  /// The slack the last update gave silhouettes.
-  double GetAppliedSilhouetteSlack() const { return this->AppliedSilhouetteSlack; }
 
   /// World length of the seen and hidden pieces, and the cuts made, in the last update.
   double GetVisibleLength() const { return this->VisibleLength; }
@@ -86,7 +87,7 @@ protected:
   vtkInternals* Internals;
   int ViewportSize[2] = { 1000, 1000 };
   double SamplePixels = 0.5;
-  double SilhouetteSlack = -1.0, AppliedSilhouetteSlack = 0.0;
+  double SilhouetteSlack = -1.0;
   double VisibleLength = 0, HiddenLength = 0;
   vtkIdType Splits = 0;
 

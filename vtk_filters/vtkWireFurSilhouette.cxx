@@ -172,13 +172,13 @@ int vtkWireFurSilhouette::RequestData(
     // A crossing within 1e-9 of an edge's end is that vertex, one point for every edge through
     // it (no pieces of zero length where N . V vanishes at a vertex).
     auto cross = [&](vtkIdType a, vtkIdType b) -> vtkIdType {
+      if (a > b)  // first, so that both triangles of an edge decide its snap alike
+        std::swap(a, b);
       const double t = g[size_t(a)] / (g[size_t(a)] - g[size_t(b)]);
       if (!(t > 1e-9))
         b = a;
       else if (!(t < 1.0 - 1e-9))
         a = b;
-      if (a > b)
-        std::swap(a, b);
       const auto it = crossing.find({ a, b });
       if (it != crossing.end())
         return it->second;

@@ -10,6 +10,30 @@ namespace {
 // The largest absolute component (a scale that cannot overflow as a length can).
 double maxAbs(const glm::dvec3& v) { return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}); }
 
+// The distance from p to the triangle a, a + e1, a + e2 (the closest point by the regions of the
+// triangle's plane: a vertex, an edge, or the inside).
+double distanceToTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& e1, const glm::dvec3& e2) {
+  const glm::dvec3 b = a + e1, c = a + e2;
+  const glm::dvec3 ap = p - a;
+  const double d1 = glm::dot(e1, ap), d2 = glm::dot(e2, ap);
+  if (d1 <= 0 && d2 <= 0) return glm::length(ap);
+  const glm::dvec3 bp = p - b;
+  const double d3 = glm::dot(e1, bp), d4 = glm::dot(e2, bp);
+  if (d3 >= 0 && d4 <= d3) return glm::length(bp);
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return glm::length(p - (a + e1 * (d1 / (d1 - d3))));
+  const glm::dvec3 cp = p - c;
+  const double d5 = glm::dot(e1, cp), d6 = glm::dot(e2, cp);
+  if (d6 >= 0 && d5 <= d6) return glm::length(cp);
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return glm::length(p - (a + e2 * (d2 / (d2 - d6))));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+    return glm::length(p - (b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)))));
+  const double denom = 1.0 / (va + vb + vc);
+  return glm::length(p - (a + e1 * (vb * denom) + e2 * (vc * denom)));
+}
+
 }  // namespace
 
 OcclusionGrid::OcclusionGrid(const Scene& scene, const Camera& camera, int width, int height)
@@ -50,6 +74,11 @@ OcclusionGrid::OcclusionGrid(const Scene& scene, const Camera& camera, int width
       if (!std::isfinite(lo.x + lo.y + hi.x + hi.y)) continue;
       if (hi.x < 0 || hi.y < 0 || lo.x > w || lo.y > h) continue;  // off the image: hides nothing seen
       a_.push_back(p[0]), e1_.push_back(e1), e2_.push_back(e2);
+      const double longest = std::max({glm::length(e1), glm::length(e2), glm::length(e2 - e1)});
+      const glm::dvec3 n = glm::cross(e1, e2);
+      width_.push_back(glm::length(n) / longest);
+      reach_.push_back(0.1 * longest);
+      normal_.push_back(glm::normalize(n));
       boxes.push_back({lo.x, lo.y, hi.x, hi.y});
     }
   }
@@ -92,12 +121,37 @@ OcclusionGrid::OcclusionGrid(const Scene& scene, const Camera& camera, int width
   }
 }
 
-bool OcclusionGrid::hidden(const glm::dvec3& p, double slack, std::size_t* tests) const {
+std::size_t OcclusionGrid::cellOf(const glm::dvec2& s) const {
+  const int x = std::clamp(int(std::floor(s.x / cell_)), 0, nx_ - 1), y = std::clamp(int(std::floor(s.y / cell_)), 0, ny_ - 1);
+  return std::size_t(y) * std::size_t(nx_) + std::size_t(x);
+}
+
+double OcclusionGrid::localWidth(const glm::dvec3& p) const {
+  const glm::dvec3 q = view_.toEye(p);
+  if (!(-q.z > view_.nearPlane)) return 0.0;
+  const glm::dvec2 s = view_.project(q);
+  if (!std::isfinite(s.x) || !std::isfinite(s.y)) return 0.0;
+  const std::size_t c = cellOf(s);
+  double width = 0.0;
+  for (std::uint64_t k = cellStart_[c]; k < cellStart_[c + 1]; ++k) {
+    const std::uint32_t i = cellItems_[std::size_t(k)];
+    // The point's own surface: near the triangle (a tenth of its longest edge bounds the
+    // tessellation's deviation) and grazing the ray (an occluder facing the viewer is not).
+    const glm::dvec3 ray = view_.perspective ? glm::normalize(view_.eye - p) : viewDir_;
+    if (width_[i] > width && std::abs(glm::dot(normal_[i], ray)) < 0.5 &&
+        distanceToTriangle(p, a_[i], e1_[i], e2_[i]) <= reach_[i])
+      width = width_[i];
+  }
+  return width;
+}
+
+bool OcclusionGrid::hidden(const glm::dvec3& p, double slack, std::size_t* tests, bool localSlack) const {
   const glm::dvec3 q = view_.toEye(p);
   const double d = -q.z;
   if (!(d > view_.nearPlane)) return false;  // (not seen either: the caller clips to the view)
   const glm::dvec2 s = view_.project(q);
   if (!std::isfinite(s.x) || !std::isfinite(s.y)) return false;
+  if (localSlack) slack = std::max(slack, localWidth(p));
   // The ray from the point towards the viewer, as far as the near plane: to the eye, or
   // (orthographic) back along the view direction.
   glm::dvec3 dir;
@@ -127,8 +181,7 @@ bool OcclusionGrid::hidden(const glm::dvec3& p, double slack, std::size_t* tests
     const double t = glm::dot(e2_[i], qv) * inv;
     return t > minT && t < reach;
   };
-  const int x = std::clamp(int(std::floor(s.x / cell_)), 0, nx_ - 1), y = std::clamp(int(std::floor(s.y / cell_)), 0, ny_ - 1);
-  const std::size_t c = std::size_t(y) * std::size_t(nx_) + std::size_t(x);
+  const std::size_t c = cellOf(s);
   std::size_t n = 0;
   bool hit = false;
   for (std::uint64_t k = cellStart_[c]; k < cellStart_[c + 1] && !hit; ++k, ++n) hit = test(cellItems_[std::size_t(k)]);
@@ -175,7 +228,7 @@ VisibleLines splitByVisibility(const PolylineSet& lines, const OcclusionGrid& gr
   auto screen = [&](const glm::dvec3& p) { return view.project(view.toEye(p)); };
   auto seen = [&](const glm::dvec3& p) {
     ++stats.samples;
-    return !grid.hidden(p, o.slack, &stats.rayTests);
+    return !grid.hidden(p, o.slack, &stats.rayTests, o.localSlack);
   };
   std::vector<glm::dvec3> piece;
   bool pieceSeen = true;

@@ -21,9 +21,16 @@ struct VisibilityOptions {
   double tolerancePx = 1e-3;
   /// Hits nearer than this to the point (world units) do not hide it. Silhouettes lie on the
   /// exact surface, and its tessellation's chords can pass in front of a grazing ray within about
-  /// sqrt(2 deflection R) of the point: `wirefur export` gives them sqrt(2 deflection r), r the
-  /// scene's bounding radius.
+  /// sqrt(2 deflection R) of the point, R the surface's radius of curvature along the ray (large
+  /// along the saddle inside a torus): `wirefur export` gives CAD silhouettes sqrt(2 deflection
+  /// r), r the scene's bounding radius (an upper bound that grows with an assembly's size).
   double slack = 0.0;
+  /// A point's slack is at least the width (twice the area over the longest edge) of the
+  /// triangles it lies on: near them (a tenth of their longest edge) and grazing its ray (|n.ray| <
+  /// 1/2). That is about a chord across a silhouette, which bounds the chords that cross its
+  /// grazing ray where the surface curves across it; it is what a mesh's silhouettes (traced from
+  /// its normals inside the triangles) need, where no deflection is known.
+  bool localSlack = false;
 };
 
 struct VisibilityStats {
@@ -51,7 +58,11 @@ class OcclusionGrid {
   /// Every surface of the scene but those whose material is not opaque (opacity < 1); hold-outs
   /// occlude. The camera's open near and far planes are chosen as a render chooses them.
   OcclusionGrid(const Scene& scene, const Camera& camera, int width, int height);
-  bool hidden(const glm::dvec3& p, double slack = 0.0, std::size_t* tests = nullptr) const;
+  bool hidden(const glm::dvec3& p, double slack = 0.0, std::size_t* tests = nullptr, bool localSlack = false) const;
+  /// The largest width (2 area / longest edge) of the triangles within a tenth of their longest
+  /// edge of p whose normal is at more than 60 degrees to p's ray, among those binned where p falls
+  /// on the screen; 0 if none.
+  double localWidth(const glm::dvec3& p) const;
   /// The part [t0, t1] of the segment p0 p1 in the view (between the near and far planes, on the
   /// image); false if none.
   bool clipToView(const glm::dvec3& p0, const glm::dvec3& p1, double& t0, double& t1) const;
@@ -65,6 +76,9 @@ class OcclusionGrid {
   ViewTransform view_;
   glm::dvec3 viewDir_{0, 0, -1};
   std::vector<glm::dvec3> a_, e1_, e2_;   // triangle p0, p1 - p0, p2 - p0
+  std::vector<double> width_, reach_;      // 2 area / longest edge; a tenth of the longest edge
+  std::vector<glm::dvec3> normal_;         // unit
+  std::size_t cellOf(const glm::dvec2& s) const;
   std::vector<std::uint64_t> cellStart_;
   std::vector<std::uint32_t> cellItems_;
   int nx_ = 1, ny_ = 1;

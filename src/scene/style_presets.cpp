@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
 
 namespace wf {
 
@@ -222,13 +223,7 @@ std::vector<std::string> applyBurnish(SceneDescription& d, const BurnishOverride
                                                                   : GrainLayout::Longer;
       }
     }
-    // Grain along u or v: grooves run across (u, v), and a mesh without them would take one
-    // groove's shade all over (circular and radial grooves need only the position).
-    if (b.groovesPerUnit && *b.groovesPerUnit > 0 && o.geometry &&
-        (burnish.grain == Burnish::Grain::U || burnish.grain == Burnish::Grain::V) &&
-        o.geometry->mesh.uvs.size() != o.geometry->mesh.positions.size()) {
-      warnings.push_back(o.where + ": the mesh has no texture coordinates (u, v): --grooves-per-mm draws no grooves on it");
-    } else if (b.groovesPerUnit) {
+    if (b.groovesPerUnit) {
       const double depth = burnish.grooves ? burnish.grooves->depth() : kDefaultGrooveDepth;
       const std::uint64_t seed = burnish.grooves ? burnish.grooves->seed() : 1;
       burnish.grooves = *b.groovesPerUnit > 0 ? std::make_shared<GrooveTexture>(*b.groovesPerUnit, depth, seed) : nullptr;
@@ -236,6 +231,25 @@ std::vector<std::string> applyBurnish(SceneDescription& d, const BurnishOverride
       if (burnish.layout == GrainLayout::Raw && (burnish.grain == Burnish::Grain::U || burnish.grain == Burnish::Grain::V))
         burnish.layout = GrainLayout::U;
     }
+  }
+  // Grain along u or v: grooves run across (u, v), and a mesh without them would take one groove's
+  // shade all over (circular and radial grooves need only the position). Such an object gets its
+  // own copy of the material, without grooves (the material may be shared with objects that have
+  // (u, v), and a scene file's material may carry grooves of its own).
+  std::map<int, int> withoutGrooves;
+  for (ObjectDescription& o : d.objects) {
+    if (!o.drawSurface || !o.geometry || o.surfaceMaterial < 0 || std::size_t(o.surfaceMaterial) >= d.materials.size()) continue;
+    const Burnish& burnish = d.materials[std::size_t(o.surfaceMaterial)].burnish;
+    if (!burnish.active() || !burnish.grooves || o.geometry->mesh.uvs.size() == o.geometry->mesh.positions.size()) continue;
+    if (burnish.grain != Burnish::Grain::U && burnish.grain != Burnish::Grain::V) continue;
+    auto [it, added] = withoutGrooves.try_emplace(o.surfaceMaterial, int(d.materials.size()));
+    if (added) {
+      Material copy = d.materials[std::size_t(o.surfaceMaterial)];
+      copy.burnish.grooves = nullptr;
+      d.materials.push_back(std::move(copy));
+    }
+    o.surfaceMaterial = it->second;
+    warnings.push_back(o.where + ": the mesh has no texture coordinates (u, v): its brushed steel has no grooves");
   }
   return warnings;
 }

@@ -76,7 +76,8 @@ struct BurnishOverrides {
   std::optional<glm::dvec3> axisPoint, axisDirection;  ///< both or neither
   std::optional<double> groovesPerUnit;
 };
-/// Returns a warning for each object left without grooves because its mesh has no (u, v).
+/// Returns a warning for each object left without grooves because its mesh has no (u, v) (it gets
+/// a copy of its material without them).
 std::vector<std::string> applyBurnish(SceneDescription& description, const BurnishOverrides& burnish);
 /// "off", "dashed", "ghost", "hide"; false for anything else.
 bool parseHiddenMode(const std::string& name, HiddenLines::Mode& mode);

@@ -162,8 +162,41 @@ TEST(StylesCli, GroovesNeedTextureCoordinates) {
   EXPECT_EQ(wf::test::lineCount(grooved.err), 1) << grooved.err;
   EXPECT_NE(grooved.err.find("tetra.stl"), std::string::npos) << grooved.err;
   EXPECT_NE(grooved.err.find("no texture coordinates"), std::string::npos) << grooved.err;
+  EXPECT_EQ(wf::test::lineCount(plain.err), 0) << plain.err;  // the style puts no grooves there
   EXPECT_EQ(wf::test::readFile(d / "plain.png"), wf::test::readFile(d / "grooved.png"));
   const auto [circular, circularStats] = render("--grain circular --grooves-per-mm 10", "circular");
   EXPECT_EQ(circular.err.find("no texture coordinates"), std::string::npos) << circular.err;
   EXPECT_NE(wf::test::readFile(d / "plain.png"), wf::test::readFile(d / "circular.png"));
+}
+
+// A scene file's grooved material shared by a plane (its (u, v) from the source) and an STL (none):
+// the STL gets a copy of the material without grooves, with one warning naming it, and is drawn as
+// with a plain material; the plane keeps its grooves.
+TEST(StylesCli, SharedGroovedMaterialLeavesOutTheMeshWithoutTextureCoordinates) {
+  const fs::path d = wf::test::scratchDir("styles_grooves_shared");
+  const std::string stl = wf::test::writeFile(d, "tetra.stl", stlTetrahedron());
+  auto scene = [&](const std::string& name, const std::string& grooves, bool plane, bool mesh) {
+    std::string objects;
+    if (plane) objects += R"({"name": "plate", "source": {"type": "plane", "size": [2, 2]}, "surface": {"material": "steel"}})";
+    if (mesh) objects += std::string(plane ? ", " : "") + R"({"name": "tetra", "file": ")" + stl + R"(", "surface": {"material": "steel"}})";
+    return wf::test::writeFile(d, name, R"({"image": {"size": [96, 72]}, "camera": {"eye": [0, -3, 3], "target": [0, 0, 0], "up": [0, 0, 1]},
+      "materials": {"steel": {"burnish": {"grain": "u")" + grooves + R"(}}}, "objects": [)" + objects + "]}");
+  };
+  auto render = [&](const std::string& file, const std::string& name) {
+    const wf::test::CliResult r = wf::test::runWirefur("render " + q(file) + " -o " + q((d / (name + ".png")).string()));
+    EXPECT_EQ(r.status, 0) << r.err;
+    return r;
+  };
+  const std::string grooves = R"(, "grooves": {"count": 40, "depth": 0.8})";
+  const auto both = render(scene("both.json", grooves, true, true), "both");
+  EXPECT_EQ(wf::test::lineCount(both.err), 1) << both.err;
+  EXPECT_NE(both.err.find("/objects/1"), std::string::npos) << both.err;
+  EXPECT_NE(both.err.find("no texture coordinates"), std::string::npos) << both.err;
+  // The mesh alone, grooved or not: the same image. The plate alone: its grooves show.
+  render(scene("mesh_grooved.json", grooves, false, true), "mesh_grooved");
+  render(scene("mesh_plain.json", "", false, true), "mesh_plain");
+  EXPECT_EQ(wf::test::readFile(d / "mesh_grooved.png"), wf::test::readFile(d / "mesh_plain.png"));
+  render(scene("plate_grooved.json", grooves, true, false), "plate_grooved");
+  render(scene("plate_plain.json", "", true, false), "plate_plain");
+  EXPECT_NE(wf::test::readFile(d / "plate_grooved.png"), wf::test::readFile(d / "plate_plain.png"));
 }

@@ -59,9 +59,10 @@ TEST(CadSilhouetteFilter, SphereExactlyOnTheTrueCircle) {
 // vtkWireFurEdgeVisibility on the exact silhouettes of a tilted torus (R = 10, r = 3, eye at
 // (0, -40, 25)) over the reader's faces: a silhouette point is seen when the ray from it to the
 // eye stays out of the solid torus, (sqrt(x^2 + y^2) - R)^2 + z^2 >= r^2, marched in steps of 1e-3
-// from 1e-2 on. The tessellation's chords pass in front of grazing rays, so the filter gives
-// silhouettes a slack of sqrt(2 deflection r) from the reader's "LinearDeflection" field: every
-// exact silhouette point then agrees with the march; with no slack some are taken as hidden.
+// from 1e-2 on. The tessellation's chords pass in front of grazing rays (far along the saddle inside
+// the ring), so the filter gives silhouettes a slack of sqrt(2 deflection r) from the reader's
+// "LinearDeflection" field: every exact silhouette point then agrees with the march; with no
+// slack some are taken as hidden.
 TEST(CadSilhouetteFilter, EdgeVisibilityOfExactSilhouettesAgreesWithTheTrueTorus) {
   const std::string path = writeBrep(BRepPrimAPI_MakeTorus(10.0, 3.0).Shape(), "sil_torus.brep");
   vtkNew<vtkWireFurCADReader> reader;
@@ -85,7 +86,6 @@ TEST(CadSilhouetteFilter, EdgeVisibilityOfExactSilhouettesAgreesWithTheTrueTorus
   ASSERT_TRUE(silhouettes->UsedExactSurfaces());
   const double deflection = reader->GetOutput(0)->GetFieldData()->GetArray("LinearDeflection")->GetTuple1(0);
   EXPECT_NEAR(deflection, reader->GetAppliedLinearDeflection(), 1e-15);
-  EXPECT_GT(f->GetAppliedSilhouetteSlack(), 0.1);
   auto seenByMarch = [&](const glm::dvec3& p) {
     const glm::dvec3 d = eye - p;
     const double L = glm::length(d);

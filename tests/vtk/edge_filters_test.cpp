@@ -5,6 +5,7 @@
 #include "vtkWireFurEdgeVisibility.h"
 #include "vtkWireFurSilhouette.h"
 
+#include "vtkAppendPolyData.h"
 #include "vtkCamera.h"
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -25,6 +26,8 @@
 #include "vtkStripper.h"
 
 #include <gtest/gtest.h>
+
+#include <glm/glm.hpp>
 
 #include <cmath>
 
@@ -351,4 +354,54 @@ TEST(EdgeVisibilityFilter, FollowsTheRenderersCameraAndSize)
   // From z = -7, 6 away from the line again, nothing in front of it: 2 * half seen.
   EXPECT_NEAR(f->GetVisibleLength(), 2 * half, 1e-3);
   EXPECT_NEAR(f->GetHiddenLength(), 4.0 - 2 * half, 1e-3);
+}
+
+// The mesh path's silhouette over its own sphere (radius 1, eye at distance 4): all of it is seen
+// (it lies inside triangles whose neighbours cross its grazing rays: the slack is the width of the
+// triangles at each point; with none, about half was taken as hidden). A 0.1 x 0.1 square put 0.5
+// in front of one silhouette point, towards the eye, hides a piece of about its size there: the
+// slack is local (it was once sqrt(2 deflection r) of the whole scene, which grows with an
+// assembly's size and let nearby occluders through).
+TEST(EdgeVisibilityFilter, MeshSilhouettesSeenWholeAndHiddenByANearSquare)
+{
+  for (const int res : { 32, 128 })
+  {
+    SCOPED_TRACE(res);
+    vtkNew<vtkSphereSource> sphere;
+    sphere->SetRadius(1.0);
+    sphere->SetThetaResolution(res);
+    sphere->SetPhiResolution(res / 2);
+    vtkNew<vtkCamera> camera;
+    camera->SetPosition(0, 0, 4);
+    camera->SetFocalPoint(0, 0, 0);
+    camera->SetClippingRange(0.5, 10);
+    vtkNew<vtkWireFurSilhouette> outline;
+    outline->SetInputConnection(sphere->GetOutputPort());
+    outline->SetCamera(camera);
+    vtkNew<vtkWireFurEdgeVisibility> f;
+    f->SetInputConnection(outline->GetOutputPort());
+    f->SetSurfaceConnection(sphere->GetOutputPort());
+    f->SetCamera(camera);
+    f->Update();
+    const double total = f->GetVisibleLength() + f->GetHiddenLength();
+    EXPECT_NEAR(total, 2 * vtkMath::Pi() * std::sqrt(1.0 - 1.0 / 16.0), 0.05);  // (chords of the circle)
+    EXPECT_LT(f->GetHiddenLength(), 1e-6 * total);
+
+    // A square in front of the silhouette point (r, 0, 1/4), 0.5 towards the eye.
+    const double r = std::sqrt(1.0 - 1.0 / 16.0);
+    const glm::dvec3 p(r, 0, 0.25), eye(0, 0, 4);
+    const glm::dvec3 c = p + 0.5 * glm::normalize(eye - p);
+    vtkNew<vtkPlaneSource> square;
+    square->SetOrigin(c.x - 0.05, c.y - 0.05, c.z);
+    square->SetPoint1(c.x + 0.05, c.y - 0.05, c.z);
+    square->SetPoint2(c.x - 0.05, c.y + 0.05, c.z);
+    vtkNew<vtkAppendPolyData> both;
+    both->AddInputConnection(sphere->GetOutputPort());
+    both->AddInputConnection(square->GetOutputPort());
+    f->SetSurfaceConnection(both->GetOutputPort());
+    f->Update();
+    // The square's shadow on the silhouette, seen from the eye: 0.1 x (distance to p) / (distance to c).
+    const double shadow = 0.1 * glm::length(eye - p) / glm::length(eye - c);
+    EXPECT_NEAR(f->GetHiddenLength(), shadow, 0.25 * shadow);
+  }
 }
