@@ -12,7 +12,10 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build=$(realpath -m "${1:-$root/build-paraview}")
 arch=$(dpkg-architecture -qDEB_HOST_MULTIARCH 2>/dev/null || echo x86_64-linux-gnu)
 if ! dpkg -s paraview paraview-dev >/dev/null 2>&1; then
-  if [ "$(id -u)" != 0 ]; then echo "paraview_plugin.sh: paraview and paraview-dev are not installed (run as root to install them)" >&2; exit 2; fi
+  if [ "$(id -u)" != 0 ]; then
+    echo "paraview_plugin.sh: ParaView is missing; as root: apt-get install -y --no-install-recommends paraview paraview-dev" >&2
+    exit 2
+  fi
   DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends paraview paraview-dev >/dev/null
 fi
 version=$(dpkg-query -W -f='${Version}' paraview)

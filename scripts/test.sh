@@ -13,6 +13,14 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 jobs="$(nproc 2>/dev/null || echo 2)"
+# The ParaView plugin (docs/paraview.md): its own build tree, against Debian's ParaView 5.11, which
+# this installs beside the system VTK when missing; its tests run in the suite below
+# (paraview.plugin_suite). WIREFUR_TEST_PARAVIEW=0 leaves it out.
+if [ "${WIREFUR_TEST_PARAVIEW:-1}" != "0" ]; then
+  echo "== the ParaView plugin (build-paraview/) =="
+  mkdir -p build-paraview
+  bash scripts/paraview_plugin.sh build-paraview >build-paraview/build.log 2>&1 || { tail -30 build-paraview/build.log >&2; echo "test.sh: the ParaView plugin build failed (build-paraview/build.log)" >&2; exit 1; }
+fi
 sanitize="${WIREFUR_TEST_SANITIZE:-}"
 if [ -z "$sanitize" ] && [ "${CI:-}" = "true" ]; then sanitize=1; fi
 if [ "$sanitize" = "1" ]; then
@@ -23,7 +31,7 @@ if [ "$sanitize" = "1" ]; then
     echo "test.sh: the sanitizer build failed (build-asan/build.log)" >&2
     exit 1
   fi
-  (cd build-asan && ctest --output-on-failure --timeout 900 -j"$jobs" -LE "fuzz|bench")
+  (cd build-asan && ctest --output-on-failure --timeout 900 -j"$jobs" -LE "fuzz|bench|paraview")
   echo "== the test suite (build/) =="
 fi
 cd build
