@@ -8,10 +8,12 @@
 # pipeline on its piece:
 #   PYTHONPATH=... xvfb-run -a mpirun --allow-run-as-root -np 2 -x PYTHONPATH -x DISPLAY -x XAUTHORITY \
 #     pvbatch docs/examples/paraview_cad_and_fur.py
+import os
 import sys
 from paraview.simple import *
 
-LoadPlugin("build-paraview/lib/paraview-5.11/plugins/WireFur/WireFur.so", remote=False, ns=globals())
+plugin = os.environ.get("WIREFUR_PLUGIN", "build-paraview/lib/paraview-5.11/plugins/WireFur/WireFur.so")
+LoadPlugin(plugin, remote=False, ns=globals())
 out = sys.argv[1] if len(sys.argv) > 1 else "paraview_cad_and_fur.png"
 
 part = OpenDataFile("data/cad/product.step")          # the WireFur CAD reader: Faces, Edges
