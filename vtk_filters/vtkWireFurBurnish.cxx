@@ -55,10 +55,12 @@ int vtkWireFurBurnish::RequestData(
     vtkErrorMacro(<< "no input");
     return 1;
   }
-  if (input->GetNumberOfPoints() == 0)
+  if (wf::vtkio::isEmpty(input))
   {
     // A rank's empty piece in a parallel pipeline: not an error; an empty output with the arrays
-    // (so that pieces append with them).
+    // (so that pieces append with them). A warning when it is the whole data set.
+    if (wf::vtkio::wholeDataRequested(outputVector))
+      vtkWarningMacro(<< wf::vtkio::wholeEmptyWarning);
     output->ShallowCopy(input);
     vtkNew<vtkFloatArray> tangents;
     tangents->SetName("Tangents");

@@ -140,6 +140,8 @@ int vtkWireFurFurGenerator::RequestData(
   {
     if (!problem.empty())
       vtkErrorMacro(<< problem);
+    else if (wf::vtkio::wholeDataRequested(outputVector))
+      vtkWarningMacro(<< wf::vtkio::wholeEmptyWarning);  // (a rank's empty piece: silent)
     return 1;
   }
 

@@ -65,6 +65,8 @@ int vtkWireFurScalesGenerator::RequestData(
   {
     if (!problem.empty())
       vtkErrorMacro(<< problem);
+    else if (wf::vtkio::wholeDataRequested(outputVector))
+      vtkWarningMacro(<< wf::vtkio::wholeEmptyWarning);  // (a rank's empty piece: silent)
     return 1;
   }
 

@@ -1,5 +1,7 @@
 #include "vtkWireFurTangentShading.h"
 
+#include "wf_vtk_surfaces.h"
+
 #include "core/srgb.h"
 
 #include "vtkCamera.h"
@@ -180,7 +182,16 @@ int vtkWireFurTangentShading::RequestData(
     return 1;
   }
   // An empty input (a rank's empty piece in a parallel pipeline) is not an error: an empty output
-  // with the four arrays (below), so that pieces append with their arrays.
+  // with the four arrays (below), so that pieces append with their arrays; a warning when it is
+  // the whole data set. Cells naming points the input does not have are an error.
+  if (wf::vtkio::isEmpty(input) && wf::vtkio::wholeDataRequested(outputVector))
+    vtkWarningMacro(<< wf::vtkio::wholeEmptyWarning);
+  if (const std::int64_t missing = wf::vtkio::firstCellWithMissingPoints(input); missing >= 0)
+  {
+    vtkErrorMacro(<< "input cell " << missing << " names a point the input does not have");
+    output->Initialize();
+    return 1;
+  }
   if (!this->SkipNonFinitePoints)
   {
     vtkIdType bad = 0, first = -1;

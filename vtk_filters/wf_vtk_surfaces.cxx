@@ -6,8 +6,11 @@
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkDataArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
 #include "vtkParametricFunction.h"
 #include "vtkPointData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 
@@ -216,6 +219,14 @@ std::vector<glm::uvec3> triangulate(vtkPolyData* mesh) {
   return out;
 }
 
+bool isEmpty(vtkPolyData* data) { return data && data->GetNumberOfPoints() == 0 && data->GetNumberOfCells() == 0; }
+
+bool wholeDataRequested(vtkInformationVector* outputVector) {
+  vtkInformation* info = outputVector ? outputVector->GetInformationObject(0) : nullptr;
+  return !info || !info->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES()) ||
+         info->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES()) <= 1;
+}
+
 std::int64_t firstCellWithMissingPoints(vtkPolyData* mesh) {
   if (!mesh) return -1;
   const vtkIdType np = mesh->GetNumberOfPoints();
@@ -329,7 +340,7 @@ std::shared_ptr<const Surface> growthSurfaceAsGiven(vtkParametricFunction* funct
     problem = "no surface: connect a vtkPolyData with texture coordinates to input 0, or set a ParametricFunction";
     return nullptr;
   }
-  if (mesh->GetNumberOfPoints() == 0 || mesh->GetNumberOfCells() == 0) return nullptr;  // an empty piece: no problem
+  if (isEmpty(mesh)) return nullptr;  // an empty piece: no problem (the caller may warn)
   auto s = std::make_shared<MeshSurface>(mesh);
   if (!s->problem().empty()) {
     problem = "input mesh: " + s->problem();

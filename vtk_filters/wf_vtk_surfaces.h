@@ -38,6 +38,7 @@
 
 class vtkDataArray;
 class vtkParametricFunction;
+class vtkInformationVector;
 class vtkPolyData;
 
 namespace wf::vtkio {
@@ -148,6 +149,13 @@ void forEachCell(vtkPolyData* mesh, F&& f) {
 /// Index of the first cell (vertices, lines, polygons, strips in that order) naming a point
 /// `mesh` does not have, or -1.
 WIREFURFILTERS_EXPORT std::int64_t firstCellWithMissingPoints(vtkPolyData* mesh);
+
+/// An input with no points and no cells. In a parallel pipeline (pvbatch under mpirun) a rank's
+/// piece is often empty: the filters give an empty output and no error; when the request is for
+/// the whole data set (one piece), `wholeEmptyWarning` is the warning to give.
+WIREFURFILTERS_EXPORT bool isEmpty(vtkPolyData* data);
+WIREFURFILTERS_EXPORT bool wholeDataRequested(vtkInformationVector* outputVector);
+inline constexpr const char* wholeEmptyWarning = "the input is empty: the output is empty";
 
 /// Index of the first point of `mesh` with a NaN or infinite coordinate, or -1.
 WIREFURFILTERS_EXPORT std::int64_t firstNonFinitePoint(vtkPolyData* mesh);

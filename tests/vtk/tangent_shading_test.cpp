@@ -787,7 +787,9 @@ TEST(VtkTangentShading, LineCellsSharingPointsAverageAsAxes)
   }
 }
 
-// Empty input: empty output with the four arrays, no message, no map built.
+// Empty input: empty output with the four arrays, a warning (the whole data set; a piece of a
+// parallel pipeline would be silent), no error, no map built. Cells that name points the input
+// does not have (with or without points) are an error and an empty output.
 TEST(VtkTangentShading, EmptyInputIsAnEmptyOutputWithTheArrays)
 {
   vtkNew<vtkPolyData> empty;
@@ -797,12 +799,30 @@ TEST(VtkTangentShading, EmptyInputIsAnEmptyOutputWithTheArrays)
   filter->SetInputData(empty);
   filter->Update();
   EXPECT_EQ(messages->errors, 0) << messages->last;  // a rank's empty piece is not an error
+  EXPECT_EQ(messages->warnings, 1) << messages->last; // the whole data set empty: a warning
   EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
   for (const char* name : { "Tangents", "EyeTangents", "ShadedRadiance", "ShadedColor" })
   {
     EXPECT_NE(filter->GetOutput()->GetPointData()->GetArray(name), nullptr) << name;
   }
   EXPECT_EQ(filter->GetMapBuilds(), 0);
+
+  for (const int points : { 0, 4 })
+  {
+    vtkNew<vtkPolyData> dangling;
+    vtkNew<vtkPoints> pts;
+    for (int i = 0; i < points; ++i)
+      pts->InsertNextPoint(i, 0, 0);
+    vtkNew<vtkCellArray> lines;
+    const vtkIdType ids[2] = { 0, 100000 };
+    lines->InsertNextCell(2, ids);
+    dangling->SetPoints(pts);
+    dangling->SetLines(lines);
+    filter->SetInputData(dangling);
+    filter->Update();
+    EXPECT_EQ(messages->errors, points == 0 ? 1 : 2) << messages->last;
+    EXPECT_EQ(filter->GetOutput()->GetNumberOfCells(), 0);
+  }
 }
 
 // ShadedColor is ShadedRadiance clamped and sRGB-encoded, checked without re-implementing the
