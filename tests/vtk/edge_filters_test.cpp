@@ -22,6 +22,7 @@
 #include "vtkPolyData.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
+#include "vtkSmartPointer.h"
 #include "vtkSphereSource.h"
 #include "vtkStripper.h"
 
@@ -37,6 +38,21 @@ namespace
 int cellValue(vtkPolyData* pd, const char* name, vtkIdType c)
 {
   return int(pd->GetCellData()->GetArray(name)->GetTuple1(c));
+}
+
+// One line from a to b.
+vtkSmartPointer<vtkPolyData> segment(const double a[3], const double b[3])
+{
+  vtkNew<vtkPoints> pts;
+  pts->InsertNextPoint(a);
+  pts->InsertNextPoint(b);
+  vtkNew<vtkCellArray> cells;
+  const vtkIdType ids[2] = { 0, 1 };
+  cells->InsertNextCell(2, ids);
+  auto line = vtkSmartPointer<vtkPolyData>::New();
+  line->SetPoints(pts);
+  line->SetLines(cells);
+  return line;
 }
 
 } // namespace
@@ -172,15 +188,8 @@ TEST(SilhouetteFilter, SphereMeshAgainstTheTrueCircle)
 TEST(EdgeVisibilityFilter, LineBehindASquare)
 {
   vtkNew<vtkPlaneSource> square;  // [-0.5, 0.5]^2 at z = 0
-  vtkNew<vtkPolyData> line;
-  vtkNew<vtkPoints> pts;
-  pts->InsertNextPoint(-2, 0.1, -1);
-  pts->InsertNextPoint(2, 0.1, -1);
-  vtkNew<vtkCellArray> cells;
-  const vtkIdType ids[2] = { 0, 1 };
-  cells->InsertNextCell(2, ids);
-  line->SetPoints(pts);
-  line->SetLines(cells);
+  const double from[3] = { -2, 0.1, -1 }, to[3] = { 2, 0.1, -1 };
+  vtkSmartPointer<vtkPolyData> line = segment(from, to);
   vtkNew<vtkIntArray> tag;
   tag->SetName("Tag");
   tag->InsertNextValue(7);
@@ -290,15 +299,8 @@ TEST(SilhouetteFilter, StripsAndZerosAtVertices)
 // Without a surface (port 1 is optional) nothing hides the line: one piece, seen.
 TEST(EdgeVisibilityFilter, NoSurfaceHidesNothing)
 {
-  vtkNew<vtkPolyData> line;
-  vtkNew<vtkPoints> pts;
-  pts->InsertNextPoint(-1, 0, 0);
-  pts->InsertNextPoint(1, 0, 0);
-  vtkNew<vtkCellArray> cells;
-  const vtkIdType ids[2] = { 0, 1 };
-  cells->InsertNextCell(2, ids);
-  line->SetPoints(pts);
-  line->SetLines(cells);
+  const double from[3] = { -1, 0, 0 }, to[3] = { 1, 0, 0 };
+  vtkSmartPointer<vtkPolyData> line = segment(from, to);
   vtkNew<vtkCamera> camera;
   camera->SetPosition(0, 0, 5);
   vtkNew<vtkWireFurEdgeVisibility> f;
@@ -323,15 +325,8 @@ TEST(EdgeVisibilityFilter, FollowsTheRenderersCameraAndSize)
   older->SetPosition(0, 0, -7);
   older->SetFocalPoint(0, 0, 0);
   vtkNew<vtkPlaneSource> square;
-  vtkNew<vtkPolyData> line;
-  vtkNew<vtkPoints> pts;
-  pts->InsertNextPoint(-2, 0.1, -1);
-  pts->InsertNextPoint(2, 0.1, -1);
-  vtkNew<vtkCellArray> cells;
-  const vtkIdType ids[2] = { 0, 1 };
-  cells->InsertNextCell(2, ids);
-  line->SetPoints(pts);
-  line->SetLines(cells);
+  const double from[3] = { -2, 0.1, -1 }, to[3] = { 2, 0.1, -1 };
+  vtkSmartPointer<vtkPolyData> line = segment(from, to);
   vtkNew<vtkRenderWindow> window;
   window->SetSize(640, 480);
   vtkNew<vtkRenderer> renderer;
