@@ -12,27 +12,29 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
+echo "== set-up and build: ${SECONDS} s =="
 jobs="$(nproc 2>/dev/null || echo 2)"
 # The ParaView plugin (docs/paraview.md): its own build tree, against Debian's ParaView 5.11, which
 # this installs beside the system VTK when missing; its tests run in the suite below
 # (paraview.plugin_suite). WIREFUR_TEST_PARAVIEW=0 leaves it out.
 if [ "${WIREFUR_TEST_PARAVIEW:-1}" != "0" ]; then
-  echo "== the ParaView plugin (build-paraview/) =="
+  echo "== the ParaView plugin (build-paraview/), from ${SECONDS} s =="
   mkdir -p build-paraview
   bash scripts/paraview_plugin.sh build-paraview >build-paraview/build.log 2>&1 || { tail -30 build-paraview/build.log >&2; echo "test.sh: the ParaView plugin build failed (build-paraview/build.log)" >&2; exit 1; }
 fi
 sanitize="${WIREFUR_TEST_SANITIZE:-}"
 if [ -z "$sanitize" ] && [ "${CI:-}" = "true" ]; then sanitize=1; fi
 if [ "$sanitize" = "1" ]; then
-  echo "== the test suite under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/) =="
+  echo "== the test suite under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/), from ${SECONDS} s =="
   cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" -DWIREFUR_SANITIZE=ON -DWIREFUR_BUILD_BENCH=OFF -DWIREFUR_WRAP_PYTHON=OFF >/dev/null
   if ! cmake --build build-asan -j"$jobs" >build-asan/build.log 2>&1; then
     grep -E -B2 -A8 "error|Error" build-asan/build.log | tail -60
     echo "test.sh: the sanitizer build failed (build-asan/build.log)" >&2
     exit 1
   fi
+  echo "== its build done at ${SECONDS} s =="
   (cd build-asan && ctest --output-on-failure --timeout 900 -j"$jobs" -LE "fuzz|bench|paraview")
-  echo "== the test suite (build/) =="
 fi
+echo "== the test suite (build/), from ${SECONDS} s =="
 cd build
 ctest --output-on-failure --timeout 900 -j"$jobs" "$@"
