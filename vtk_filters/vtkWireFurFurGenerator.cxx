@@ -19,6 +19,7 @@
 #include "core/srgb.h"
 #include "growth/fur.h"
 #include "texture/textures.h"
+#include "wf_vtk_pieces.h"
 #include "wf_vtk_surfaces.h"
 
 #include <algorithm>
@@ -133,13 +134,14 @@ int vtkWireFurFurGenerator::RequestData(
   vtkPolyData* input = this->GrowthInput(inputVector);
 
   // Problems are reported and give an empty output; the pipeline goes on (return 1).
-  std::string problem;
-  const std::shared_ptr<const wf::Surface> surface =
-    wf::vtkio::growthSurface(this->ParametricFunction, input, problem, this->FlipNormals != 0);
+  // A parallel pipeline's piece: the whole surface and this process's share of it (wf_vtk_pieces.h).
+  const wf::vtkio::GrowthShare share =
+    wf::vtkio::growthShare(this->ParametricFunction, input, this->FlipNormals != 0, outputVector);
+  const std::shared_ptr<const wf::Surface>& surface = share.surface;
   if (!surface)
   {
-    if (!problem.empty())
-      vtkErrorMacro(<< problem);
+    if (!share.problem.empty())
+      vtkErrorMacro(<< share.problem);
     else if (wf::vtkio::wholeDataRequested(outputVector))
       vtkWarningMacro(<< wf::vtkio::wholeEmptyWarning);  // (a rank's empty piece: silent)
     return 1;
@@ -183,6 +185,7 @@ int vtkWireFurFurGenerator::RequestData(
   p.tipColour = glm::vec3(glm::dvec3(this->TipColor[0], this->TipColor[1], this->TipColor[2]));
   p.thickness = this->Thickness;
   p.maxPoints = this->MaximumPoints;  // counted exactly by the core before it allocates
+  p.rootFilter = share.keep;           // this process's roots (every root when not distributed)
   // Maps (the core looks them up at the unit coordinates (s, t), wrapping along periodic axes).
   const wf::ParameterDomain domain = surface->domain();
   auto scalarMap = [&](vtkImageData* img, int component) -> std::shared_ptr<const wf::ScalarTexture> {
@@ -235,7 +238,7 @@ int vtkWireFurFurGenerator::RequestData(
   {
     return 1;
   }
-  if (fur.counts.hairs == 0 && fur.counts.skippedDegenerate > 0)
+  if (fur.counts.hairs == 0 && fur.counts.elsewhere == 0 && fur.counts.skippedDegenerate > 0)
   {
     vtkErrorMacro(<< "fur on " << surface->describe() << ": none of the " << fur.counts.rootsTried
                   << " roots lies on a finite surface (NaN or Inf parameters or points?)");

@@ -16,6 +16,7 @@
 #include "vtkUnsignedCharArray.h"
 
 #include "growth/scales.h"
+#include "wf_vtk_pieces.h"
 #include "wf_vtk_surfaces.h"
 
 #include <algorithm>
@@ -58,13 +59,14 @@ int vtkWireFurScalesGenerator::RequestData(
   output->Initialize();
   vtkPolyData* input = this->GrowthInput(inputVector);
 
-  std::string problem;
-  const std::shared_ptr<const wf::Surface> surface =
-    wf::vtkio::growthSurface(this->ParametricFunction, input, problem, this->FlipNormals != 0);
+  // A parallel pipeline's piece: the whole surface and this process's share of it (wf_vtk_pieces.h).
+  const wf::vtkio::GrowthShare share =
+    wf::vtkio::growthShare(this->ParametricFunction, input, this->FlipNormals != 0, outputVector);
+  const std::shared_ptr<const wf::Surface>& surface = share.surface;
   if (!surface)
   {
-    if (!problem.empty())
-      vtkErrorMacro(<< problem);
+    if (!share.problem.empty())
+      vtkErrorMacro(<< share.problem);
     else if (wf::vtkio::wholeDataRequested(outputVector))
       vtkWarningMacro(<< wf::vtkio::wholeEmptyWarning);  // (a rank's empty piece: silent)
     return 1;
@@ -81,6 +83,7 @@ int vtkWireFurScalesGenerator::RequestData(
   p.colour = glm::vec3(glm::dvec3(this->Color[0], this->Color[1], this->Color[2]));
   p.seed = this->Seed;
   p.maxTriangles = this->MaximumTriangles;  // checked by the core before it allocates
+  p.rootFilter = share.keep;                 // this process's scales (all when not distributed)
   if (const std::string why = p.problem(); !why.empty())
   {
     vtkErrorMacro(<< "invalid scale parameters: " << why);
@@ -92,7 +95,7 @@ int vtkWireFurScalesGenerator::RequestData(
   {
     return 1;
   }
-  if (mesh.triangles.empty())
+  if (mesh.triangles.empty() && !share.keep)  // (a share may hold no scale)
   {
     vtkErrorMacro(<< "scales on " << surface->describe()
                   << ": no scale lies on a finite surface (NaN or Inf parameters or points?)");

@@ -300,6 +300,8 @@ bool MeshSurface::locate(double u, double v, std::size_t& triangle, glm::dvec3& 
   return problem_.empty() && core_->locate(u, v, triangle, barycentric);
 }
 
+std::size_t MeshSurface::sourceTriangle(std::size_t located) const { return core_->sourceTriangle(located); }
+
 std::size_t MeshSurface::triangleCount() const { return core_ ? core_->triangleCount() : 0; }
 
 SurfacePoint MeshSurface::evaluate(double u, double v) const {

@@ -101,6 +101,8 @@ class WIREFURFILTERS_EXPORT MeshSurface final : public Surface {
   std::size_t triangleCount() const;
   /// The triangle holding (u, v) and its barycentric coordinates; false when none does.
   bool locate(double u, double v, std::size_t& triangle, glm::dvec3& barycentric) const;
+  /// A located triangle's index in triangulate(mesh)'s list.
+  std::size_t sourceTriangle(std::size_t located) const;
 
  private:
   std::unique_ptr<wf::MeshSurface> core_;  ///< the mesh as the core's surface/mesh_surface.h

@@ -81,10 +81,10 @@ struct HairPlan {
   RootRandom attributes{0, 0};  // draws: 0 length, 1 intensity, 2 wind phase, 3 curl phase
 };
 
-enum class Verdict { Grown, Degenerate, ZeroLength, Capacity };
+enum class Verdict { Grown, Degenerate, ZeroLength, Capacity, Elsewhere };
 
 struct BlockTally {
-  std::uint64_t roots = 0, hairs = 0, degenerate = 0, zeroLength = 0, capacity = 0;
+  std::uint64_t roots = 0, hairs = 0, degenerate = 0, zeroLength = 0, capacity = 0, elsewhere = 0;
   void count(Verdict v) {
     ++roots;
     switch (v) {
@@ -92,6 +92,7 @@ struct BlockTally {
       case Verdict::Degenerate: ++degenerate; break;
       case Verdict::ZeroLength: ++zeroLength; break;
       case Verdict::Capacity: ++capacity; break;
+      case Verdict::Elsewhere: ++elsewhere; break;
     }
   }
 };
@@ -507,6 +508,7 @@ BlockTally FurGenerator::forEachRoot(std::size_t block, Visit&& visit) const {
   HairPlan h;
   RootFrame& root = h.root;
   auto grow = [&](std::uint32_t rootIndex, Verdict placed) {
+    if (placed == Verdict::Grown && p_.rootFilter && !p_.rootFilter(root.uv)) placed = Verdict::Elsewhere;
     const Verdict v = placed == Verdict::Grown ? plan(rootIndex, h) : placed;
     tally.count(v);
     if (v == Verdict::Grown) visit(rootIndex, h);
@@ -538,9 +540,19 @@ Fur FurGenerator::grow() {
 
   // Counts first: the roots each block asks for are known before any hair is grown (the grid's
   // roots; the cells' n = floor(lambda + xi)). Prefix sums give every block its first slot.
+  // With a root filter (a distributed piece) only the kept roots get slots: they are counted by
+  // placing every root once more (placement and plan, no shape), so a piece allocates its share.
   const std::size_t blocks = blockCount();
   std::vector<std::uint64_t> firstSlot(blocks + 1, 0);
-  for (std::size_t b = 0; b < blocks; ++b) firstSlot[b + 1] = firstSlot[b] + rootsAskedFor(b);
+  std::vector<std::uint64_t> asked(blocks, 0);
+  if (p_.rootFilter) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t b = r.begin(); b != r.end(); ++b) asked[b] = forEachRoot(b, [](std::uint32_t, const HairPlan&) {}).hairs;
+    });
+  } else {
+    for (std::size_t b = 0; b < blocks; ++b) asked[b] = rootsAskedFor(b);
+  }
+  for (std::size_t b = 0; b < blocks; ++b) firstSlot[b + 1] = firstSlot[b] + asked[b];
   const std::uint64_t slots = firstSlot[blocks];
   const std::uint64_t pointsPerHair = std::uint64_t(segments_) + 1;
   const double limit = std::min(p_.maxPoints, double(std::numeric_limits<std::uint32_t>::max()));
@@ -581,6 +593,7 @@ Fur FurGenerator::grow() {
     fur.counts.skippedDegenerate += t.degenerate;
     fur.counts.skippedZeroLength += t.zeroLength;
     fur.counts.skippedCapacity += t.capacity;
+    fur.counts.elsewhere += t.elsewhere;
   }
   fur.counts.hairs = hairs;
 

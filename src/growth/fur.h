@@ -28,6 +28,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -129,6 +130,14 @@ struct FurParams {
   /// (PolylineSet's 32-bit starts); callers with a memory budget pass less.
   double maxPoints = 4294967295.0;
 
+  /// A share of the roots: when set, a root grows only where this returns true for its (u, v)
+  /// in the surface's domain (asked after placement, before the hair is shaped; from several
+  /// threads); the others count as FurCounts::elsewhere. The processes of a distributed surface
+  /// each keep the roots that fall in their own piece, so that the union of their fur is the
+  /// one-process fur hair for hair (vtk_filters/wf_vtk_pieces.h). Roots are then placed twice
+  /// (once to count the kept ones, so that only they are allocated). Empty: every root.
+  std::function<bool(const glm::dvec2& uv)> rootFilter;
+
   /// Empty when usable; otherwise one line naming the field and what is wrong (NaN / Inf, out of
   /// range).
   std::string problem() const;
@@ -142,6 +151,7 @@ struct FurCounts {
   std::uint64_t skippedDegenerate = 0;  ///< the surface was not finite there (or no root found)
   std::uint64_t skippedZeroLength = 0;  ///< zero direction or zero length
   std::uint64_t skippedCapacity = 0;    ///< AreaCorrect: hairs over the per-cell id range (see Fur::ids)
+  std::uint64_t elsewhere = 0;          ///< roots FurParams::rootFilter left to another piece
 };
 
 struct Fur {

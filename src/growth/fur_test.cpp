@@ -159,7 +159,7 @@ void expectWellFormed(const Fur& f, int segments) {
   EXPECT_EQ(f.ids.capacity(), f.ids.size());
   EXPECT_EQ(f.hairs.starts.capacity(), f.hairs.starts.size());
   EXPECT_EQ(f.counts.rootsTried,
-            f.counts.hairs + f.counts.skippedDegenerate + f.counts.skippedZeroLength + f.counts.skippedCapacity);
+            f.counts.hairs + f.counts.skippedDegenerate + f.counts.skippedZeroLength + f.counts.skippedCapacity + f.counts.elsewhere);
   EXPECT_TRUE(allFinite(f));
 }
 
@@ -722,6 +722,58 @@ TEST(FurColour, RootToTipAndRegionsOnlyWithinTheirRadius) {
   }
   EXPECT_GT(inside, 50);   // pi 0.1^2 * 3600 = 113
   EXPECT_GT(outside, 2000);
+}
+
+// --- shares (a distributed surface's pieces) --------------------------------------------------
+
+// Three shares of the torus by a band across u: each share's fur, put together and ordered by id,
+// is the whole fur, hair for hair and point for point (bit for bit), for the grid and the
+// area-correct lattice, with clumping and curl (which read other roots' positions); every root
+// is counted in exactly one share and `elsewhere` in the others.
+TEST(FurShares, UnionOfTheSharesIsTheWholeFurBitForBit) {
+  const TorusSurface torus(2.0, 0.6);
+  for (auto placement : {FurParams::Placement::Grid, FurParams::Placement::AreaCorrect}) {
+    FurParams p;
+    p.placement = placement;
+    p.gridU = 61;
+    p.gridV = 23;
+    p.density = 300.0;
+    p.cellsU = 13;
+    p.cellsV = 7;
+    p.segments = 4;
+    p.curlAmplitude = 0.01;
+    p.clumping = 0.5;
+    const Fur whole = growFur(torus, p, 3);
+    ASSERT_GT(hairCount(whole), 500u);
+    std::map<std::uint64_t, std::vector<dvec3>> pieces;
+    std::uint64_t elsewhere = 0, hairs = 0;
+    for (int share = 0; share < 3; ++share) {
+      FurParams q = p;
+      q.rootFilter = [share](const dvec2& uv) { return std::min(int(uv.x / (2 * kPi) * 3), 2) == share; };
+      const Fur f = growFur(torus, q, 3);
+      expectWellFormed(f, 4);
+      EXPECT_GT(hairCount(f), hairCount(whole) / 5);
+      EXPECT_EQ(f.counts.hairs + f.counts.elsewhere, whole.counts.hairs);
+      hairs += f.counts.hairs;
+      elsewhere += f.counts.elsewhere;
+      for (std::size_t h = 0; h < hairCount(f); ++h) {
+        std::vector<dvec3> pts(f.hairs.points.begin() + f.hairs.starts[h], f.hairs.points.begin() + f.hairs.starts[h + 1]);
+        EXPECT_TRUE(pieces.emplace(f.ids[h], std::move(pts)).second) << "hair " << f.ids[h] << " in two shares";
+      }
+    }
+    EXPECT_EQ(hairs, whole.counts.hairs);
+    EXPECT_EQ(elsewhere, 2 * whole.counts.hairs);
+    ASSERT_EQ(pieces.size(), hairCount(whole));
+    for (std::size_t h = 0; h < hairCount(whole); ++h) {
+      const auto it = pieces.find(whole.ids[h]);
+      ASSERT_NE(it, pieces.end());
+      ASSERT_EQ(it->second.size(), whole.hairs.starts[h + 1] - whole.hairs.starts[h]);
+      EXPECT_EQ(std::memcmp(it->second.data(), whole.hairs.points.data() + whole.hairs.starts[h],
+                            it->second.size() * sizeof(dvec3)),
+                0)
+          << "hair " << whole.ids[h];
+    }
+  }
 }
 
 }  // namespace

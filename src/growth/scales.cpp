@@ -124,10 +124,12 @@ TriangleMesh growScales(const Surface& surface, const ScaleParams& params,
         const glm::dvec2 cornerSt(double(i) / nu, double(j) / nv), centreSt((i + 0.5) / nu, (j + 0.5) / nv);
         const glm::dvec2 corner = d.fromUnit(cornerSt.x, cornerSt.y);
         const glm::dvec2 centre = d.fromUnit(centreSt.x, centreSt.y);
-        auto inside = [&](const glm::dvec2& st) { return !params.mask || params.mask->value(st) >= 0.5; };
-        if (inside(cornerSt))
+        auto inside = [&](const glm::dvec2& st, const glm::dvec2& uv) {
+          return (!params.mask || params.mask->value(st) >= 0.5) && (!params.rootFilter || params.rootFilter(uv));
+        };
+        if (inside(cornerSt, corner))
           slots[2 * c] = growScale(surface, params, corner.x, corner.y, cellDu, cellDv, patchIndex, 2 * c);
-        if (inside(centreSt))
+        if (inside(centreSt, centre))
           slots[2 * c + 1] = growScale(surface, params, centre.x, centre.y, cellDu, cellDv, patchIndex, 2 * c + 1);
       }
   });

@@ -12,6 +12,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -46,6 +47,9 @@ struct ScaleParams {
   /// The most triangles the scales may make (4 per cell), checked before anything is allocated:
   /// growScales throws std::length_error past it. Callers with a memory budget pass less.
   double maxTriangles = 67108864.0;
+  /// A share of the scales (a distributed piece's, like FurParams::rootFilter): when set, a scale
+  /// grows only where this returns true for its root's (u, v). Empty: every scale.
+  std::function<bool(const glm::dvec2& uv)> rootFilter;
 
   /// Empty when the parameters are usable, else one line naming the field and what is wrong
   /// ("cellsU must be in [1, 16384] (got 0)").

@@ -5,6 +5,8 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <map>
+#include <tuple>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
@@ -250,6 +252,33 @@ TEST(Scales, ProblemNamesTheField) {
   p.cellsV = 16385;
   EXPECT_NE(p.problem().find("cellsV"), std::string::npos);
   EXPECT_THROW(growScales(TestPlane{}, p), std::invalid_argument);
+}
+
+// Two shares of the torus's scales by a band across v: the union, put together by (root uv, first
+// point), is the whole set of scales bit for bit, each scale in exactly one share.
+TEST(Scales, UnionOfTwoSharesIsTheWholeBitForBit) {
+  const TestTorus torus;
+  ScaleParams p;
+  p.cellsU = 24;
+  p.cellsV = 9;
+  const TriangleMesh whole = growScales(torus, p, 2);
+  auto key = [](const TriangleMesh& m, std::size_t s) {
+    const glm::dvec3 q = m.positions[4 * s + 2];
+    return std::make_tuple(m.uvs[4 * s].x, m.uvs[4 * s].y, q.x, q.y, q.z);
+  };
+  std::map<std::tuple<double, double, double, double, double>, int> seen;
+  std::size_t scales = 0;
+  for (int share = 0; share < 2; ++share) {
+    ScaleParams q = p;
+    q.rootFilter = [share](const glm::dvec2& uv) { return (uv.y < kPi) == (share == 0); };
+    const TriangleMesh m = growScales(torus, q, 2);
+    ASSERT_EQ(m.positions.size() % 4, 0u);
+    EXPECT_GT(m.positions.size(), whole.positions.size() / 4);
+    scales += m.positions.size() / 4;
+    for (std::size_t s = 0; s < m.positions.size() / 4; ++s) EXPECT_TRUE(seen.emplace(key(m, s), share).second);
+  }
+  ASSERT_EQ(scales, whole.positions.size() / 4);
+  for (std::size_t s = 0; s < scales; ++s) EXPECT_EQ(seen.count(key(whole, s)), 1u) << "scale " << s;
 }
 
 }  // namespace

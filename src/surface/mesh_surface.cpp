@@ -172,6 +172,7 @@ bool MeshSurface::build(const std::vector<glm::uvec3>& all, int gridCells, bool 
     const glm::uvec3& t = all[k];
     Triangle tri;
     tri.v[0] = t.x, tri.v[1] = t.y, tri.v[2] = t.z;
+    tri.source = std::uint32_t(k);
     const glm::dvec2 a = uvs_[t.x], b = uvs_[t.y], c = uvs_[t.z];
     const glm::dvec2 d1 = b - a, d2 = c - a;
     const double det = dets[k];

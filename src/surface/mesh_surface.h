@@ -57,8 +57,11 @@ class MeshSurface final : public Surface {
   std::string describe() const override;
 
   std::size_t triangleCount() const { return triangles_.size(); }
-  /// The triangle holding (u, v) and its barycentric coordinates; false when none does.
+  /// The triangle holding (u, v) and its barycentric coordinates; false when none does. The
+  /// index counts the triangles kept for the lookup; sourceTriangle turns it into the index in
+  /// the constructor's triangle list (with given texture coordinates; the laid-out list else).
   bool locate(double u, double v, std::size_t& triangle, glm::dvec3& barycentric) const;
+  std::size_t sourceTriangle(std::size_t located) const { return triangles_[located].source; }
 
  private:
   MeshSurface() = default;
@@ -70,6 +73,7 @@ class MeshSurface final : public Surface {
 
   struct Triangle {
     std::uint32_t v[3];
+    std::uint32_t source;  ///< index in the constructor's triangle list
     glm::dvec3 Su, Sv;  ///< dP/du, dP/dv of the triangle's affine map
     glm::dmat2 toBary;  ///< (u, v) - uv[v0] -> (b1, b2)
     glm::dvec2 lo, hi;  ///< uv bounding box

@@ -305,6 +305,91 @@ TEST(VtkFurGenerator, RootsLieOnTheTorus)
   EXPECT_LT(worst, 1e-9);
 }
 
+// A parallel pipeline's pieces of a parametric surface (wf_vtk_pieces.h: bands across v, no
+// communication): the three pieces' hairs together are the whole fur's, the same ids and the
+// same points bit for bit, each hair in one piece; and likewise for the scales.
+TEST(VtkFurGenerator, PiecesOfAParametricSurfaceMakeUpTheWholeFur)
+{
+  vtkNew<vtkParametricTorus> torus;
+  torus->SetRingRadius(2.0);
+  torus->SetCrossSectionRadius(0.75);
+  auto hairs = [&](int piece, int pieces) {
+    vtkNew<vtkWireFurFurGenerator> fur;
+    fur->SetParametricFunction(torus);
+    fur->SetGridU(40);
+    fur->SetGridV(30);
+    fur->SetSegments(3);
+    fur->SetClumping(0.4);
+    fur->UpdatePiece(piece, pieces, 0);
+    vtkPolyData* out = fur->GetOutput();
+    auto* ids = vtkTypeUInt64Array::SafeDownCast(out->GetCellData()->GetArray("HairId"));
+    std::map<std::uint64_t, std::vector<double>> byId;
+    vtkIdType n;
+    const vtkIdType* pts;
+    vtkIdType cell = 0;
+    for (out->GetLines()->InitTraversal(); out->GetLines()->GetNextCell(n, pts); ++cell)
+    {
+      std::vector<double> xyz;
+      for (vtkIdType k = 0; k < n; ++k)
+      {
+        double p[3];
+        out->GetPoint(pts[k], p);
+        xyz.insert(xyz.end(), p, p + 3);
+      }
+      byId[ids->GetValue(cell)] = xyz;
+    }
+    return byId;
+  };
+  const auto whole = hairs(0, 1);
+  ASSERT_EQ(whole.size(), 1200u);
+  std::map<std::uint64_t, std::vector<double>> joined;
+  for (int piece = 0; piece < 3; ++piece)
+  {
+    const auto part = hairs(piece, 3);
+    EXPECT_GT(part.size(), 300u) << "piece " << piece;
+    for (const auto& [id, xyz] : part)
+    {
+      EXPECT_TRUE(joined.emplace(id, xyz).second) << "hair " << id << " in two pieces";
+    }
+  }
+  EXPECT_TRUE(joined == whole);
+
+  auto scales = [&](int piece, int pieces) {
+    vtkNew<vtkWireFurScalesGenerator> gen;
+    gen->SetParametricFunction(torus);
+    gen->SetCellsU(20);
+    gen->SetCellsV(10);
+    gen->UpdatePiece(piece, pieces, 0);
+    return vtkSmartPointer<vtkPolyData>(gen->GetOutput());
+  };
+  vtkSmartPointer<vtkPolyData> all = scales(0, 1);
+  std::set<std::vector<double>> wholeScales, joinedScales;
+  auto collect = [](vtkPolyData* m, std::set<std::vector<double>>& into) {
+    for (vtkIdType s = 0; s < m->GetNumberOfPoints() / 4; ++s)
+    {
+      std::vector<double> key;
+      for (int k = 0; k < 4; ++k)
+      {
+        double p[3];
+        m->GetPoint(4 * s + k, p);
+        key.insert(key.end(), p, p + 3);
+      }
+      into.insert(key);
+    }
+  };
+  collect(all, wholeScales);
+  vtkIdType parts = 0;
+  for (int piece = 0; piece < 2; ++piece)
+  {
+    vtkSmartPointer<vtkPolyData> part = scales(piece, 2);
+    parts += part->GetNumberOfPoints() / 4;
+    collect(part, joinedScales);
+  }
+  EXPECT_EQ(parts, all->GetNumberOfPoints() / 4);
+  EXPECT_EQ(wholeScales.size(), 400u);
+  EXPECT_TRUE(joinedScales == wholeScales);
+}
+
 // vtkParametricTorus has Su x Sv pointing into the tube: its fur grows inward unless
 // FlipNormals is on, and then every tip lies farther from the tube's centre circle than the root.
 TEST(VtkFurGenerator, FlipNormalsGrowsTheTorusFurOutward)
