@@ -15,6 +15,7 @@
 #include "vtkInformationIntegerKey.h"
 #include "vtkMatrix4x4.h"
 #include "vtkNew.h"
+#include "vtkCommand.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLFramebufferObject.h"
 #include "vtkOpenGLQuadHelper.h"
@@ -403,6 +404,7 @@ bool vtkWireFurRenderPass::IsMarked(vtkProp* prop)
 void vtkWireFurRenderPass::Render(const vtkRenderState* s)
 {
   const auto t0 = std::chrono::steady_clock::now();
+  this->InvokeEvent(vtkCommand::StartEvent);  // observers may mark or unmark props now
   this->NumberOfRenderedProps = 0;
   vtkInternals& in = *this->Internals;
   vtkRenderer* ren = s->GetRenderer();
@@ -532,6 +534,8 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
     }
   }
 
+  // The figures above are this frame's: observers (the ParaView view's annotation) read them now.
+  this->InvokeEvent(vtkCommand::EndEvent);
   // 2-D props as vtkRenderStepsPass would draw them (a text actor lays out its text in the
   // opaque step), after the composite so that they stay on top.
   for (vtkProp* p : in.OverlayProps)

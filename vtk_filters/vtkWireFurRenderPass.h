@@ -172,6 +172,9 @@ public:
   vtkGetVector3Macro(Ambient, double);
   ///@}
 
+  /// (At the start of every Render the pass invokes vtkCommand::StartEvent, before it reads
+  /// the marks: an observer may mark props then; at the end, before the 2-D props are drawn,
+  /// vtkCommand::EndEvent: the figures below are then that frame's.)
   /// Seconds the last Render took in all (delegate, conversion, A-buffer, composite).
   vtkGetMacro(LastRenderSeconds, double);
   /// The image reduction factor the last core render was drawn with (1 when none ran). The

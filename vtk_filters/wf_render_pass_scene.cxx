@@ -6,6 +6,9 @@
 
 #include <vtkActor.h>
 #include <vtkAlgorithm.h>
+#include <vtkAppendPolyData.h>
+#include <vtkCompositeDataIterator.h>
+#include <vtkCompositeDataSet.h>
 #include <vtkCamera.h>
 #include <vtkCellArray.h>
 #include <vtkCellArrayIterator.h>
@@ -42,12 +45,37 @@ namespace {
 
 glm::dvec3 vec(const double v[3]) { return {v[0], v[1], v[2]}; }
 
-vtkPolyData* actorInput(vtkActor* actor) {
+// The mapper's input, brought up to date: a vtkPolyData, or a composite data set (ParaView's
+// representations give their vtkCompositePolyDataMapper2 a vtkMultiBlockDataSet).
+vtkDataObject* actorData(vtkActor* actor) {
   vtkMapper* mapper = actor->GetMapper();
   if (!mapper) return nullptr;
   if (vtkAlgorithm* producer = mapper->GetNumberOfInputConnections(0) > 0 ? mapper->GetInputAlgorithm() : nullptr)
     producer->Update();
-  return vtkPolyData::SafeDownCast(mapper->GetInputDataObject(0, 0));
+  return mapper->GetInputDataObject(0, 0);
+}
+
+// The polygonal data to convert: the input itself, or a composite's vtkPolyData leaves appended
+// into one (with the first leaf's field data, where the WireFur filters leave their flags).
+vtkSmartPointer<vtkPolyData> actorInput(vtkActor* actor) {
+  vtkDataObject* data = actorData(actor);
+  if (auto* pd = vtkPolyData::SafeDownCast(data)) return pd;
+  auto* composite = vtkCompositeDataSet::SafeDownCast(data);
+  if (!composite) return nullptr;
+  vtkNew<vtkAppendPolyData> append;
+  vtkPolyData* first = nullptr;
+  auto it = vtk::TakeSmartPointer(composite->NewIterator());
+  for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem()) {
+    auto* leaf = vtkPolyData::SafeDownCast(it->GetCurrentDataObject());
+    if (!leaf || leaf->GetNumberOfPoints() == 0) continue;
+    if (!first) first = leaf;
+    append->AddInputData(leaf);
+  }
+  if (!first) return nullptr;
+  append->Update();
+  vtkSmartPointer<vtkPolyData> out = append->GetOutput();
+  out->GetFieldData()->ShallowCopy(first->GetFieldData());
+  return out;
 }
 
 // 8-bit sRGB -> linear, once.
@@ -71,7 +99,7 @@ vtkMTimeType actorSignature(vtkActor* actor) {
   if (vtkInformation* keys = actor->GetPropertyKeys()) t = std::max(t, keys->GetMTime());
   if (vtkMapper* mapper = actor->GetMapper()) {
     t = std::max(t, mapper->GetMTime());
-    if (vtkPolyData* pd = actorInput(actor)) t = std::max(t, pd->GetMTime());
+    if (vtkDataObject* d = actorData(actor)) t = std::max(t, d->GetMTime());
   }
   return t;
 }
@@ -92,7 +120,8 @@ ActorPiece convertActor(vtkActor* actor) {
   m.phong.exponent = prop->GetSpecularPower();
   m.opacity = float(std::clamp(prop->GetOpacity(), 0.0, 1.0));
 
-  vtkPolyData* pd = actorInput(actor);
+  const vtkSmartPointer<vtkPolyData> input = actorInput(actor);
+  vtkPolyData* pd = input;
   if (!pd || pd->GetNumberOfPoints() == 0) return piece;
   // What the WireFur filters said of their output (field data): lines already shaded by
   // vtkWireFurTangentShading, a surface with burnish grain from vtkWireFurBurnish.

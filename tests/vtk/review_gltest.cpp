@@ -235,7 +235,9 @@ void compareMarkedWithOpenGL(const char* what, Prepare prepare, Cam camera, int 
     cov[marked] = coverage(s.Render());
     EXPECT_EQ(s.errors->count, 0) << s.errors->last;
     if (marked)
+    {
       EXPECT_EQ(s.pass->GetLastMarkedProps(), 1);
+    }
   }
   expectSameCoverage(cov[1], cov[0], what);
 }
@@ -503,7 +505,9 @@ TEST(ReviewRenderPassGL, MaskSizes)
       s.AddQuad(marked == 1, 0.0, 0.6, 0.4, kWhite);
       cov[marked] = coverage(s.Render());
       if (marked)
+      {
         EXPECT_NEAR(s.pass->GetLastCoverageError(), 1.0 / (mw * mh), 1e-12);
+      }
     }
     expectSameCoverage(cov[1], cov[0], mw == 4 ? "mask 4x4" : "mask 8x8");
   }

@@ -1,0 +1,86 @@
+/**
+ * @class   vtkPVWireFurRenderView
+ * @brief   ParaView's render view with lines drawn through WireFur's A-buffer
+ *
+ * A vtkPVRenderView whose geometry pass (vtkPVSynchronizedRenderer::SetRenderPass, inside
+ * ParaView's camera pass) is a vtkWireFurRenderPass with VTK's render steps as its delegate. As every render starts (the pass's StartEvent, whatever path renders: a still
+ * render, an interactive one, a screenshot) the view marks for the A-buffer every actor whose data has
+ * lines (a vtkPolyData, or the vtkPolyData leaves of the composite data ParaView's
+ * representations hand their mappers): wire-frames, edges, fur and shaded polylines are drawn
+ * as antialiased cylinders in depth order, composited over the surfaces ParaView draws with
+ * OpenGL (hidden where a surface is nearer). Actors without lines are left to ParaView.
+ *
+ * The error estimate is shown: a line of text in the corner (ShowErrorEstimate, default on)
+ * with the A-buffer's time, its shading error bound and its coverage quantisation, the
+ * figures of the frame it is drawn on; the same figures are information properties.
+ *
+ * Serial only so far: under MPI each rank would draw its own lines over its own surfaces and
+ * IceT composites the ranks' images by depth, which the pass leaves as the surfaces drew it, so
+ * lines are not composited across ranks yet (docs/paraview.md).
+ */
+#ifndef vtkPVWireFurRenderView_h
+#define vtkPVWireFurRenderView_h
+
+#include "WireFurParaViewViewModule.h"
+#include "vtkNew.h"
+#include "vtkPVRenderView.h"
+
+class vtkCallbackCommand;
+class vtkTextActor;
+class vtkWireFurRenderPass;
+
+class WIREFURPARAVIEWVIEW_EXPORT vtkPVWireFurRenderView : public vtkPVRenderView
+{
+public:
+  static vtkPVWireFurRenderView* New();
+  vtkTypeMacro(vtkPVWireFurRenderView, vtkPVRenderView);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// The pass's settings (vtkWireFurRenderPass): shading path 0 closed (default), 1 maps,
+  /// 2 exact; fragments kept exactly per pixel; coverage mask 4x4, 8x4 (default) or 8x8.
+  void SetShading(int shading);
+  int GetShading();
+  void SetBudget(int budget);
+  int GetBudget();
+  void SetMaskSize(int width, int height);
+  ///@}
+
+  ///@{
+  /// Shows the last A-buffer render's time and error bounds in the lower left corner. Default on.
+  void SetShowErrorEstimate(bool show);
+  vtkGetMacro(ShowErrorEstimate, bool);
+  ///@}
+
+  ///@{
+  /// The last render's figures (vtkWireFurRenderPass): the shading error bound (radiance), the
+  /// coverage quantisation (1 / subpixels), seconds of the A-buffer alone and of the whole pass,
+  /// fragments, and the number of actors drawn through the A-buffer.
+  double GetErrorEstimate();
+  double GetCoverageError();
+  double GetCoreSeconds();
+  double GetPassSeconds();
+  double GetFragments();
+  int GetMarkedActors();
+  ///@}
+
+  vtkWireFurRenderPass* GetWireFurPass();
+
+protected:
+  vtkPVWireFurRenderView();
+  ~vtkPVWireFurRenderView() override;
+
+private:
+  vtkPVWireFurRenderView(const vtkPVWireFurRenderView&) = delete;
+  void operator=(const vtkPVWireFurRenderView&) = delete;
+  static void OnPassEvent(vtkObject*, unsigned long event, void* self, void*);
+  void MarkActors();
+  void UpdateAnnotation();
+
+  vtkNew<vtkWireFurRenderPass> Pass;
+  vtkNew<vtkTextActor> Annotation;
+  vtkNew<vtkCallbackCommand> PassObserver;
+  bool ShowErrorEstimate = true;
+};
+
+#endif
