@@ -7,7 +7,9 @@
 #include "vtkCommunicator.h"
 #include "vtkDataArray.h"
 #include "vtkDataSetAttributes.h"
+#include "vtkCellType.h"
 #include "vtkDoubleArray.h"
+#include "vtkIdList.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMultiProcessController.h"
@@ -20,6 +22,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <vector>
 
@@ -35,11 +38,13 @@ struct LocalPiece {
   std::vector<double> records;
   std::string problem;
   bool allGlobalIds = true;  // every triangle's cell has a global id (true when there are none)
+  bool points = false;       // the piece has points
 };
 
 LocalPiece collect(vtkPolyData* mesh, int rank) {
   LocalPiece out;
   if (!mesh || isEmpty(mesh)) return out;
+  out.points = mesh->GetNumberOfPoints() > 0;
   if (std::string why = inputProblem(mesh, "input mesh"); !why.empty()) {
     out.problem = why;
     return out;
@@ -47,8 +52,6 @@ LocalPiece collect(vtkPolyData* mesh, int rank) {
   vtkDataArray* tc = textureCoordinates(mesh);
   vtkDataArray* gids = mesh->GetCellData()->GetGlobalIds();
   vtkUnsignedCharArray* ghosts = mesh->GetCellGhostArray();
-  const vtkIdType polysFrom = mesh->GetNumberOfVerts() + mesh->GetNumberOfLines();
-  const vtkIdType stripsFrom = polysFrom + mesh->GetNumberOfPolys();
   bool anyTriangle = false;
   auto add = [&](vtkIdType cell, int sub, vtkIdType a, vtkIdType b, vtkIdType c) {
     anyTriangle = true;
@@ -64,21 +67,28 @@ LocalPiece collect(vtkPolyData* mesh, int rank) {
     }
     out.records.insert(out.records.end(), r, r + kRecord);
   };
-  forEachCell(mesh, [&](vtkIdType cell, vtkIdType n, const vtkIdType* ids) {
-    if (cell < polysFrom) return true;
-    if (ghosts && (ghosts->GetValue(cell) & vtkDataSetAttributes::DUPLICATECELL)) return true;
-    if (cell < stripsFrom) {
-      for (vtkIdType k = 1; k + 1 < n; ++k) add(cell, int(k - 1), ids[0], ids[k], ids[k + 1]);
+  // By cell id (VTK 9 numbers a polydata's cells in the order they were inserted, so the cell
+  // data of mixed verts, lines and polygons is not in the arrays' order), triangulated as
+  // triangulate() does: polygons fanned, strips split.
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType cell = 0, n = mesh->GetNumberOfCells(); cell < n; ++cell) {
+    const int type = mesh->GetCellType(cell);
+    const bool polygon = type == VTK_TRIANGLE || type == VTK_QUAD || type == VTK_POLYGON;
+    if (!polygon && type != VTK_TRIANGLE_STRIP) continue;
+    if (ghosts && (ghosts->GetValue(cell) & vtkDataSetAttributes::DUPLICATECELL)) continue;
+    mesh->GetCellPoints(cell, ids);
+    const vtkIdType m = ids->GetNumberOfIds();
+    if (polygon) {
+      for (vtkIdType k = 1; k + 1 < m; ++k) add(cell, int(k - 1), ids->GetId(0), ids->GetId(k), ids->GetId(k + 1));
     } else {
-      for (vtkIdType k = 0; k + 2 < n; ++k) {
+      for (vtkIdType k = 0; k + 2 < m; ++k) {
         if (k % 2 == 0)
-          add(cell, int(k), ids[k], ids[k + 1], ids[k + 2]);
+          add(cell, int(k), ids->GetId(k), ids->GetId(k + 1), ids->GetId(k + 2));
         else
-          add(cell, int(k), ids[k + 1], ids[k], ids[k + 2]);
+          add(cell, int(k), ids->GetId(k + 1), ids->GetId(k), ids->GetId(k + 2));
       }
     }
-    return true;
-  });
+  }
   if (anyTriangle && !tc)
     out.problem = "input mesh: the mesh has no texture coordinates (active TCoords, or a 2-component point array \"TCoords\")";
   return out;
@@ -121,8 +131,11 @@ GrowthShare growthShare(vtkParametricFunction* function, vtkPolyData* mesh, bool
   // Gather (collective from here on: every process takes the same steps).
   const int rank = share.piece, size = share.pieces;
   LocalPiece local = collect(mesh, rank);
-  int flags[2] = {local.problem.empty() ? 0 : 1, local.allGlobalIds ? 0 : 1}, any[2] = {0, 0};
-  controller->AllReduce(flags, any, 2, vtkCommunicator::MAX_OP);
+  int flags[3] = {local.problem.empty() ? 0 : 1, local.allGlobalIds ? 0 : 1, local.points ? 1 : 0}, any[3] = {0, 0, 0};
+  if (!controller->AllReduce(flags, any, 3, vtkCommunicator::MAX_OP)) {
+    share.problem = "input mesh: the processes could not exchange their pieces (MPI)";
+    return share;
+  }
   if (any[0]) {
     share.problem = !local.problem.empty() ? local.problem
                                            : "input mesh: another process's piece is unusable (that process names the problem)";
@@ -131,17 +144,39 @@ GrowthShare growthShare(vtkParametricFunction* function, vtkPolyData* mesh, bool
   const bool byGlobalId = any[1] == 0;
   vtkIdType count = vtkIdType(local.records.size());
   std::vector<vtkIdType> counts(size_t(size), 0), offsets(size_t(size), 0);
-  controller->AllGather(&count, counts.data(), 1);
+  if (!controller->AllGather(&count, counts.data(), 1)) {
+    share.problem = "input mesh: the processes could not exchange their pieces (MPI)";
+    return share;
+  }
   for (int r = 1; r < size; ++r) offsets[size_t(r)] = offsets[size_t(r) - 1] + counts[size_t(r) - 1];
   const vtkIdType total = offsets.back() + counts.back();
+  // MPI counts are ints: the gather takes at most 2^31 - 1 doubles (113 million triangles).
+  if (total > vtkIdType(std::numeric_limits<int>::max())) {
+    share.problem = "input mesh: " + std::to_string(total / kRecord) +
+                    " triangles are too many to gather over MPI (at most 113,025,455)";
+    return share;
+  }
   std::vector<double> all(size_t(std::max<vtkIdType>(total, 1)));
-  controller->AllGatherV(local.records.data(), all.data(), count, counts.data(), offsets.data());
+  if (!controller->AllGatherV(local.records.data(), all.data(), count, counts.data(), offsets.data())) {
+    share.problem = "input mesh: the processes could not exchange their pieces (MPI)";
+    return share;
+  }
+  local.records = std::vector<double>();
   share.gathered = true;
   const size_t n = size_t(total / kRecord);
-  if (n == 0) return share;  // the whole surface is empty: nothing anywhere (the caller may warn)
+  if (n == 0) {
+    // Nothing anywhere; points but no triangle (lines, vertices) is the whole mesh's problem.
+    if (any[2]) share.problem = "input mesh: the mesh has no triangles";
+    return share;
+  }
 
-  // The one-process order: by global cell id, else piece by piece; then the triangles of a cell.
+  // Order: by global cell id, else piece by piece; then the triangles of a cell (the lookup does
+  // not depend on it: surface/mesh_surface.h breaks exact ties by the triangles' corners). With
+  // global ids, a triangle present in two pieces without a ghost mark (the same id, the same
+  // corners) is kept once, the lower rank's; triangles that share an id but not their corners
+  // (the faces of one volume cell after ExtractSurface) are all kept.
   auto rec = [&](size_t i) { return all.data() + i * kRecord; };
+  auto sameTriangle = [&](size_t a, size_t b) { return std::equal(rec(a) + 4, rec(a) + kRecord, rec(b) + 4); };
   std::vector<size_t> order(n);
   std::iota(order.begin(), order.end(), size_t(0));
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
@@ -150,16 +185,16 @@ GrowthShare growthShare(vtkParametricFunction* function, vtkPolyData* mesh, bool
     if (byGlobalId) {
       if (x[0] != y[0]) return x[0] < y[0];
       if (x[3] != y[3]) return x[3] < y[3];
+      if (!sameTriangle(a, b)) return std::lexicographical_compare(x + 4, x + kRecord, y + 4, y + kRecord);
       return x[1] < y[1];
     }
     if (x[1] != y[1]) return x[1] < y[1];
     if (x[2] != y[2]) return x[2] < y[2];
     return x[3] < y[3];
   });
-  // A cell present in two pieces without a ghost mark: the lower rank's copy.
   if (byGlobalId) {
     order.erase(std::unique(order.begin(), order.end(),
-                            [&](size_t a, size_t b) { return rec(a)[0] == rec(b)[0] && rec(a)[3] == rec(b)[3]; }),
+                            [&](size_t a, size_t b) { return rec(a)[0] == rec(b)[0] && rec(a)[3] == rec(b)[3] && sameTriangle(a, b); }),
                 order.end());
   }
 

@@ -5,14 +5,18 @@
 //
 // A mesh split over N processes (the global vtkMultiProcessController has N processes and this
 // one is asked for piece p = its rank): every process gathers the whole mesh (collective: every
-// process calls this, empty pieces too), as one triangle list in the one-process order, and grows
-// on it the roots whose triangle is one of its own piece's. The order is that of the global cell
-// ids (the input's vtkGlobalIds cell array, which ParaView's RedistributeDataSet writes) when
-// every piece has them, else piece by piece; ghost cells (vtkGhostType DUPLICATECELL) are left to
-// their owner. Every root's (u, v) domain, lookup and tie between triangles are the whole mesh's,
-// so a root on an edge between two pieces belongs to exactly one. The cost: every process holds
-// the whole surface (19 doubles a triangle while gathering; the fur is much larger) and places
-// every root (not shapes it).
+// process calls this, empty pieces too) as one triangle list, and grows on it the roots whose
+// triangle is one of its own piece's. The list is ordered by global cell id (the input's
+// vtkGlobalIds cell array, which ParaView's RedistributeDataSet writes) when every piece has
+// them, else piece by piece; the lookup does not depend on the order (surface/mesh_surface.h
+// breaks exact ties by the triangles' corners). Ghost cells (vtkGhostType DUPLICATECELL) are left
+// to their owner, and a triangle two pieces hold unmarked (the same global id and corners) is
+// kept once. Every root's (u, v) domain, lookup and tie between triangles are the whole mesh's,
+// so a root on an edge between two pieces belongs to exactly one. It holds when the pieces put
+// together are the one-process mesh's polygons with their corners in the same order (a quad
+// started at another corner is split along the other diagonal). The cost: every process holds
+// the whole surface while gathering (about 600 bytes a triangle at the peak) and judges every
+// root (FurParams::rootFilter); it shapes and stores only its own.
 //
 // A parametric function (no piece to split): piece p keeps the roots whose unit coordinate t
 // falls in [p/N, (p+1)/N): bands across v. No communication.

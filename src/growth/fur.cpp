@@ -133,6 +133,7 @@ class FurGenerator {
   // --- roots ---
   bool rootFrame(const glm::dvec2& uv, const SurfacePoint& sp, RootFrame& f) const;
   Verdict placeGridRoot(std::uint32_t rootIndex, RootFrame& f) const;
+  glm::dvec2 gridSt(std::uint32_t rootIndex) const;
   Verdict placeCellRoot(std::uint32_t cell, std::uint32_t rootIndex, RootFrame& f) const;
   double densityWeight(const glm::dvec2& st, const SurfacePoint& sp) const;
   void buildCells();
@@ -145,7 +146,8 @@ class FurGenerator {
   glm::dvec2 unitToUv(double s, double t) const { return domain_.fromUnit(s, t); }
 
   template <class Visit>
-  BlockTally forEachRoot(std::size_t block, Visit&& visit) const;
+  BlockTally forEachRoot(std::size_t block, Visit&& visit, const std::vector<std::uint32_t>* only = nullptr) const;
+  std::vector<std::uint32_t> rootsOfShare(std::size_t block, BlockTally& tally) const;
   std::size_t blockCount() const;
   std::uint64_t rootsAskedFor(std::size_t block) const;
 
@@ -199,11 +201,15 @@ bool FurGenerator::rootFrame(const glm::dvec2& uv, const SurfacePoint& sp, RootF
 }
 
 // Paper §4.2: the cell centre of an equally spaced grid, dithered by up to one increment.
-Verdict FurGenerator::placeGridRoot(std::uint32_t rootIndex, RootFrame& f) const {
+glm::dvec2 FurGenerator::gridSt(std::uint32_t rootIndex) const {
   const std::uint32_t i = rootIndex % std::uint32_t(p_.gridU), j = rootIndex / std::uint32_t(p_.gridU);
   const RootRandom place(placementBase_, rootIndex);
   const double xu = place.draw(0), xv = place.draw(1);
-  f.st = {(i + 0.5 + p_.jitter * (xu - 0.5)) / p_.gridU, (j + 0.5 + p_.jitter * (xv - 0.5)) / p_.gridV};
+  return {(i + 0.5 + p_.jitter * (xu - 0.5)) / p_.gridU, (j + 0.5 + p_.jitter * (xv - 0.5)) / p_.gridV};
+}
+
+Verdict FurGenerator::placeGridRoot(std::uint32_t rootIndex, RootFrame& f) const {
+  f.st = gridSt(rootIndex);
   const glm::dvec2 uv = unitToUv(f.st.x, f.st.y);
   return rootFrame(uv, surface_.evaluate(uv.x, uv.y), f) ? Verdict::Grown : Verdict::Degenerate;
 }
@@ -501,25 +507,34 @@ std::size_t FurGenerator::blockCount() const {
   return (cells_.size() + kCellsPerBlock - 1) / kCellsPerBlock;
 }
 
-// Calls visit(rootIndex, plan) for every hair that grows in the block, in root order.
+// Calls visit(rootIndex, plan) for every hair that grows in the block, in root order; with
+// `only` (a share's roots of the block, from rootsOfShare), for those roots alone.
 template <class Visit>
-BlockTally FurGenerator::forEachRoot(std::size_t block, Visit&& visit) const {
+BlockTally FurGenerator::forEachRoot(std::size_t block, Visit&& visit, const std::vector<std::uint32_t>* only) const {
   BlockTally tally;
   HairPlan h;
   RootFrame& root = h.root;
   auto grow = [&](std::uint32_t rootIndex, Verdict placed) {
-    if (placed == Verdict::Grown && p_.rootFilter && !p_.rootFilter(root.uv)) placed = Verdict::Elsewhere;
     const Verdict v = placed == Verdict::Grown ? plan(rootIndex, h) : placed;
     tally.count(v);
     if (v == Verdict::Grown) visit(rootIndex, h);
   };
+  const std::uint64_t cellCount = cells_.size();
+  if (only) {
+    for (std::uint32_t r : *only) {
+      if (p_.placement == FurParams::Placement::Grid)
+        grow(r, placeGridRoot(r, root));
+      else
+        grow(r, placeCellRoot(std::uint32_t(r % cellCount), r, root));
+    }
+    return tally;
+  }
   if (p_.placement == FurParams::Placement::Grid) {
     const std::size_t roots = std::size_t(p_.gridU) * std::size_t(p_.gridV);
     const std::size_t end = std::min(roots, (block + 1) * kRootsPerBlock);
     for (std::size_t r = block * kRootsPerBlock; r < end; ++r) grow(std::uint32_t(r), placeGridRoot(std::uint32_t(r), root));
   } else {
     const std::size_t end = std::min(cells_.size(), (block + 1) * kCellsPerBlock);
-    const std::uint64_t cellCount = cells_.size();
     for (std::size_t c = block * kCellsPerBlock; c < end; ++c) {
       for (std::uint32_t k = 0; k < cells_[c].count; ++k) {
         const std::uint32_t rootIndex = std::uint32_t(k * cellCount + c);
@@ -532,6 +547,44 @@ BlockTally FurGenerator::forEachRoot(std::size_t block, Visit&& visit) const {
   return tally;
 }
 
+// The roots of the block that FurParams::rootFilter keeps, in root order; the others are counted
+// in `tally` (elsewhere; area-correct roots with no place on the surface, degenerate; capped).
+// A grid root is judged by its (u, v) alone, before the surface is evaluated; an area-correct
+// root needs its placement (rejection sampling evaluates the surface), which its share repeats.
+std::vector<std::uint32_t> FurGenerator::rootsOfShare(std::size_t block, BlockTally& tally) const {
+  std::vector<std::uint32_t> kept;
+  if (p_.placement == FurParams::Placement::Grid) {
+    const std::size_t roots = std::size_t(p_.gridU) * std::size_t(p_.gridV);
+    const std::size_t end = std::min(roots, (block + 1) * kRootsPerBlock);
+    for (std::size_t r = block * kRootsPerBlock; r < end; ++r) {
+      const glm::dvec2 st = gridSt(std::uint32_t(r));
+      if (p_.rootFilter(unitToUv(st.x, st.y)))
+        kept.push_back(std::uint32_t(r));
+      else
+        tally.count(Verdict::Elsewhere);
+    }
+    return kept;
+  }
+  RootFrame root;
+  const std::size_t end = std::min(cells_.size(), (block + 1) * kCellsPerBlock);
+  const std::uint64_t cellCount = cells_.size();
+  for (std::size_t c = block * kCellsPerBlock; c < end; ++c) {
+    for (std::uint32_t k = 0; k < cells_[c].count; ++k) {
+      const std::uint32_t rootIndex = std::uint32_t(k * cellCount + c);
+      const Verdict v = placeCellRoot(std::uint32_t(c), rootIndex, root);
+      if (v != Verdict::Grown)
+        tally.count(v);
+      else if (p_.rootFilter(root.uv))
+        kept.push_back(rootIndex);
+      else
+        tally.count(Verdict::Elsewhere);
+    }
+    tally.roots += cells_[c].capped;
+    tally.capacity += cells_[c].capped;
+  }
+  return kept;
+}
+
 Fur FurGenerator::grow() {
   Fur fur;
   fur.thickness = p_.thickness;
@@ -540,27 +593,35 @@ Fur FurGenerator::grow() {
 
   // Counts first: the roots each block asks for are known before any hair is grown (the grid's
   // roots; the cells' n = floor(lambda + xi)). Prefix sums give every block its first slot.
-  // With a root filter (a distributed piece) only the kept roots get slots: they are counted by
-  // placing every root once more (placement and plan, no shape), so a piece allocates its share.
+  // The limit is checked against the whole surface's roots, with or without a root filter, so
+  // that every piece of a distributed surface fails or passes as the whole would.
   const std::size_t blocks = blockCount();
   std::vector<std::uint64_t> firstSlot(blocks + 1, 0);
   std::vector<std::uint64_t> asked(blocks, 0);
-  if (p_.rootFilter) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
-      for (std::size_t b = r.begin(); b != r.end(); ++b) asked[b] = forEachRoot(b, [](std::uint32_t, const HairPlan&) {}).hairs;
-    });
-  } else {
-    for (std::size_t b = 0; b < blocks; ++b) asked[b] = rootsAskedFor(b);
-  }
-  for (std::size_t b = 0; b < blocks; ++b) firstSlot[b + 1] = firstSlot[b] + asked[b];
-  const std::uint64_t slots = firstSlot[blocks];
+  std::uint64_t wholeSlots = 0;
+  for (std::size_t b = 0; b < blocks; ++b) wholeSlots += asked[b] = rootsAskedFor(b);
   const std::uint64_t pointsPerHair = std::uint64_t(segments_) + 1;
   const double limit = std::min(p_.maxPoints, double(std::numeric_limits<std::uint32_t>::max()));
-  if (double(slots) * double(pointsPerHair) > limit)
-    throw std::length_error("fur on " + surface_.describe() + ": " + std::to_string(slots) + " hairs of " +
+  if (double(wholeSlots) * double(pointsPerHair) > limit)
+    throw std::length_error("fur on " + surface_.describe() + ": " + std::to_string(wholeSlots) + " hairs of " +
                             std::to_string(pointsPerHair) + " points would exceed the limit of " +
                             std::to_string((unsigned long long)limit) +
                             " points; lower the grid, density or segments (or split the patch)");
+  // With a root filter (a distributed piece) only the share's roots get slots and are grown.
+  std::vector<std::vector<std::uint32_t>> share;
+  std::vector<BlockTally> shareTallies;
+  if (p_.rootFilter) {
+    share.resize(blocks);
+    shareTallies.resize(blocks);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t b = r.begin(); b != r.end(); ++b) {
+        share[b] = rootsOfShare(b, shareTallies[b]);
+        asked[b] = share[b].size();
+      }
+    });
+  }
+  for (std::size_t b = 0; b < blocks; ++b) firstSlot[b + 1] = firstSlot[b] + asked[b];
+  const std::uint64_t slots = firstSlot[blocks];
   // Sized exactly; the big arrays on two threads at once (value initialisation is serial per vector).
   tbb::parallel_invoke([&] { resizeExactly(fur.hairs.points, slots * pointsPerHair); },
                        [&] {
@@ -582,7 +643,12 @@ Fur FurGenerator::grow() {
         fur.ids[hair] = patchBits | rootIndex;
         fur.rootUvs[hair] = h.root.uv;
         ++hair;
-      });
+      }, share.empty() ? nullptr : &share[b]);
+      if (!shareTallies.empty()) {
+        const BlockTally& o = shareTallies[b];
+        BlockTally& t = tallies[b];
+        t.roots += o.roots, t.degenerate += o.degenerate, t.capacity += o.capacity, t.elsewhere += o.elsewhere;
+      }
     }
   });
 

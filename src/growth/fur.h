@@ -134,8 +134,10 @@ struct FurParams {
   /// in the surface's domain (asked after placement, before the hair is shaped; from several
   /// threads); the others count as FurCounts::elsewhere. The processes of a distributed surface
   /// each keep the roots that fall in their own piece, so that the union of their fur is the
-  /// one-process fur hair for hair (vtk_filters/wf_vtk_pieces.h). Roots are then placed twice
-  /// (once to count the kept ones, so that only they are allocated). Empty: every root.
+  /// one-process fur hair for hair (vtk_filters/wf_vtk_pieces.h). A grid root is judged by its
+  /// (u, v) before the surface is evaluated; an area-correct root is placed first (its rejection
+  /// sampling evaluates the surface), and placed again when it is kept. Only the kept roots are
+  /// allocated; `maxPoints` is still checked against the whole surface's roots. Empty: every root.
   std::function<bool(const glm::dvec2& uv)> rootFilter;
 
   /// Empty when usable; otherwise one line naming the field and what is wrong (NaN / Inf, out of
@@ -151,7 +153,10 @@ struct FurCounts {
   std::uint64_t skippedDegenerate = 0;  ///< the surface was not finite there (or no root found)
   std::uint64_t skippedZeroLength = 0;  ///< zero direction or zero length
   std::uint64_t skippedCapacity = 0;    ///< AreaCorrect: hairs over the per-cell id range (see Fur::ids)
-  std::uint64_t elsewhere = 0;          ///< roots FurParams::rootFilter left to another piece
+  /// Roots FurParams::rootFilter left to other pieces (a grid root on no triangle of any piece
+  /// too). With a filter the other counts are this piece's, but for capped roots, and
+  /// area-correct roots with no place on the surface, which every piece counts.
+  std::uint64_t elsewhere = 0;
 };
 
 struct Fur {

@@ -118,6 +118,8 @@ std::string optionsProblem(const RenderOptions& o) {
   if (!(o.pixelScale >= 1e-6 && o.pixelScale <= 1e6)) return "pixel scale must be 1e-6 ... 1e6";
   if (o.opaqueDepth && o.opaqueDepth->size() != size_t(o.width) * size_t(o.height))
     return "opaque depth must hold width x height values";
+  if (!(o.rowBegin == 0 && o.rowEnd == 0) && !(0 <= o.rowBegin && o.rowBegin < o.rowEnd && o.rowEnd <= o.height))
+    return "the band of rows must be 0 <= begin < end <= height (or 0, 0 for all rows)";
   return {};
 }
 
@@ -160,10 +162,12 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
     tbb::enumerable_thread_specific<ABufferCounters> counters;
     tbb::enumerable_thread_specific<size_t> occludedPrims(0);
     tbb::enumerable_thread_specific<RenderStats::RasterWork> work;
+    const bool band = options.rowEnd > options.rowBegin;
     tbb::parallel_for(0, bins.tilesX * bins.tilesY, [&](int tile) {
       const int tx0 = (tile % tilesX) * options.tileSize, ty0 = (tile / tilesX) * options.tileSize;
       const int tx1 = std::min(options.width, tx0 + options.tileSize);
       const int ty1 = std::min(options.height, ty0 + options.tileSize);
+      if (band && (ty1 <= options.rowBegin || ty0 >= options.rowEnd)) return;  // another process's rows
       const uint32_t b0 = bins.offsets[size_t(tile)], b1 = bins.offsets[size_t(tile) + 1];
       if (b0 == b1) {
         for (int y = ty0; y < ty1; ++y)

@@ -102,6 +102,13 @@ struct RenderOptions {
   /// Shading tables kept between frames (render/shading_cache.h): rebuilt only when material,
   /// eye-space lights, table options or view grid change. Null: built for every render.
   std::shared_ptr<ShadingCache> shadingCache;
+  /// A band of rows: only the tiles that hold rows in [rowBegin, rowEnd) are rendered (the band
+  /// of one process in a sort-first split of the image, vtkWireFurRenderPass under MPI); the
+  /// band's pixels are those of the whole render bit for bit, and the rows of tiles wholly
+  /// outside it are left transparent black. Set-up and binning still see the whole scene (so
+  /// simplification and occlusion decide as for the whole image). 0, 0 (the default): all rows.
+  /// render() only.
+  int rowBegin = 0, rowEnd = 0;
   int referenceSamples = 16;  ///< brute-force reference: n x n stratified samples per pixel
   std::uint64_t referenceSeed = 1;
   /// Most bytes one render may hold at its peak (estimateRenderBytes: image, tile buffers of

@@ -322,6 +322,36 @@ TEST(Render, ImagesAreBitIdenticalWhateverTheThreadCount) {
   }
 }
 
+TEST(Render, ABandOfRowsIsTheWholeRendersRowsBitForBit) {
+  // A sort-first split (RenderOptions::rowBegin / rowEnd): three bands, one not on a tile
+  // boundary, each give the whole render's rows exactly; tiles wholly outside stay transparent.
+  const int W = 96, H = 80;
+  const Scene scene = randomScene(W, H, 31);
+  RenderOptions o = smallOptions(W, H);
+  o.budget = 6;
+  const RenderResult whole = render(scene, o);
+  ASSERT_GT(sumAlpha(whole.image), 100.0);
+  for (auto [b, e] : {std::pair{0, 27}, std::pair{27, 64}, std::pair{64, 80}}) {
+    o.rowBegin = b;
+    o.rowEnd = e;
+    const RenderResult part = render(scene, o);
+    for (int y = b; y < e; ++y) {
+      EXPECT_EQ(0, std::memcmp(&part.image.at(0, y), &whole.image.at(0, y), size_t(W) * sizeof(glm::vec4))) << "row " << y;
+    }
+    const int tile = o.tileSize;
+    for (int y = 0; y < H; ++y) {
+      if (y / tile * tile + tile <= b || y / tile * tile >= e) {
+        for (int x = 0; x < W; ++x) {
+          EXPECT_EQ(part.image.at(x, y), glm::vec4(0.0f)) << x << ", " << y;
+        }
+      }
+    }
+  }
+  o.rowBegin = 5;
+  o.rowEnd = 5;
+  EXPECT_THROW(render(scene, o), std::invalid_argument);
+}
+
 // ---- clipping and degenerate input ---------------------------------------------------------
 
 TEST(Render, SegmentThroughTheNearPlaneDrawsOnlyItsFrontPart) {

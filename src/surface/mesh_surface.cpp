@@ -1,6 +1,7 @@
 #include "surface/mesh_surface.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -148,7 +149,7 @@ bool MeshSurface::build(const std::vector<glm::uvec3>& all, int gridCells, bool 
   // made of float-rounded copies of one point ((1e-7 L)^2) and far below any real triangle.
   const double diagonal2 = blo.x <= bhi.x ? glm::dot(bhi - blo, bhi - blo) : 0.0;
   std::vector<double> dets(all.size(), 0.0);
-  double positiveArea = 0.0, negativeArea = 0.0;
+  std::vector<double> positive, negative;
   totalArea_ = 0.0;
   for (size_t k = 0; k < all.size(); ++k) {
     const glm::uvec3& t = all[k];
@@ -162,9 +163,20 @@ bool MeshSurface::build(const std::vector<glm::uvec3>& all, int gridCells, bool 
     const double edge2 = std::max(glm::dot(e1, e1), glm::dot(e2, e2));
     if (!(std::abs(det) > 1e-14 * scale * scale) || !(area2 > 1e-12 * std::max(edge2, diagonal2))) continue;
     dets[k] = det;
-    (det > 0 ? positiveArea : negativeArea) += std::abs(det);
+    (det > 0 ? positive : negative).push_back(std::abs(det));
   }
-  const double winding = positiveArea >= negativeArea ? 1.0 : -1.0;
+  // Summed in sorted order, so that the same triangles in another order (a distributed mesh
+  // gathered from its pieces, vtk_filters/wf_vtk_pieces.h) make the same choice; a tie within
+  // rounding (a closed slab's top and bottom mapped alike, whose quads may be split along either
+  // diagonal) goes to the positive winding.
+  auto sorted = [](std::vector<double>& v) {
+    std::sort(v.begin(), v.end());
+    double sum = 0.0;
+    for (double a : v) sum += a;
+    return sum;
+  };
+  const double positiveArea = sorted(positive), negativeArea = sorted(negative);
+  const double winding = positiveArea >= negativeArea * (1.0 - 1e-9) ? 1.0 : -1.0;
   glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
   keptArea_ = 0.0;
   for (size_t k = 0; k < all.size(); ++k) {
@@ -248,15 +260,29 @@ bool MeshSurface::locate(double u, double v, std::size_t& triangle, glm::dvec3& 
   const int j = std::clamp(int(std::floor((v - domain_.v0) / domain_.dv() * ny_)), 0, ny_ - 1);
   const size_t c = size_t(j) * nx_ + i;
   // Inside with a relative tolerance, so that a point on a shared edge is found by one of its two
-  // triangles despite rounding; the most interior candidate wins.
+  // triangles despite rounding; the most interior candidate wins. An exact tie (triangles that
+  // overlap in uv: two-sided or repeated charts) goes to the triangle with the smaller corners
+  // (positions, then uvs, corners sorted), never to the one listed first: the choice does not
+  // depend on the order of the triangles, which differs between a whole mesh and the same mesh
+  // gathered from the pieces of a distributed one (vtk_filters/wf_vtk_pieces.h).
   constexpr double kInside = -1e-9;
   double best = -std::numeric_limits<double>::infinity();
+  auto corners = [&](const Triangle& t) {
+    std::array<std::array<double, 5>, 3> q;
+    for (int k = 0; k < 3; ++k) {
+      const glm::dvec3& p = positions_[t.v[k]];
+      const glm::dvec2& w = uvs_[t.v[k]];
+      q[size_t(k)] = {p.x, p.y, p.z, w.x, w.y};
+    }
+    std::sort(q.begin(), q.end());
+    return q;
+  };
   for (std::uint32_t k = cellStart_[c]; k < cellStart_[c + 1]; ++k) {
     const Triangle& t = triangles_[cellTriangles_[k]];
     const glm::dvec2 b = t.toBary * (glm::dvec2(u, v) - uvs_[t.v[0]]);
     const double b0 = 1.0 - b.x - b.y;
     const double m = std::min({b0, b.x, b.y});
-    if (m > best) {
+    if (m > best || (m == best && corners(t) < corners(triangles_[triangle]))) {
       best = m;
       triangle = cellTriangles_[k];
       barycentric = {b0, b.x, b.y};

@@ -6,7 +6,8 @@
 // periodic). evaluate(u, v) finds the triangle holding (u, v) in texture space (a uniform grid over
 // the uv triangles, about one triangle per cell), P by barycentric interpolation, and Su = dP/du,
 // Sv = dP/dv from that triangle's affine map (constant per triangle). On a shared edge the triangle
-// with the largest smallest barycentric coordinate wins (then the lower index): deterministic.
+// with the largest smallest barycentric coordinate wins (on an exact tie, the one with the smaller
+// corners: independent of the order of the triangles).
 // Where (u, v) lies in no triangle (a hole in the layout) P is NaN and Su = Sv = 0: the generators
 // skip such roots. Where the layout overlaps itself one of the overlapping triangles is used. Left
 // out of the lookup: triangles of zero area in uv or in space (below 1e-12 of the squared bounding
