@@ -409,6 +409,15 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
   vtkInternals& in = *this->Internals;
   vtkRenderer* ren = s->GetRenderer();
 
+  // A hardware selection (picking, ParaView's selections) renders ids, not pictures: every prop
+  // as the renderer's own pipeline draws it, the marked ones included, and no A-buffer over it.
+  if (ren->GetSelector())
+  {
+    this->UpdateGeometry(ren, s->GetFrameBuffer());
+    this->NumberOfRenderedProps = ren->GetNumberOfPropsRendered();
+    return;
+  }
+
   // Split the props: marked (ours), 2-D overlay (after the composite), the rest (delegate).
   in.Marked.clear();
   in.DelegateProps.clear();
@@ -441,7 +450,12 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
       this->DelegatePass->Render(s);
       this->NumberOfRenderedProps = this->DelegatePass->GetNumberOfRenderedProps();
     }
+    // Nothing drawn through the A-buffer: the figures say so (not the last frame's).
+    this->LastErrorEstimate = 0.0;
+    this->LastCoverageError = 0.0;
+    this->LastFragments = 0;
     this->LastRenderSeconds = secondsSince(t0);
+    this->InvokeEvent(vtkCommand::EndEvent);
     return;
   }
 

@@ -5,6 +5,7 @@
 #include "vtkWireFurRenderPass.h"
 
 #include <vtkActor.h>
+#include <vtkAbstractMapper.h>
 #include <vtkAlgorithm.h>
 #include <vtkAppendPolyData.h>
 #include <vtkCompositeDataIterator.h>
@@ -25,6 +26,7 @@
 #include <vtkPolyData.h>
 #include <vtkProperty.h>
 #include <vtkRenderer.h>
+#include <vtkScalarsToColors.h>
 #include <vtkSmartPointer.h>
 #include <vtkUnsignedCharArray.h>
 
@@ -116,6 +118,13 @@ ActorPiece convertActor(vtkActor* actor) {
   prop->GetDiffuseColor(dc);
   prop->GetSpecularColor(sc);
   m.phong.diffuse = vec(dc) * prop->GetDiffuse();
+  // An actor lit only by its ambient term (ParaView's Wireframe and Points representations set
+  // Ambient 1, Diffuse 0): its ambient colour as the diffuse one, rather than black.
+  if (!(prop->GetDiffuse() > 0.0) && prop->GetAmbient() > 0.0) {
+    double ac[3];
+    prop->GetAmbientColor(ac);
+    m.phong.diffuse = vec(ac) * prop->GetAmbient();
+  }
   m.phong.specular = vec(sc) * prop->GetSpecular();
   m.phong.exponent = prop->GetSpecularPower();
   m.opacity = float(std::clamp(prop->GetOpacity(), 0.0, 1.0));
@@ -168,7 +177,23 @@ ActorPiece convertActor(vtkActor* actor) {
   std::vector<glm::vec3> colours;
   if (vtkMapper* mapper = actor->GetMapper(); mapper && mapper->GetScalarVisibility()) {
     int cellFlag = 0;
-    vtkUnsignedCharArray* c = mapper->MapScalars(pd, 1.0, cellFlag);
+    // With InterpolateScalarsBeforeMapping on (ParaView's default) MapScalars makes texture
+    // coordinates into a colour map, not colours: the scalars then go through the lookup table
+    // here, as vtkMapper::MapScalars would with it off (range, colour mode; component -1: the
+    // table's own vector mode).
+    vtkSmartPointer<vtkUnsignedCharArray> own;
+    vtkUnsignedCharArray* c = nullptr;
+    if (mapper->GetInterpolateScalarsBeforeMapping()) {
+      if (vtkDataArray* scalars = vtkAbstractMapper::GetScalars(pd, mapper->GetScalarMode(), mapper->GetArrayAccessMode(),
+                                                                mapper->GetArrayId(), mapper->GetArrayName(), cellFlag)) {
+        vtkScalarsToColors* lut = mapper->GetLookupTable();
+        if (!mapper->GetUseLookupTableScalarRange()) lut->SetRange(mapper->GetScalarRange());
+        own = vtk::TakeSmartPointer(lut->MapScalars(scalars, mapper->GetColorMode(), -1));
+        c = own;
+      }
+    } else {
+      c = mapper->MapScalars(pd, 1.0, cellFlag);
+    }
     const float* lin = srgbTable();
     if (c && c->GetNumberOfComponents() >= 3) {
       const int nc = c->GetNumberOfComponents();

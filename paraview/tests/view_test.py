@@ -11,7 +11,9 @@
 #   - the view reports one actor drawn through the A-buffer, fragments, a shading error bound
 #     below 1e-6 (closed path) and a coverage quantisation of 1/32 (8 x 4 mask);
 #   - the annotation (the error estimate shown in the lower left corner) draws there, and not
-#     with ShowErrorEstimate off.
+#     with ShowErrorEstimate off;
+#   - coloured by an array through a lookup table, the colour changes along the line;
+#   - in the Wireframe representation (ambient-lit in ParaView) the line is still red.
 # Usage (under Xvfb): pvbatch view_test.py PLUGIN.so OUT_DIR
 import os
 import sys
@@ -110,6 +112,30 @@ check("the error estimate is shown", (corner != plane_colour).any(axis=2).sum() 
 view.ShowErrorEstimate = 0
 off = image("wirefur_view_no_annotation.png")[H - 14:H - 4, 8:120]
 check("and hidden with ShowErrorEstimate off", (off == plane_colour).all(axis=2).mean() > 0.99)
+
+view.ShowErrorEstimate = 1
+
+# Coloured by an array (ParaView interpolates scalars before mapping by default, which makes
+# VTK's MapScalars return no colours): the visible half goes from the map's middle to its end.
+withx = Calculator(Input=line, ResultArrayName="x", Function="coordsX")
+Hide(line, view)
+xd = Show(withx, view)
+xd.LineWidth = 5.0
+ColorBy(xd, ("POINTS", "x"))
+lut = GetColorTransferFunction("x")
+lut.ApplyPreset("Blue Orange (divergent)", True)
+lut.RescaleTransferFunction(-0.8, 0.8)
+coloured = image("wirefur_view_coloured.png")
+img = coloured
+near, far = along(0.25, 0.3)[0].mean(axis=0), along(0.7, 0.75)[0].mean(axis=0)
+check("coloured by an array: the colour changes along the line", abs(near - far).max() > 40, f"(x = 0.27: {near.round()}, x = 0.72: {far.round()})")
+# Wireframe representation (ParaView sets Ambient 1, Diffuse 0): not black.
+xd.ColorArrayName = ["POINTS", ""]
+xd.AmbientColor = xd.DiffuseColor = [1, 0, 0]
+xd.Representation = "Wireframe"
+img = image("wirefur_view_wireframe.png")
+red = along(0.2, 0.6)[0][:, 0]
+check("Wireframe representation: drawn red, not black", red.min() > 120, f"(red {red.min()}..{red.max()})")
 
 print("FAILED: " + ", ".join(failures) if failures else "all view checks passed", flush=True)
 # (os._exit: ParaView 5.11 can crash in its exit handlers after sys.exit with a view open.)

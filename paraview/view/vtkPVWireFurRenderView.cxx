@@ -11,6 +11,7 @@
 #include "vtkObjectFactory.h"
 #include "vtkPVSynchronizedRenderer.h"
 #include "vtkPolyData.h"
+#include "vtkProperty.h"
 #include "vtkPropCollection.h"
 #include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
@@ -24,38 +25,55 @@ vtkStandardNewMacro(vtkPVWireFurRenderView);
 
 namespace
 {
-// True when the actor's data (a vtkPolyData, or any vtkPolyData leaf of a composite) has lines.
-// The data is the output of the mapper's input algorithm (ParaView's representations have
-// delivered it before the render; the mapper itself has not run yet).
-bool hasLines(vtkActor* actor)
+// True when the actor should be drawn through the A-buffer: a polygonal mapper (not glyphs, not
+// point Gaussians) whose data (a vtkPolyData, or every non-empty vtkPolyData leaf of a
+// composite) has lines and no polygons or strips, drawn as lines or a surface (not as points),
+// and the actor counts in the bounds (ParaView's centre axes and widgets do not). The data is the
+// output of the mapper's input algorithm (ParaView's representations have delivered it before
+// the render; the mapper itself has not run yet).
+bool drawnAsWire(vtkActor* actor)
 {
   vtkMapper* mapper = actor->GetMapper();
+  if (!mapper || !mapper->IsA("vtkPolyDataMapper") || mapper->IsA("vtkPointGaussianMapper") ||
+    !actor->GetUseBounds() || actor->GetProperty()->GetRepresentation() == VTK_POINTS)
+  {
+    return false;
+  }
   vtkDataObject* data = nullptr;
-  if (mapper && mapper->GetNumberOfInputConnections(0) > 0)
+  if (mapper->GetNumberOfInputConnections(0) > 0)
   {
     vtkAlgorithmOutput* port = mapper->GetInputConnection(0, 0);
     data = port->GetProducer()->GetOutputDataObject(port->GetIndex());
   }
-  else if (mapper)
+  else
   {
     data = mapper->GetInputDataObject(0, 0);
   }
+  auto linesOnly = [](vtkPolyData* pd, bool& lines) {
+    if (pd->GetNumberOfPolys() > 0 || pd->GetNumberOfStrips() > 0)
+    {
+      return false;
+    }
+    lines = lines || pd->GetNumberOfLines() > 0;
+    return true;
+  };
+  bool lines = false;
   if (auto* pd = vtkPolyData::SafeDownCast(data))
   {
-    return pd->GetNumberOfLines() > 0;
+    return linesOnly(pd, lines) && lines;
   }
   if (auto* composite = vtkCompositeDataSet::SafeDownCast(data))
   {
     auto it = vtk::TakeSmartPointer(composite->NewIterator());
     for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
     {
-      if (auto* leaf = vtkPolyData::SafeDownCast(it->GetCurrentDataObject()); leaf && leaf->GetNumberOfLines() > 0)
+      if (auto* leaf = vtkPolyData::SafeDownCast(it->GetCurrentDataObject()); leaf && !linesOnly(leaf, lines))
       {
-        return true;
+        return false;
       }
     }
   }
-  return false;
+  return lines;
 }
 }
 
@@ -75,6 +93,8 @@ vtkPVWireFurRenderView::vtkPVWireFurRenderView()
   text->SetFontSize(11);
   text->SetColor(1.0, 1.0, 1.0);
   text->SetShadow(1);
+  text->SetBackgroundColor(0.0, 0.0, 0.0);
+  text->SetBackgroundOpacity(0.45);
   this->Annotation->SetPosition(8, 8);
   this->Annotation->SetInput("");
   this->GetNonCompositedRenderer()->AddActor2D(this->Annotation);
@@ -95,7 +115,7 @@ void vtkPVWireFurRenderView::MarkActors()
   {
     if (auto* actor = vtkActor::SafeDownCast(prop))
     {
-      const bool lines = hasLines(actor);
+      const bool lines = drawnAsWire(actor);
       if (lines != vtkWireFurRenderPass::IsMarked(actor))
       {
         vtkWireFurRenderPass::Mark(actor, lines);
