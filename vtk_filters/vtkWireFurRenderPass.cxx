@@ -2,6 +2,7 @@
 
 #include "render/shading_cache.h"
 
+#include "wf_render_pass_distributed.h"
 #include "wf_render_pass_scene.h"
 
 #include "core/timer.h"
@@ -14,6 +15,9 @@
 #include "vtkInformationDoubleKey.h"
 #include "vtkInformationIntegerKey.h"
 #include "vtkMatrix4x4.h"
+#include "vtkMultiProcessController.h"
+#include "vtkCommunicator.h"
+#include "vtkPropCollection.h"
 #include "vtkNew.h"
 #include "vtkCommand.h"
 #include "vtkObjectFactory.h"
@@ -37,6 +41,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <exception>
 #include <limits>
 #include <memory>
@@ -74,6 +79,27 @@ void main(void)
 }
 )";
 
+// The same with the window depth written from a second texture (a distributed frame: every
+// process writes the same colour and depth, for the depth compositor after this pass).
+const char* kCopyDepthFS = R"(//VTK::System::Dec
+in vec2 texCoord;
+uniform sampler2D source;
+uniform sampler2D depthSource;
+//VTK::Output::Dec
+void main(void)
+{
+  ivec2 size = textureSize(source, 0);
+  ivec2 p = clamp(ivec2(floor(texCoord * vec2(size))), ivec2(0), size - ivec2(1));
+  gl_FragData[0] = texelFetch(source, p, 0);
+  gl_FragDepth = texelFetch(depthSource, p, 0).r;
+}
+)";
+
+/// Window depth written where lines lie over no surface: below the far plane (1), which a depth
+/// compositor takes for empty, and above every depth a surface can have in a 24-bit buffer but
+/// the farthest few.
+constexpr float kLinesOverBackground = 0.99999f;
+
 using wf::secondsSince;  // core/timer.h
 
 }  // namespace
@@ -86,6 +112,7 @@ public:
   bool CoreChanged = false;
   wf::Scene Scene;                        ///< the pieces assembled (camera and lights per frame)
   bool SceneFailed = false;               ///< the last build failed: nothing of ours is drawn
+  bool Gathered = false;                  ///< Scene holds every process's lines (distributed)
   std::vector<vtkProp*> DelegateProps, OverlayProps;
   std::vector<vtkActor*> Marked;
   std::vector<float> WindowDepth, ViewDepth;
@@ -97,6 +124,8 @@ public:
   /// encoding where it is steepest (12.92 x 255 / 65535 at 0), without a pow per channel.
   std::vector<unsigned char> LinearToSrgb8;
   vtkSmartPointer<vtkTextureObject> Texture;
+  vtkSmartPointer<vtkTextureObject> DepthTexture;  ///< distributed frames: the depth written back
+  std::unique_ptr<vtkOpenGLQuadHelper> DepthQuad;
   vtkSmartPointer<vtkOpenGLFramebufferObject> Resolve;  ///< multisampled framebuffers resolve here
   std::unique_ptr<vtkOpenGLQuadHelper> Quad;
   /// Shading tables kept between frames: rebuilt only when a material, the lights in eye space or
@@ -113,8 +142,8 @@ public:
         static_cast<unsigned char>(std::lround(255.0f * wfvtk::linearToSrgb(float(i) / 65535.0f)));
   }
 
-  /// Converts what changed; true when the assembled scene was rebuilt.
-  bool UpdateScene()
+  /// Converts the marked actors that changed; true when any did (or the core scene changed).
+  bool ConvertMarked()
   {
     bool changed = this->Pieces.size() != this->Marked.size() || this->CoreChanged;
     this->CoreChanged = false;
@@ -128,11 +157,55 @@ public:
       p = wfvtk::convertActor(actor);
       changed = true;
     }
+    return changed;
+  }
+
+  /// Converts what changed; true when the assembled scene was rebuilt.
+  bool UpdateScene()
+  {
+    const bool changed = this->ConvertMarked();
     if (changed)
+    {
+      this->Assemble(this->Pieces);
+    }
+    return changed;
+  }
+
+  /// A distributed frame's scene (collective): the local conversion, then, when any process's
+  /// marked actors changed, every process's lines gathered and assembled.
+  void UpdateSceneDistributed(vtkMultiProcessController* controller)
+  {
+    const int changed = this->ConvertMarked() ? 1 : 0;
+    int any = 1;
+    if (!controller->AllReduce(&changed, &any, 1, vtkCommunicator::MAX_OP))
+      any = 1;
+    if (!any && this->Gathered)
+      return;
+    try
+    {
+      int dropped = 0;
+      const std::vector<wfvtk::ActorPiece> all = wfvtk::gatherWires(controller, this->Pieces, dropped);
+      if (dropped > 0)
+        vtkGenericWarningMacro(<< "vtkWireFurRenderPass: " << dropped
+                               << " marked actor(s) with polygons: in a distributed frame only lines are drawn");
+      this->Assemble(all);
+      this->Gathered = true;
+    }
+    catch (const std::exception& e)
+    {
+      vtkGenericWarningMacro(<< "vtkWireFurRenderPass: the marked lines cannot be gathered: " << e.what());
+      this->Scene = wf::Scene{};
+      this->SceneFailed = true;
+      this->Gathered = false;
+    }
+  }
+
+  void Assemble(const std::vector<wfvtk::ActorPiece>& pieces)
+  {
     {
       try
       {
-        this->Scene = wfvtk::assembleScene(this->Pieces, this->Core.get());
+        this->Scene = wfvtk::assembleScene(pieces, this->Core.get());
         this->SceneFailed = false;
       }
       catch (const std::exception& e)  // out of memory: nothing of ours is drawn until a prop changes
@@ -142,7 +215,6 @@ public:
         this->SceneFailed = true;
       }
     }
-    return changed;
   }
 
   /// Reads the colour and depth of the viewport (x, y, w, h) of the framebuffer being drawn,
@@ -292,8 +364,9 @@ public:
     }); });
   }
 
-  /// Draws Colour over the viewport (x, y, w, h): no blending, no depth test or write.
-  void WriteBack(vtkOpenGLRenderWindow* renWin, int x, int y, int w, int h)
+  /// Draws Colour over the viewport (x, y, w, h): no blending, no depth test or write; with
+  /// `withDepth`, WindowDepth is written as the depth too (a distributed frame).
+  void WriteBack(vtkOpenGLRenderWindow* renWin, int x, int y, int w, int h, bool withDepth = false)
   {
     vtkOpenGLState* ostate = renWin->GetState();
     if (!this->Texture)
@@ -302,27 +375,54 @@ public:
     this->Texture->Create2DFromRaw(unsigned(w), unsigned(h), 4, VTK_UNSIGNED_CHAR, this->Colour.data());
     this->Texture->SetMinificationFilter(vtkTextureObject::Nearest);
     this->Texture->SetMagnificationFilter(vtkTextureObject::Nearest);
-    if (!this->Quad)
-      this->Quad = std::make_unique<vtkOpenGLQuadHelper>(renWin, kCopyVS, kCopyFS, "");
+    std::unique_ptr<vtkOpenGLQuadHelper>& quad = withDepth ? this->DepthQuad : this->Quad;
+    if (!quad)
+      quad = std::make_unique<vtkOpenGLQuadHelper>(renWin, kCopyVS, withDepth ? kCopyDepthFS : kCopyFS, "");
     else
-      renWin->GetShaderCache()->ReadyShaderProgram(this->Quad->Program);
-    if (!this->Quad->Program)
+      renWin->GetShaderCache()->ReadyShaderProgram(quad->Program);
+    if (!quad->Program)
       return;
+    if (withDepth)
+    {
+      if (!this->DepthTexture)
+        this->DepthTexture = vtkSmartPointer<vtkTextureObject>::New();
+      this->DepthTexture->SetContext(renWin);
+      this->DepthTexture->Create2DFromRaw(unsigned(w), unsigned(h), 1, VTK_FLOAT, this->WindowDepth.data());
+      this->DepthTexture->SetMinificationFilter(vtkTextureObject::Nearest);
+      this->DepthTexture->SetMagnificationFilter(vtkTextureObject::Nearest);
+    }
     vtkOpenGLState::ScopedglEnableDisable depthTest(ostate, GL_DEPTH_TEST);
     vtkOpenGLState::ScopedglEnableDisable blend(ostate, GL_BLEND);
     vtkOpenGLState::ScopedglDepthMask depthMask(ostate);
+    vtkOpenGLState::ScopedglDepthFunc depthFunc(ostate);
     vtkOpenGLState::ScopedglViewport viewport(ostate);
     vtkOpenGLState::ScopedglScissor scissor(ostate);
     vtkOpenGLState::ScopedglColorMask colorMask(ostate);
-    ostate->vtkglDisable(GL_DEPTH_TEST);
+    if (withDepth)
+    {
+      ostate->vtkglEnable(GL_DEPTH_TEST);  // depth writes need the test on
+      ostate->vtkglDepthFunc(GL_ALWAYS);
+      ostate->vtkglDepthMask(GL_TRUE);
+    }
+    else
+    {
+      ostate->vtkglDisable(GL_DEPTH_TEST);
+      ostate->vtkglDepthMask(GL_FALSE);
+    }
     ostate->vtkglDisable(GL_BLEND);
-    ostate->vtkglDepthMask(GL_FALSE);
     ostate->vtkglViewport(x, y, w, h);
     ostate->vtkglScissor(x, y, w, h);
     ostate->vtkglColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     this->Texture->Activate();
-    this->Quad->Program->SetUniformi("source", this->Texture->GetTextureUnit());
-    this->Quad->Render();
+    quad->Program->SetUniformi("source", this->Texture->GetTextureUnit());
+    if (withDepth)
+    {
+      this->DepthTexture->Activate();
+      quad->Program->SetUniformi("depthSource", this->DepthTexture->GetTextureUnit());
+    }
+    quad->Render();
+    if (withDepth)
+      this->DepthTexture->Deactivate();
     this->Texture->Deactivate();
   }
 };
@@ -337,12 +437,22 @@ vtkWireFurRenderPass::vtkWireFurRenderPass()
 vtkWireFurRenderPass::~vtkWireFurRenderPass()
 {
   this->SetDelegatePass(nullptr);
+  this->SetController(nullptr);
   delete this->Internals;
 }
 
 void vtkWireFurRenderPass::SetDelegatePass(vtkRenderPass* pass)
 {
   vtkSetObjectBodyMacro(DelegatePass, vtkRenderPass, pass);
+}
+
+void vtkWireFurRenderPass::SetController(vtkMultiProcessController* controller)
+{
+  if (controller == this->Controller)
+    return;
+  vtkSetObjectBodyMacro(Controller, vtkMultiProcessController, controller);
+  this->Internals->CoreChanged = true;  // the scene is rebuilt: gathered or local
+  this->Internals->Gathered = false;
 }
 
 void vtkWireFurRenderPass::SetMaskSize(int width, int height)
@@ -437,8 +547,34 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
     else
       in.DelegateProps.push_back(p);
   }
+  // A distributed frame: the marked actors are every visible marked actor of the renderer
+  // (not culled per process), and every process must agree on them and on the viewport, else
+  // each renders on its own (every process sees the same comparison, so all fall back together).
+  vtkMultiProcessController* controller =
+    this->Controller && this->Controller->GetNumberOfProcesses() > 1 ? this->Controller : nullptr;
+  if (controller)
+  {
+    std::vector<vtkActor*> local = in.Marked;
+    in.Marked.clear();
+    vtkCollectionSimpleIterator pit;
+    ren->GetViewProps()->InitTraversal(pit);
+    while (vtkProp* p = ren->GetViewProps()->GetNextProp(pit))
+      if (vtkActor* a = vtkActor::SafeDownCast(p); a && a->GetVisibility() && a->GetMapper() && IsMarked(a))
+        in.Marked.push_back(a);
+    int vw = 0, vh = 0, vx = 0, vy = 0;
+    ren->GetTiledSizeAndOrigin(&vw, &vh, &vx, &vy);
+    if (!wfvtk::sameOnEveryRank(controller, { double(in.Marked.size()), double(vw), double(vh), in.Core ? 1.0 : 0.0 }))
+    {
+      vtkErrorMacro(<< "the processes differ in their marked actors or viewport: each draws its own lines");
+      controller = nullptr;
+      in.Marked = local;
+    }
+    else
+      anyMarked = !in.Marked.empty();
+  }
   this->LastMarkedProps = int(in.Marked.size());
   this->LastCoreSeconds = 0.0;
+  this->LastGatherSeconds = this->LastCompositeSeconds = 0.0;
   this->LastImageReductionFactor = 1;
   if (in.Core)
     anyMarked = true;
@@ -474,11 +610,16 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
   vtkCamera* camera = ren->GetActiveCamera();
   int w = 0, h = 0, x = 0, y = 0;
   ren->GetTiledSizeAndOrigin(&w, &h, &x, &y);
-  if (renWin && camera && w > 0 && h > 0 && (!in.Marked.empty() || in.Core))
+  if (controller)
+  {
+    this->RenderDistributed(ren, controller);
+    this->NumberOfRenderedProps += int(in.Marked.size());
+  }
+  else if (renWin && camera && w > 0 && h > 0 && (!in.Marked.empty() || in.Core))
   {
     in.UpdateScene();
   }
-  if (renWin && camera && w > 0 && h > 0 && (!in.Marked.empty() || in.Core) && !in.SceneFailed)
+  if (!controller && renWin && camera && w > 0 && h > 0 && (!in.Marked.empty() || in.Core) && !in.SceneFailed)
   {
     // The delegate's depth matters only where it drew something: with no prop of its own (a
     // core scene alone, as in `wirefur view`) it only cleared, and nothing hides the A-buffer.
@@ -559,6 +700,153 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
   this->LastRenderSeconds = secondsSince(t0);
 }
 
+void vtkWireFurRenderPass::RenderDistributed(vtkRenderer* ren, vtkMultiProcessController* controller)
+{
+  // Every step that exchanges runs on every process whatever failed locally (a process that
+  // skipped one would leave the others waiting).
+  vtkInternals& in = *this->Internals;
+  vtkOpenGLRenderWindow* renWin = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
+  vtkCamera* camera = ren->GetActiveCamera();
+  int w = 0, h = 0, x = 0, y = 0;
+  ren->GetTiledSizeAndOrigin(&w, &h, &x, &y);
+  const int ranks = controller->GetNumberOfProcesses(), me = controller->GetLocalProcessId();
+  if (w <= 0 || h <= 0)
+    return;  // the same on every process (checked)
+
+  auto t = std::chrono::steady_clock::now();
+  in.UpdateSceneDistributed(controller);
+  this->LastGatherSeconds = secondsSince(t);
+
+  t = std::chrono::steady_clock::now();
+  const bool read = renWin && in.ReadBack(renWin, x, y, w, h, true);
+  if (!read)
+  {
+    vtkErrorMacro(<< "cannot read back the delegate's colour and depth");
+    in.Colour.assign(size_t(w) * size_t(h) * 4, 0);
+    in.WindowDepth.assign(size_t(w) * size_t(h), 1.0f);
+  }
+  // The background's 8-bit colours as this OpenGL stores them (a one-pixel clear read back: the
+  // driver's rounding, so that the pixels match a one-process frame's cleared background).
+  unsigned char probe[2][4] = { { 0, 0, 0, 255 }, { 0, 0, 0, 255 } };
+  for (int k = 0; k < 2; ++k)
+  {
+    const double* c = k == 0 ? this->Background : this->Background2;
+    for (int j = 0; j < 3; ++j)
+      probe[k][j] = static_cast<unsigned char>(std::lround(255.0 * std::clamp(c[j], 0.0, 1.0)));
+    if (renWin && read)
+    {
+      vtkOpenGLState* ostate = renWin->GetState();
+      vtkOpenGLState::ScopedglScissor scissor(ostate);
+      vtkOpenGLState::ScopedglClearColor clearColor(ostate);
+      vtkOpenGLState::ScopedglColorMask colorMask(ostate);
+      vtkOpenGLState::ScopedglEnableDisable scissorTest(ostate, GL_SCISSOR_TEST);
+      ostate->vtkglEnable(GL_SCISSOR_TEST);
+      ostate->vtkglScissor(x, y, 1, 1);
+      ostate->vtkglColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+      ostate->vtkglClearColor(GLclampf(c[0]), GLclampf(c[1]), GLclampf(c[2]), 1.0f);
+      ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
+      glPixelStorei(GL_PACK_ALIGNMENT, 1);
+      glReadPixels(x, y, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, probe[k]);
+      probe[k][3] = 255;
+    }
+  }
+  bool exchanged = wfvtk::compositeSurfaceBands(controller, w, h, in.Colour, in.WindowDepth);
+  int b0 = 0, b1 = 0;
+  wfvtk::bandOf(me, ranks, h, b0, b1);
+  // Where no process drew (the compositor cleared to transparent black): the background
+  // (vtkViewport's vertical gradient: Background at the bottom, Background2 at the top).
+  for (int gy = h - b1; gy < h - b0; ++gy)
+  {
+    const double s = this->GradientBackground ? (gy + 0.5) / h : 0.0;
+    unsigned char bg[4];
+    for (int k = 0; k < 3; ++k)
+      bg[k] = static_cast<unsigned char>(std::lround(probe[0][k] * (1.0 - s) + probe[1][k] * s));
+    bg[3] = 255;
+    for (int gx = 0; gx < w; ++gx)
+    {
+      const size_t i = size_t(gy) * size_t(w) + size_t(gx);
+      if (!(in.WindowDepth[i] < 1.0f) && in.Colour[4 * i + 3] == 0)
+        std::memcpy(in.Colour.data() + 4 * i, bg, 4);
+    }
+  }
+  this->LastCompositeSeconds = secondsSince(t);
+
+  double figures[4] = { 0.0, 0.0, 0.0, 0.0 };  // core seconds, error, coverage, fragments
+  if (renWin && camera && b1 > b0 && !in.SceneFailed)
+  {
+    wfvtk::viewDepthFromWindowDepth(in.WindowDepth, w, h,
+      camera->GetProjectionTransformMatrix(double(w) / double(h), -1, 1), in.ViewDepth);
+    in.Scene.camera = wfvtk::convertCamera(camera, w, h);
+    if (in.Core)
+    {
+      in.Scene.lights = in.Core->lights;
+      in.Scene.lightsFollowCamera = in.Core->lightsFollowCamera;
+      in.Scene.camera->nearPlane = in.Scene.camera->farPlane = 0.0;
+    }
+    else
+    {
+      in.Scene.lights = wfvtk::convertLights(ren, camera, this->Ambient);
+      in.Scene.lightsFollowCamera = false;
+    }
+    wf::RenderOptions options;
+    options.width = w;
+    options.height = h;
+    options.rowBegin = b0;
+    options.rowEnd = b1;
+    options.mask = wf::MaskLayout{ this->MaskWidth, this->MaskHeight };
+    options.budget = this->Budget;
+    options.threads = this->Threads;
+    options.opaqueDepth = &in.ViewDepth;
+    options.shadingCache = in.Tables;
+    options.shading = this->Shading == 1 ? wf::ShadingPath::Maps
+      : this->Shading == 2               ? wf::ShadingPath::Exact
+                                         : wf::ShadingPath::Closed;
+    try
+    {
+      const wf::RenderResult r = wf::render(in.Scene, options);
+      figures[0] = r.stats.total;
+      figures[1] = std::max({ r.stats.mapError, r.stats.sphereError, r.stats.orthographicError, r.stats.lobeError });
+      figures[2] = r.stats.coverageQuantisation;
+      figures[3] = double(r.stats.abuffer.fragments);
+      this->LastTablesBuilt = r.stats.pseudoReflectanceMaps + r.stats.reflectanceSpheres + r.stats.lobeTables;
+      this->LastTablesReused = int(r.stats.tablesReused);
+      in.Composite(r.image, w, h, this->Threads);
+      // Lines over no surface get a depth below the far plane, so the compositor keeps them.
+      for (int gy = h - b1; gy < h - b0; ++gy)
+        for (int gx = 0; gx < w; ++gx)
+        {
+          const glm::vec4 c = r.image.at(gx, h - 1 - gy);
+          float& d = in.WindowDepth[size_t(gy) * size_t(w) + size_t(gx)];
+          if (!(d < 1.0f) && (c.w > 0.0f || c.x > 0.0f || c.y > 0.0f || c.z > 0.0f))
+            d = kLinesOverBackground;
+        }
+    }
+    catch (const std::exception& e)
+    {
+      vtkErrorMacro(<< "the A-buffer render failed: " << e.what());
+    }
+  }
+
+  t = std::chrono::steady_clock::now();
+  exchanged = wfvtk::gatherBands(controller, w, h, in.Colour, in.WindowDepth) && exchanged;
+  // The frame's figures over all processes: the slowest band, the worst bound, all fragments.
+  double worst[3] = { 0.0, 0.0, 0.0 }, sum = 0.0;
+  exchanged = controller->AllReduce(figures, worst, 3, vtkCommunicator::MAX_OP) &&
+              controller->AllReduce(figures + 3, &sum, 1, vtkCommunicator::SUM_OP) && exchanged;
+  this->LastCompositeSeconds += secondsSince(t);
+  if (!exchanged)
+  {
+    vtkErrorMacro(<< "the exchange between processes failed: the lines are not drawn");
+    return;
+  }
+  this->LastCoreSeconds = worst[0];
+  this->LastErrorEstimate = worst[1];
+  this->LastCoverageError = worst[2];
+  this->LastFragments = vtkTypeInt64(sum);
+  if (renWin)
+    in.WriteBack(renWin, x, y, w, h, true);
+}
+
 void vtkWireFurRenderPass::ReleaseGraphicsResources(vtkWindow* w)
 {
   if (this->DelegatePass)
@@ -569,8 +857,15 @@ void vtkWireFurRenderPass::ReleaseGraphicsResources(vtkWindow* w)
     in.Quad->ReleaseGraphicsResources(w);
     in.Quad.reset();
   }
+  if (in.DepthQuad)
+  {
+    in.DepthQuad->ReleaseGraphicsResources(w);
+    in.DepthQuad.reset();
+  }
   if (in.Texture)
     in.Texture->ReleaseGraphicsResources(w);
+  if (in.DepthTexture)
+    in.DepthTexture->ReleaseGraphicsResources(w);
   if (in.Resolve)
     in.Resolve->ReleaseGraphicsResources(w);
 }

@@ -59,9 +59,11 @@ struct Scene;
 }
 
 class vtkInformationDoubleKey;
+class vtkMultiProcessController;
 class vtkInformationIntegerKey;
 class vtkProp;
 class vtkRenderWindow;
+class vtkRenderer;
 
 class WIREFURFILTERS_EXPORT vtkWireFurRenderPass : public vtkRenderPass
 {
@@ -167,6 +169,34 @@ public:
   int GetImageReductionFactorFor(vtkRenderWindow* window) const;
 
   ///@{
+  /// Distributed rendering (sort-first bands of rows; docs/paraview.md). With a controller of
+  /// more than one process every process must Render together (each call is collective: in
+  /// ParaView, the view turns on IceT's RenderEmptyImages), with the same marked actors in the
+  /// same order and the same viewport. Each process draws its own props that are not marked;
+  /// the marked actors' lines of every process are gathered to every process; each process
+  /// depth-composites every process's colour and depth for its band of rows, renders that band
+  /// of the A-buffer over it, and the bands are gathered, so that every process writes the same
+  /// colour and depth: a depth compositor (IceT) then picks identical pixels, and the picture is
+  /// the one-process picture. Marked polygons are not gathered (not drawn; a warning). The
+  /// pixels no process's surface covers are taken as the background colour(s) below, since a
+  /// compositor clears them to transparent. Null (the default): every process on its own.
+  virtual void SetController(vtkMultiProcessController* controller);
+  vtkGetObjectMacro(Controller, vtkMultiProcessController);
+  /// The background under the lines in a distributed frame: Background at the bottom,
+  /// Background2 at the top when GradientBackground is on (vtkViewport's vertical gradient).
+  vtkSetVector3Macro(Background, double);
+  vtkGetVector3Macro(Background, double);
+  vtkSetVector3Macro(Background2, double);
+  vtkGetVector3Macro(Background2, double);
+  vtkSetMacro(GradientBackground, bool);
+  vtkGetMacro(GradientBackground, bool);
+  /// Seconds the last distributed frame spent exchanging: gathering the lines (0 when no
+  /// marked actor changed), compositing the surfaces' bands and gathering the finished bands.
+  vtkGetMacro(LastGatherSeconds, double);
+  vtkGetMacro(LastCompositeSeconds, double);
+  ///@}
+
+  ///@{
   /// Ambient radiance of the core's light rig (linear RGB). Default (0, 0, 0).
   vtkSetVector3Macro(Ambient, double);
   vtkGetVector3Macro(Ambient, double);
@@ -205,6 +235,12 @@ protected:
   ~vtkWireFurRenderPass() override;
 
   vtkRenderPass* DelegatePass = nullptr;
+  vtkMultiProcessController* Controller = nullptr;
+  double Background[3] = { 0.0, 0.0, 0.0 };
+  double Background2[3] = { 0.0, 0.0, 0.0 };
+  bool GradientBackground = false;
+  double LastGatherSeconds = 0.0;
+  double LastCompositeSeconds = 0.0;
   int MaskWidth = 8;
   int MaskHeight = 4;
   int Budget = 64;
@@ -226,6 +262,9 @@ protected:
 private:
   vtkWireFurRenderPass(const vtkWireFurRenderPass&) = delete;
   void operator=(const vtkWireFurRenderPass&) = delete;
+
+  /// The distributed frame after the delegate drew (SetController; collective).
+  void RenderDistributed(vtkRenderer* renderer, vtkMultiProcessController* controller);
 
   class vtkInternals;
   vtkInternals* Internals;

@@ -8,6 +8,8 @@
 #include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
 #include "vtkMapper.h"
+#include "vtkCommunicator.h"
+#include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
 #include "vtkPVSynchronizedRenderer.h"
 #include "vtkPolyData.h"
@@ -20,24 +22,27 @@
 #include "vtkWireFurRenderPass.h"
 
 #include <cstdio>
+#include <vector>
 
 vtkStandardNewMacro(vtkPVWireFurRenderView);
 
 namespace
 {
+// The local half of drawnAsWire: 0 not a candidate, 1 a candidate whose data has no polygons
+// and no lines (an empty piece), 2 lines and no polygons, 3 polygons or strips somewhere.
 // True when the actor should be drawn through the A-buffer: a polygonal mapper (not glyphs, not
 // point Gaussians) whose data (a vtkPolyData, or every non-empty vtkPolyData leaf of a
 // composite) has lines and no polygons or strips, drawn as lines or a surface (not as points),
 // and the actor counts in the bounds (ParaView's centre axes and widgets do not). The data is the
 // output of the mapper's input algorithm (ParaView's representations have delivered it before
 // the render; the mapper itself has not run yet).
-bool drawnAsWire(vtkActor* actor)
+int wireClass(vtkActor* actor)
 {
   vtkMapper* mapper = actor->GetMapper();
   if (!mapper || !mapper->IsA("vtkPolyDataMapper") || mapper->IsA("vtkPointGaussianMapper") ||
     !actor->GetUseBounds() || actor->GetProperty()->GetRepresentation() == VTK_POINTS)
   {
-    return false;
+    return 0;
   }
   vtkDataObject* data = nullptr;
   if (mapper->GetNumberOfInputConnections(0) > 0)
@@ -60,7 +65,7 @@ bool drawnAsWire(vtkActor* actor)
   bool lines = false;
   if (auto* pd = vtkPolyData::SafeDownCast(data))
   {
-    return linesOnly(pd, lines) && lines;
+    return !linesOnly(pd, lines) ? 3 : lines ? 2 : 1;
   }
   if (auto* composite = vtkCompositeDataSet::SafeDownCast(data))
   {
@@ -69,11 +74,12 @@ bool drawnAsWire(vtkActor* actor)
     {
       if (auto* leaf = vtkPolyData::SafeDownCast(it->GetCurrentDataObject()); leaf && !linesOnly(leaf, lines))
       {
-        return false;
+        return 3;
       }
     }
+    return lines ? 2 : 1;
   }
-  return lines;
+  return data ? 3 : 1;  // another data type: not ours; none (yet): an empty piece
 }
 }
 
@@ -109,19 +115,67 @@ void vtkPVWireFurRenderView::MarkActors()
 {
   vtkRenderer* renderer = this->GetRenderer();
   vtkPropCollection* props = renderer->GetViewProps();
+  std::vector<vtkActor*> actors;
+  std::vector<int> classes;
   vtkCollectionSimpleIterator it;
   props->InitTraversal(it);
   while (vtkProp* prop = props->GetNextProp(it))
   {
     if (auto* actor = vtkActor::SafeDownCast(prop))
     {
-      const bool lines = drawnAsWire(actor);
-      if (lines != vtkWireFurRenderPass::IsMarked(actor))
+      actors.push_back(actor);
+      classes.push_back(wireClass(actor));
+    }
+  }
+  // Distributed: the same decision on every rank, from every rank's piece (a rank whose piece
+  // is empty draws the others' lines). The ranks hold the same actors in the same order (the
+  // representations are created on all of them); when they do not, each decides alone and the
+  // pass falls back to drawing each rank's own lines.
+  if (vtkMultiProcessController* c = this->Pass->GetController())
+  {
+    const int n = int(classes.size());
+    int range[2] = { n, -n }, all[2] = { 0, 0 };
+    if (c->AllReduce(range, all, 2, vtkCommunicator::MAX_OP) && all[0] == -all[1] && n > 0)
+    {
+      std::vector<int> joined(classes.size());
+      if (c->AllReduce(classes.data(), joined.data(), n, vtkCommunicator::MAX_OP))
       {
-        vtkWireFurRenderPass::Mark(actor, lines);
+        classes = joined;
       }
     }
   }
+  for (size_t i = 0; i < actors.size(); ++i)
+  {
+    const bool lines = classes[i] == 2;
+    if (lines != vtkWireFurRenderPass::IsMarked(actors[i]))
+    {
+      vtkWireFurRenderPass::Mark(actors[i], lines);
+    }
+  }
+}
+
+void vtkPVWireFurRenderView::Render(bool interactive, bool skip_rendering)
+{
+  // Distributed rendering through IceT: every rank must enter the pass every frame (it
+  // exchanges), so IceT must not skip ranks with nothing visible; the background is read
+  // here, before IceT clears to transparent black for the compositing.
+  vtkMultiProcessController* global = vtkMultiProcessController::GetGlobalController();
+  const bool distributed = global && global->GetNumberOfProcesses() > 1 &&
+    (interactive && this->GetUseLODForInteractiveRender() ? this->GetUseDistributedRenderingForLODRender()
+                                                          : this->GetUseDistributedRenderingForRender());
+  this->Pass->SetController(distributed ? global : nullptr);
+  // FXAA (on by default in ParaView, applied to the composited image under MPI) would blur the
+  // A-buffer's exact coverage: off in this view.
+  this->UseFXAA = false;
+  if (distributed)
+  {
+    this->RenderEmptyImages = true;
+    vtkRenderer* renderer = this->GetRenderer();
+    this->Pass->SetBackground(renderer->GetBackground());
+    this->Pass->SetBackground2(renderer->GetBackground2());
+    this->Pass->SetGradientBackground(renderer->GetGradientBackground());
+  }
+  this->Superclass::Render(interactive, skip_rendering);
 }
 
 void vtkPVWireFurRenderView::OnPassEvent(vtkObject*, unsigned long event, void* self, void*)
@@ -211,6 +265,14 @@ double vtkPVWireFurRenderView::GetPassSeconds()
 double vtkPVWireFurRenderView::GetFragments()
 {
   return static_cast<double>(this->Pass->GetLastFragments());
+}
+double vtkPVWireFurRenderView::GetGatherSeconds()
+{
+  return this->Pass->GetLastGatherSeconds();
+}
+double vtkPVWireFurRenderView::GetCompositeSeconds()
+{
+  return this->Pass->GetLastCompositeSeconds();
 }
 int vtkPVWireFurRenderView::GetMarkedActors()
 {

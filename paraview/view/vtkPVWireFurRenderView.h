@@ -14,9 +14,12 @@
  * with the A-buffer's time, its shading error bound and its coverage quantisation, the
  * figures of the frame it is drawn on; the same figures are information properties.
  *
- * Serial only so far: under MPI each rank would draw its own lines over its own surfaces and
- * IceT composites the ranks' images by depth, which the pass leaves as the surfaces drew it, so
- * lines are not composited across ranks yet (docs/paraview.md).
+ * Distributed (pvbatch or pvserver under mpirun, IceT compositing): the pass renders sort-first
+ * bands of rows over every rank's surfaces with every rank's lines (vtkWireFurRenderPass::
+ * SetController), the picture of one process; the view turns on IceT's RenderEmptyImages so
+ * that every rank renders every frame, decides the marks over all ranks (an actor is drawn as
+ * lines when some rank's piece has lines and none has polygons) and hands the pass the
+ * background (docs/paraview.md).
  */
 #ifndef vtkPVWireFurRenderView_h
 #define vtkPVWireFurRenderView_h
@@ -66,9 +69,15 @@ public:
 
   vtkWireFurRenderPass* GetWireFurPass();
 
+  /// Seconds the last frame exchanged between ranks (vtkWireFurRenderPass: gathering lines,
+  /// compositing bands); 0 in one process.
+  double GetGatherSeconds();
+  double GetCompositeSeconds();
+
 protected:
   vtkPVWireFurRenderView();
   ~vtkPVWireFurRenderView() override;
+  void Render(bool interactive, bool skip_rendering) override;
 
 private:
   vtkPVWireFurRenderView(const vtkPVWireFurRenderView&) = delete;
