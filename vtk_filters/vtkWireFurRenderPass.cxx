@@ -164,9 +164,10 @@ public:
   bool UpdateScene()
   {
     const bool changed = this->ConvertMarked();
-    if (changed)
+    if (changed || this->Gathered)  // a gathered scene is not this process's own
     {
       this->Assemble(this->Pieces);
+      this->Gathered = false;
     }
     return changed;
   }
@@ -175,7 +176,9 @@ public:
   /// marked actors changed, every process's lines gathered and assembled.
   void UpdateSceneDistributed(vtkMultiProcessController* controller)
   {
-    const int changed = this->ConvertMarked() ? 1 : 0;
+    // (Gathered is this process's own state: reduced with the rest, so that every process takes
+    // the same decision to gather.)
+    const int changed = this->ConvertMarked() || !this->Gathered ? 1 : 0;
     int any = 1;
     if (!controller->AllReduce(&changed, &any, 1, vtkCommunicator::MAX_OP))
       any = 1;
@@ -718,6 +721,9 @@ void vtkWireFurRenderPass::RenderDistributed(vtkRenderer* ren, vtkMultiProcessCo
   this->LastGatherSeconds = secondsSince(t);
 
   t = std::chrono::steady_clock::now();
+  // Local work that may throw (out of memory) never skips an exchange: a failure is carried to
+  // the last reduction, and the frame then draws no lines on any process.
+  bool localOk = true;
   const bool read = renWin && in.ReadBack(renWin, x, y, w, h, true);
   if (!read)
   {
@@ -773,6 +779,7 @@ void vtkWireFurRenderPass::RenderDistributed(vtkRenderer* ren, vtkMultiProcessCo
 
   double figures[4] = { 0.0, 0.0, 0.0, 0.0 };  // core seconds, error, coverage, fragments
   if (renWin && camera && b1 > b0 && !in.SceneFailed)
+  try
   {
     wfvtk::viewDepthFromWindowDepth(in.WindowDepth, w, h,
       camera->GetProjectionTransformMatrix(double(w) / double(h), -1, 1), in.ViewDepth);
@@ -826,13 +833,24 @@ void vtkWireFurRenderPass::RenderDistributed(vtkRenderer* ren, vtkMultiProcessCo
       vtkErrorMacro(<< "the A-buffer render failed: " << e.what());
     }
   }
+  catch (const std::exception& e)
+  {
+    vtkErrorMacro(<< "the band cannot be prepared: " << e.what());
+    localOk = false;
+  }
 
   t = std::chrono::steady_clock::now();
   exchanged = wfvtk::gatherBands(controller, w, h, in.Colour, in.WindowDepth) && exchanged;
   // The frame's figures over all processes: the slowest band, the worst bound, all fragments.
   double worst[3] = { 0.0, 0.0, 0.0 }, sum = 0.0;
-  exchanged = controller->AllReduce(figures, worst, 3, vtkCommunicator::MAX_OP) &&
-              controller->AllReduce(figures + 3, &sum, 1, vtkCommunicator::SUM_OP) && exchanged;
+  // (figures[4]: 1 where this process failed; max over all: any failed.)
+  double local[5] = { figures[0], figures[1], figures[2], figures[3], (exchanged && localOk) ? 0.0 : 1.0 };
+  double reduced[5] = { 0.0, 0.0, 0.0, 0.0, 1.0 };
+  const bool ok1 = controller->AllReduce(local, reduced, 3, vtkCommunicator::MAX_OP);
+  const bool ok2 = controller->AllReduce(local + 3, &sum, 1, vtkCommunicator::SUM_OP);
+  const bool ok3 = controller->AllReduce(local + 4, reduced + 4, 1, vtkCommunicator::MAX_OP);
+  std::copy(reduced, reduced + 3, worst);
+  exchanged = ok1 && ok2 && ok3 && reduced[4] == 0.0;
   this->LastCompositeSeconds += secondsSince(t);
   if (!exchanged)
   {

@@ -156,15 +156,16 @@ bool compositeSurfaceBands(vtkMultiProcessController* controller, int w, int h,
   const int ranks = controller->GetNumberOfProcesses(), me = controller->GetLocalProcessId();
   std::vector<unsigned char> colours;
   std::vector<float> depths;
+  bool ok = true;  // a failed exchange does not leave the loop: every band's Gathers are taken
   for (int b = 0; b < ranks; ++b) {
     int r0, r1;
     bandOf(b, ranks, h, r0, r1);
     const size_t first = size_t(h - r1) * size_t(w), count = size_t(r1 - r0) * size_t(w);  // OpenGL rows
     if (b == me) colours.resize(4 * count * size_t(ranks)), depths.resize(count * size_t(ranks));
-    if (!controller->Gather(colour.data() + 4 * first, b == me ? colours.data() : nullptr, vtkIdType(4 * count), b) ||
-        !controller->Gather(depth.data() + first, b == me ? depths.data() : nullptr, vtkIdType(count), b))
-      return false;
-    if (b != me) continue;
+    const bool c = controller->Gather(colour.data() + 4 * first, b == me ? colours.data() : nullptr, vtkIdType(4 * count), b);
+    const bool d = controller->Gather(depth.data() + first, b == me ? depths.data() : nullptr, vtkIdType(count), b);
+    if (!c || !d) ok = false;
+    if (b != me || !c || !d) continue;
     for (size_t i = 0; i < count; ++i) {
       int best = 0;
       for (int r = 1; r < ranks; ++r)
@@ -173,7 +174,7 @@ bool compositeSurfaceBands(vtkMultiProcessController* controller, int w, int h,
       std::memcpy(colour.data() + 4 * (first + i), colours.data() + 4 * (size_t(best) * count + i), 4);
     }
   }
-  return true;
+  return ok;
 }
 
 bool gatherBands(vtkMultiProcessController* controller, int w, int h,

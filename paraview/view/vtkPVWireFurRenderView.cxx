@@ -160,9 +160,13 @@ void vtkPVWireFurRenderView::Render(bool interactive, bool skip_rendering)
   // exchanges), so IceT must not skip ranks with nothing visible; the background is read
   // here, before IceT clears to transparent black for the compositing.
   vtkMultiProcessController* global = vtkMultiProcessController::GetGlobalController();
+  // Not with ordered compositing (translucent surfaces, volumes: IceT blends in rank order, and
+  // the bands keep one rank's pixel), tile displays or CAVE (IceT's own projections per tile):
+  // there each rank draws its own lines, as before (docs/paraview.md).
   const bool distributed = global && global->GetNumberOfProcesses() > 1 &&
     (interactive && this->GetUseLODForInteractiveRender() ? this->GetUseDistributedRenderingForLODRender()
-                                                          : this->GetUseDistributedRenderingForRender());
+                                                          : this->GetUseDistributedRenderingForRender()) &&
+    !this->GetUseOrderedCompositing() && !this->InTileDisplayMode() && !this->InCaveDisplayMode();
   this->Pass->SetController(distributed ? global : nullptr);
   // FXAA (on by default in ParaView, applied to the composited image under MPI) would blur the
   // A-buffer's exact coverage: off in this view.
@@ -175,7 +179,17 @@ void vtkPVWireFurRenderView::Render(bool interactive, bool skip_rendering)
     this->Pass->SetBackground2(renderer->GetBackground2());
     this->Pass->SetGradientBackground(renderer->GetGradientBackground());
   }
+  // IceT's image reduction renders the global view into a corner of the window through its own
+  // projection, which the A-buffer's camera does not follow: full size while distributed.
+  const int still = this->StillRenderImageReductionFactor;
+  const int moving = this->InteractiveRenderImageReductionFactor;
+  if (distributed)
+  {
+    this->StillRenderImageReductionFactor = this->InteractiveRenderImageReductionFactor = 1;
+  }
   this->Superclass::Render(interactive, skip_rendering);
+  this->StillRenderImageReductionFactor = still;
+  this->InteractiveRenderImageReductionFactor = moving;
 }
 
 void vtkPVWireFurRenderView::OnPassEvent(vtkObject*, unsigned long event, void* self, void*)
