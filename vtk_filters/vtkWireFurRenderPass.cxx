@@ -220,6 +220,38 @@ public:
     }
   }
 
+  /// The frame's camera and lights in Scene (the core scene's own lights, near and far from its
+  /// geometry's bounds, when one is set) and the options every core render of the pass shares.
+  void PrepareFrame(const vtkWireFurRenderPass& pass, vtkRenderer* ren, vtkCamera* camera, int w, int h,
+                    wf::RenderOptions& options)
+  {
+    this->Scene.camera = wfvtk::convertCamera(camera, w, h);
+    if (this->Core)
+    {
+      this->Scene.lights = this->Core->lights;
+      this->Scene.lightsFollowCamera = this->Core->lightsFollowCamera;
+      this->Scene.camera->nearPlane = this->Scene.camera->farPlane = 0.0;
+    }
+    else
+    {
+      this->Scene.lights = wfvtk::convertLights(ren, camera, pass.Ambient);
+      this->Scene.lightsFollowCamera = false;
+    }
+    options.mask = wf::MaskLayout{ pass.MaskWidth, pass.MaskHeight };
+    options.budget = pass.Budget;
+    options.threads = pass.Threads;
+    options.shadingCache = this->Tables;
+    options.shading = pass.Shading == 1 ? wf::ShadingPath::Maps
+      : pass.Shading == 2               ? wf::ShadingPath::Exact
+                                        : wf::ShadingPath::Closed;
+  }
+
+  /// The shading error bound of a core render (the pass's LastErrorEstimate).
+  static double ShadingBound(const wf::RenderResult& r)
+  {
+    return std::max({ r.stats.mapError, r.stats.sphereError, r.stats.orthographicError, r.stats.lobeError });
+  }
+
   /// Reads the colour and depth of the viewport (x, y, w, h) of the framebuffer being drawn,
   /// resolving a multisampled one first. False when it cannot.
   bool ReadBack(vtkOpenGLRenderWindow* renWin, int x, int y, int w, int h, bool depth)
@@ -632,19 +664,8 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
       if (depth)
         wfvtk::viewDepthFromWindowDepth(in.WindowDepth, w, h,
           camera->GetProjectionTransformMatrix(double(w) / double(h), -1, 1), in.ViewDepth);
-      in.Scene.camera = wfvtk::convertCamera(camera, w, h);
-      if (in.Core)
-      {
-        // The core scene's own look: its lights, near and far from the geometry's bounds.
-        in.Scene.lights = in.Core->lights;
-        in.Scene.lightsFollowCamera = in.Core->lightsFollowCamera;
-        in.Scene.camera->nearPlane = in.Scene.camera->farPlane = 0.0;
-      }
-      else
-      {
-        in.Scene.lights = wfvtk::convertLights(ren, camera, this->Ambient);
-        in.Scene.lightsFollowCamera = false;
-      }
+      wf::RenderOptions options;
+      in.PrepareFrame(*this, ren, camera, w, h, options);
       // A reduced frame (ImageReductionFactor, or InteractiveImageReductionFactor while the
       // window is in an interaction): the same view at 1/F of the size.
       const int f = this->GetImageReductionFactorFor(renWin);
@@ -652,25 +673,16 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
       const int ch = f > 1 ? std::max(1, (h + f - 1) / f) : h;
       if (depth && f > 1)
         in.ReduceDepth(w, h, cw, ch);
-      wf::RenderOptions options;
       options.width = cw;
       options.height = ch;
-      options.mask = wf::MaskLayout{ this->MaskWidth, this->MaskHeight };
-      options.budget = this->Budget;
-      options.threads = this->Threads;
       options.pixelScale = double(ch) / double(h);  // pixel widths stay widths in the scaled-up picture
       options.opaqueDepth = depth ? (f > 1 ? &in.ReducedDepth : &in.ViewDepth) : nullptr;
-      options.shadingCache = in.Tables;
-      options.shading = this->Shading == 1 ? wf::ShadingPath::Maps
-        : this->Shading == 2               ? wf::ShadingPath::Exact
-                                           : wf::ShadingPath::Closed;
       try
       {
         const wf::RenderResult r = wf::render(in.Scene, options);
         this->LastCoreSeconds = r.stats.total;
         this->LastImageReductionFactor = f;
-        this->LastErrorEstimate =
-          std::max({ r.stats.mapError, r.stats.sphereError, r.stats.orthographicError, r.stats.lobeError });
+        this->LastErrorEstimate = vtkInternals::ShadingBound(r);
         this->LastCoverageError = r.stats.coverageQuantisation;
         this->LastFragments = vtkTypeInt64(r.stats.abuffer.fragments);
         this->LastTablesBuilt =
@@ -783,36 +795,18 @@ void vtkWireFurRenderPass::RenderDistributed(vtkRenderer* ren, vtkMultiProcessCo
   {
     wfvtk::viewDepthFromWindowDepth(in.WindowDepth, w, h,
       camera->GetProjectionTransformMatrix(double(w) / double(h), -1, 1), in.ViewDepth);
-    in.Scene.camera = wfvtk::convertCamera(camera, w, h);
-    if (in.Core)
-    {
-      in.Scene.lights = in.Core->lights;
-      in.Scene.lightsFollowCamera = in.Core->lightsFollowCamera;
-      in.Scene.camera->nearPlane = in.Scene.camera->farPlane = 0.0;
-    }
-    else
-    {
-      in.Scene.lights = wfvtk::convertLights(ren, camera, this->Ambient);
-      in.Scene.lightsFollowCamera = false;
-    }
     wf::RenderOptions options;
+    in.PrepareFrame(*this, ren, camera, w, h, options);
     options.width = w;
     options.height = h;
     options.rowBegin = b0;
     options.rowEnd = b1;
-    options.mask = wf::MaskLayout{ this->MaskWidth, this->MaskHeight };
-    options.budget = this->Budget;
-    options.threads = this->Threads;
     options.opaqueDepth = &in.ViewDepth;
-    options.shadingCache = in.Tables;
-    options.shading = this->Shading == 1 ? wf::ShadingPath::Maps
-      : this->Shading == 2               ? wf::ShadingPath::Exact
-                                         : wf::ShadingPath::Closed;
     try
     {
       const wf::RenderResult r = wf::render(in.Scene, options);
       figures[0] = r.stats.total;
-      figures[1] = std::max({ r.stats.mapError, r.stats.sphereError, r.stats.orthographicError, r.stats.lobeError });
+      figures[1] = vtkInternals::ShadingBound(r);
       figures[2] = r.stats.coverageQuantisation;
       figures[3] = double(r.stats.abuffer.fragments);
       this->LastTablesBuilt = r.stats.pseudoReflectanceMaps + r.stats.reflectanceSpheres + r.stats.lobeTables;
