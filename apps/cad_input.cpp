@@ -3,6 +3,7 @@
 #include "cli.h"
 
 #include "core/srgb.h"
+#include "core/worker_process.h"
 #include "growth/fur.h"
 
 #include <vtkCallbackCommand.h>
@@ -22,11 +23,8 @@
 #include <dlfcn.h>
 #endif
 
-#include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/resource.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -35,7 +33,6 @@
 #include <cstring>
 #include <fstream>
 #include <sstream>
-#include <thread>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -297,21 +294,10 @@ CadGeometry readGeometry(BlobReader& r) {
   return g;
 }
 
-std::string signalName(int sig) {
-  const char* d = strsignal(sig);
-  return std::string("signal ") + std::to_string(sig) + (d ? std::string(", ") + d : std::string());
-}
-
 CadGeometry readCadInWorker(const std::string& path, const CadOptions& o) {
-  char name[] = "/tmp/wirefur-cad-XXXXXX";
-  const int fd = mkstemp(name);
-  if (fd < 0) throw std::runtime_error("cannot make a temporary file for the CAD worker");
-  close(fd);
-  const std::string out = name;
-  struct Remove {
-    std::string p;
-    ~Remove() { std::remove(p.c_str()); }
-  } removeOut{out};
+  const wf::TemporaryFolder folder("wirefur-cad-");
+  if (folder.path().empty()) throw std::runtime_error("cannot make a temporary folder for the CAD worker");
+  const std::string out = folder.path() + "/result";
   char number[64];
   std::vector<std::string> args = {"wirefur", "cad-worker", path, out};
   std::snprintf(number, sizeof number, "%.17g", o.deflection);
@@ -322,38 +308,19 @@ CadGeometry readCadInWorker(const std::string& path, const CadOptions& o) {
   args.push_back(std::to_string(o.isos));
   args.push_back(std::to_string(o.threads));
   args.push_back(o.showProgress ? "1" : "0");
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);  // OpenCASCADE prints
   // The worker's stderr carries its progress lines on a terminal; elsewhere it is silenced, so
   // that what a dying worker prints (std::terminate's words) does not add to the one line.
-  if (!o.showProgress) posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
-  pid_t pid = 0;
-  const int spawned = posix_spawn(&pid, "/proc/self/exe", &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (spawned != 0) throw std::runtime_error(std::string("cannot start the CAD worker: ") + std::strerror(spawned));
-  const auto t0 = std::chrono::steady_clock::now();
-  int status = 0;
-  while (true) {
-    const pid_t r = waitpid(pid, &status, WNOHANG);
-    if (r == pid) break;
-    if (r < 0 && errno != EINTR) throw std::runtime_error(std::string("waiting for the CAD worker: ") + std::strerror(errno));
-    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > o.timeoutSeconds) {
-      kill(pid, SIGKILL);
-      waitpid(pid, &status, 0);
-      char limit[32];
-      std::snprintf(limit, sizeof limit, "%g", o.timeoutSeconds);
-      throw UsageError(path + ": reading and meshing did not finish within " + limit +
-                       " s (OpenCASCADE may loop on a corrupt file; --cad-timeout S sets the limit)");
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  const wf::WorkerExit e = wf::runWorker("/proc/self/exe", args, o.timeoutSeconds, !o.showProgress);
+  if (!e.started) throw std::runtime_error("cannot start the CAD worker: " + e.startError);
+  if (e.timedOut) {
+    char limit[32];
+    std::snprintf(limit, sizeof limit, "%g", o.timeoutSeconds);
+    throw UsageError(path + ": reading and meshing did not finish within " + limit +
+                     " s (OpenCASCADE may loop on a corrupt file; --cad-timeout S sets the limit)");
   }
-  if (WIFSIGNALED(status))
-    throw UsageError(path + ": OpenCASCADE crashed reading this file (" + signalName(WTERMSIG(status)) +
-                     (WTERMSIG(status) == SIGKILL || WTERMSIG(status) == SIGABRT ? ", out of memory?" : "") +
+  if (e.signalled)
+    throw UsageError(path + ": OpenCASCADE crashed reading this file (" + wf::signalDescription(e.signal) +
+                     (e.signal == SIGKILL || e.signal == SIGABRT ? ", out of memory?" : "") +
                      "): it is corrupt, or uses something OpenCASCADE 7.6 cannot read");
   std::ifstream in(out, std::ios::binary);
   std::stringstream ss;
@@ -363,7 +330,7 @@ CadGeometry readCadInWorker(const std::string& path, const CadOptions& o) {
   // sanitizer's handler, for one, turns the crash into an exit status).
   if (bytes.size() < sizeof kBlobMagic || std::memcmp(bytes.data(), kBlobMagic, sizeof kBlobMagic) != 0)
     throw UsageError(path + ": OpenCASCADE crashed reading this file (the worker stopped with status " +
-                     std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) +
+                     std::to_string(e.status) +
                      " and no result): it is corrupt, or uses something OpenCASCADE 7.6 cannot read");
   const std::string body = bytes.substr(sizeof kBlobMagic);
   BlobReader r(body);
