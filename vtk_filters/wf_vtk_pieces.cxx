@@ -45,8 +45,8 @@ LocalPiece collect(vtkPolyData* mesh, int rank) {
   LocalPiece out;
   if (!mesh || isEmpty(mesh)) return out;
   out.points = mesh->GetNumberOfPoints() > 0;
-  if (std::string why = inputProblem(mesh, "input mesh"); !why.empty()) {
-    out.problem = why;
+  if (std::string why = inputProblem(mesh, ""); !why.empty()) {  // (" point 7 is not finite")
+    out.problem = "input mesh:" + why;  // as one process says it (growthSurface)
     return out;
   }
   vtkDataArray* tc = textureCoordinates(mesh);

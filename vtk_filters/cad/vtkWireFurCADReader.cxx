@@ -3,8 +3,10 @@
 #include "wf_cad_model.h"
 #include "wf_cad_plugin.h"
 #include "wf_cad_surface.h"
+#include "wf_cad_worker.h"
 
 #include "core/srgb.h"
+#include "core/worker_process.h"
 #include "render/edge_classes.h"
 
 #include "vtkCellArray.h"
@@ -21,6 +23,7 @@
 #include "vtkPolyData.h"
 #include "vtkStringArray.h"
 #include "vtkUnsignedCharArray.h"
+#include "vtkXMLPolyDataReader.h"
 
 #include <BRepAdaptor_Curve.hxx>
 #include <BRepAdaptor_Surface.hxx>
@@ -55,6 +58,10 @@
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+
+#include <dlfcn.h>
+#include <signal.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -424,6 +431,10 @@ public:
   // The meshed faces (located), their FaceId and part: for wirefur_cad_face_surfaces.
   std::vector<TopoDS_Face> faceShapes;
   std::vector<int> faceIds, faceParts;
+  // Read by the worker: the faces it meshed (FaceId), whose exact surfaces are read here only
+  // when asked for (wirefur_cad_face_surfaces), once.
+  bool viaWorker = false, facesRead = false;
+  std::vector<int> workerFaceIds;
   void clear() { *this = vtkInternals(); }
 };
 
@@ -431,8 +442,27 @@ extern "C" WIREFURCAD_EXPORT int wirefur_cad_face_surfaces(vtkWireFurCADReader* 
 {
   if (!reader || !faces)
     return 0;
-  const vtkWireFurCADReader::vtkInternals& in = *reader->GetInternals();
+  vtkWireFurCADReader::vtkInternals& in = *reader->GetInternals();
   faces->clear();
+  if (in.viaWorker && !in.facesRead && reader->GetFileName())
+  {
+    // The worker has read and meshed the file cleanly: its exact faces are read here, without
+    // meshing, and those the worker meshed are kept (as wirefur_cad_face_surfaces promises).
+    in.facesRead = true;
+    vtkNew<vtkWireFurCADReader> again;
+    again->SetFileName(reader->GetFileName());
+    again->FacesOnlyOn();
+    again->SetNumberOfThreads(reader->GetNumberOfThreads());
+    again->Update();
+    const vtkWireFurCADReader::vtkInternals& a = *again->GetInternals();
+    for (size_t i = 0; i < a.faceShapes.size(); ++i)
+      if (std::binary_search(in.workerFaceIds.begin(), in.workerFaceIds.end(), a.faceIds[i]))
+      {
+        in.faceShapes.push_back(a.faceShapes[i]);
+        in.faceIds.push_back(a.faceIds[i]);
+        in.faceParts.push_back(a.faceParts[i]);
+      }
+  }
   for (size_t i = 0; i < in.faceShapes.size(); ++i)
   {
     try
@@ -500,10 +530,15 @@ int vtkWireFurCADReader::RequestData(vtkInformation*, vtkInformationVector**, vt
   vtkPolyData* facesOut = vtkPolyData::GetData(outputVector, 0);
   vtkPolyData* edgesOut = vtkPolyData::GetData(outputVector, 1);
   const std::string path = this->FileName ? this->FileName : "";
+  // A failed read leaves both outputs empty and the pipeline going (1), as the module's filters
+  // do: the one line is the message. (Returning 0 would make VTK's executive print the whole
+  // request after it: a dozen more lines in ParaView's output window.)
   auto fail = [&](const std::string& message) {
     in.error = (path.empty() ? std::string("(no file name)") : path) + ": " + message;
     vtkErrorMacro(<< in.error);
-    return 0;
+    facesOut->Initialize();
+    edgesOut->Initialize();
+    return 1;
   };
   if (path.empty())
     return fail("no file name given");
@@ -515,6 +550,8 @@ int vtkWireFurCADReader::RequestData(vtkInformation*, vtkInformationVector**, vt
   if (std::filesystem::file_size(path, ec) == 0)
     return fail("empty file");
   const std::string ext = lowerExtension(path);
+  if (this->ReadInWorker && !this->FacesOnly)
+    return this->RequestDataInWorker(path, facesOut, edgesOut);
   const auto t0 = std::chrono::steady_clock::now();
   auto seconds = [](auto since) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
@@ -901,6 +938,116 @@ int vtkWireFurCADReader::RequestData(vtkInformation*, vtkInformationVector**, vt
   return 1;
 }
 
+namespace
+{
+void workerAnchor() {}
+} // namespace
+
+std::string vtkWireFurCADReader::GetWorkerExecutable()
+{
+  Dl_info info{};
+  if (!dladdr(reinterpret_cast<void*>(&workerAnchor), &info) || !info.dli_fname)
+    return std::string();
+  std::error_code ec;
+  const std::filesystem::path exe =
+    std::filesystem::path(info.dli_fname).parent_path() / wfcad::kWorkerName;
+  return std::filesystem::is_regular_file(exe, ec) && access(exe.c_str(), X_OK) == 0 ? exe.string() : std::string();
+}
+
+int vtkWireFurCADReader::RequestDataInWorker(const std::string& path, vtkPolyData* facesOut, vtkPolyData* edgesOut)
+{
+  vtkInternals& in = *this->Internals;
+  auto fail = [&](const std::string& message) {  // (as RequestData's)
+    in.error = path + ": " + message;
+    vtkErrorMacro(<< in.error);
+    return 1;
+  };
+  const std::string exe = GetWorkerExecutable();
+  if (exe.empty())
+    return fail(std::string("cannot read in a worker process: ") + wfcad::kWorkerName +
+      " is not installed beside the WireFurCAD library (or turn ReadInWorker off)");
+  const wf::TemporaryFolder folder("wirefur-cad-");
+  if (folder.path().empty())
+    return fail("cannot make a temporary folder for the CAD worker");
+  char number[64];
+  std::vector<std::string> args = { wfcad::kWorkerName, path, folder.path() };
+  auto add = [&](double v) {
+    std::snprintf(number, sizeof number, "%.17g", v);
+    args.push_back(number);
+  };
+  add(this->LinearDeflection);
+  args.push_back(this->RelativeDeflection ? "1" : "0");
+  add(this->AngularDeflection);
+  args.push_back(std::to_string(this->NumberOfUIsoLines));
+  args.push_back(std::to_string(this->NumberOfVIsoLines));
+  args.push_back(std::to_string(this->MaximumTriangles));
+  add(this->FeatureAngle);
+  args.push_back(std::to_string(this->NumberOfThreads));
+  this->UpdateProgress(0.0);
+  const wf::WorkerExit e = wf::runWorker(exe, args, this->WorkerTimeout, true);
+  if (!e.started)
+    return fail("cannot start the CAD worker " + exe + ": " + e.startError);
+  if (e.timedOut)
+  {
+    std::snprintf(number, sizeof number, "%g", this->WorkerTimeout);
+    return fail(std::string("reading and meshing did not finish within ") + number +
+      " s (OpenCASCADE may loop on a corrupt file; WorkerTimeout sets the limit)");
+  }
+  if (e.signalled)
+    return fail("OpenCASCADE crashed reading this file (" + wf::signalDescription(e.signal) +
+      (e.signal == SIGKILL || e.signal == SIGABRT ? ", out of memory?" : "") +
+      "): it is corrupt, or uses something OpenCASCADE 7.6 cannot read");
+  const std::string facesFile = folder.path() + "/faces.vtp", edgesFile = folder.path() + "/edges.vtp";
+  std::error_code ec;
+  if ((e.status != 0 && e.status != 2) || !std::filesystem::is_regular_file(facesFile, ec) ||
+    !std::filesystem::is_regular_file(edgesFile, ec))
+    return fail("OpenCASCADE crashed reading this file (the worker stopped with status " +
+      std::to_string(e.status) + " and no result): it is corrupt, or uses something OpenCASCADE 7.6 cannot read");
+  vtkNew<vtkXMLPolyDataReader> faces, edges;
+  faces->SetFileName(facesFile.c_str());
+  edges->SetFileName(edgesFile.c_str());
+  faces->Update();
+  edges->Update();
+  vtkFieldData* field = faces->GetOutput()->GetFieldData();
+  vtkDoubleArray* figures = vtkDoubleArray::SafeDownCast(field->GetAbstractArray(wfcad::kWorkerFigures));
+  vtkStringArray* messages = vtkStringArray::SafeDownCast(field->GetAbstractArray(wfcad::kWorkerMessages));
+  if (faces->GetErrorCode() || edges->GetErrorCode() || !figures || !messages ||
+    figures->GetNumberOfValues() != wfcad::kFigureCount || messages->GetNumberOfValues() != 2)
+    return fail("the CAD worker's result is unreadable");
+  if (e.status == 2 || !messages->GetValue(0).empty())
+  {
+    in.error = messages->GetValue(0).empty() ? path + ": the CAD worker failed" : messages->GetValue(0);
+    vtkErrorMacro(<< in.error);
+    return 1;
+  }
+  in.viaWorker = true;
+  in.warning = messages->GetValue(1);
+  in.faces = int(figures->GetValue(wfcad::kFaces));
+  in.meshedFaces = int(figures->GetValue(wfcad::kMeshedFaces));
+  in.skippedFaces = int(figures->GetValue(wfcad::kSkippedFaces));
+  in.edges = int(figures->GetValue(wfcad::kEdges));
+  for (int c = 0; c < 7; ++c)
+    in.edgesOfClass[size_t(c)] = int(figures->GetValue(wfcad::kEdgesOfClass0 + c));
+  in.appliedDeflection = figures->GetValue(wfcad::kAppliedDeflection);
+  in.modelSize = figures->GetValue(wfcad::kModelSize);
+  in.readSeconds = figures->GetValue(wfcad::kReadSeconds);
+  in.meshSeconds = figures->GetValue(wfcad::kMeshSeconds);
+  field->RemoveArray(wfcad::kWorkerFigures);
+  field->RemoveArray(wfcad::kWorkerMessages);
+  if (vtkStringArray* names = vtkStringArray::SafeDownCast(field->GetAbstractArray("PartNames")))
+    for (vtkIdType i = 0; i < names->GetNumberOfValues(); ++i)
+      in.partNames.push_back(names->GetValue(i));
+  if (vtkDataArray* ids = faces->GetOutput()->GetCellData()->GetArray("FaceId"))
+    for (vtkIdType i = 0; i < ids->GetNumberOfTuples(); ++i)
+      in.workerFaceIds.push_back(int(ids->GetTuple1(i)));
+  std::sort(in.workerFaceIds.begin(), in.workerFaceIds.end());
+  in.workerFaceIds.erase(std::unique(in.workerFaceIds.begin(), in.workerFaceIds.end()), in.workerFaceIds.end());
+  facesOut->ShallowCopy(faces->GetOutput());
+  edgesOut->ShallowCopy(edges->GetOutput());
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
 void vtkWireFurCADReader::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
@@ -914,4 +1061,6 @@ void vtkWireFurCADReader::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FeatureAngle: " << this->FeatureAngle << "\n";
   os << indent << "FacesOnly: " << this->FacesOnly << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+  os << indent << "ReadInWorker: " << this->ReadInWorker << "\n";
+  os << indent << "WorkerTimeout: " << this->WorkerTimeout << "\n";
 }

@@ -40,12 +40,15 @@
  * gives the value used, in world units.
  *
  * Bad input (missing, empty, truncated or corrupt file, another format, no faces and no edges, a
- * FreeCAD document without shapes) fails the update with one line in GetErrorMessage() naming
- * the file and the entity. Faces that fail to mesh are skipped and counted
+ * FreeCAD document without shapes) ends the update with both outputs empty, one error (VTK's
+ * ErrorEvent) and the same line in GetErrorMessage(), naming the file and the entity; the
+ * pipeline goes on (RequestData returns 1, as the module's filters do). Faces that fail to mesh are skipped and counted
  * (GetNumberOfSkippedFaces(), GetWarningMessage()); the rest is output. Some corrupt STEP and
  * IGES files crash OpenCASCADE 7.6 itself (fuzzing found null entities dereferenced in its STEP
- * and IGES translators): a program that reads untrusted files should read them in a process of
- * its own, as the wirefur command does (docs/cad.md).
+ * and IGES translators), and some make it loop for ever: with ReadInWorker on, the file is read
+ * and meshed in a process of its own (wirefur-cad-worker, beside this library), so that a crash,
+ * a hang (WorkerTimeout) or memory exhaustion becomes the one-line error above and the program
+ * carries on. ParaView's proxy turns it on; the wirefur command has a worker of its own.
  *
  * OpenCASCADE is private to this module (hidden behind a PIMPL): this header needs only VTK.
  */
@@ -122,6 +125,24 @@ public:
   ///@}
 
   ///@{
+  /// On: read and mesh the file in a child process (wirefur-cad-worker, found beside this
+  /// library), which returns both outputs through a private temporary folder; a crash, a hang
+  /// past WorkerTimeout seconds (default 600) or the worker's memory cap (half the machine's
+  /// memory, 2 to 16 GiB) ends the update with one line instead of taking the program down. The
+  /// outputs are the same as in process, bit for bit. The exact faces (wf_cad_plugin.h) are then
+  /// read in this process only when asked for (vtkWireFurSilhouette), once the worker has shown
+  /// that the file reads cleanly. FacesOnly always reads in process. Default off.
+  vtkSetMacro(ReadInWorker, bool);
+  vtkGetMacro(ReadInWorker, bool);
+  vtkBooleanMacro(ReadInWorker, bool);
+  vtkSetClampMacro(WorkerTimeout, double, 0.1, 1e6);
+  vtkGetMacro(WorkerTimeout, double);
+  ///@}
+
+  /// The worker's path (beside this library), or empty when it is not there.
+  static std::string GetWorkerExecutable();
+
+  ///@{
   /// Worker threads for meshing and evaluating faces (0: oneTBB's default). The output is the
   /// same, bit for bit, for any count.
   vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
@@ -158,6 +179,7 @@ protected:
   ~vtkWireFurCADReader() override;
 
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestDataInWorker(const std::string& path, vtkPolyData* faces, vtkPolyData* edges);
 
   char* FileName = nullptr;
   double LinearDeflection = 1e-3;
@@ -169,6 +191,8 @@ protected:
   int NumberOfThreads = 0;
   double FeatureAngle = 10.0;
   bool FacesOnly = false;
+  bool ReadInWorker = false;
+  double WorkerTimeout = 600.0;
 
 public:
 #ifndef __VTK_WRAP__
