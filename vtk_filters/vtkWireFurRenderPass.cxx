@@ -801,6 +801,7 @@ void vtkWireFurRenderPass::RenderDistributed(vtkRenderer* ren, vtkMultiProcessCo
     options.height = h;
     options.rowBegin = b0;
     options.rowEnd = b1;
+    options.tileSize = wfvtk::kBandRows;  // (the default: bands are whole rows of tiles, bandOf)
     options.opaqueDepth = &in.ViewDepth;
     try
     {

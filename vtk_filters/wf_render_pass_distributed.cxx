@@ -10,9 +10,11 @@
 namespace wfvtk {
 
 void bandOf(int rank, int ranks, int height, int& begin, int& end) {
-  const int base = height / ranks, extra = height % ranks;
-  begin = rank * base + std::min(rank, extra);
-  end = begin + base + (rank < extra ? 1 : 0);
+  const int units = (height + kBandRows - 1) / kBandRows;
+  const int base = units / ranks, extra = units % ranks;
+  const int first = rank * base + std::min(rank, extra);
+  begin = std::min(height, first * kBandRows);
+  end = std::min(height, (first + base + (rank < extra ? 1 : 0)) * kBandRows);
 }
 
 bool sameOnEveryRank(vtkMultiProcessController* controller, const std::vector<double>& values) {

@@ -10,6 +10,7 @@
 //    so that ParaView's depth compositing (IceT) picks identical pixels.
 #pragma once
 
+#include "WireFurFiltersModule.h"  // bandOf exported for the module's tests
 #include "wf_render_pass_scene.h"
 
 #include <vector>
@@ -18,9 +19,13 @@ class vtkMultiProcessController;
 
 namespace wfvtk {
 
-/// Rows [begin, end) of the image (row 0 at the top) that `rank` of `ranks` renders: h / ranks
-/// rows each, the first h % ranks ranks one more.
-void bandOf(int rank, int ranks, int height, int& begin, int& end);
+/// Rows [begin, end) of the image (row 0 at the top) that `rank` of `ranks` renders: whole rows
+/// of the core's tiles (kBandRows, RenderOptions::tileSize's default), the same number each and
+/// the first ranks one more, so that no tile is rasterised by two ranks (a band that cut a tile
+/// would cost both ranks its whole work, and count its fragments twice). A rank may get no rows
+/// (begin == end) when there are more ranks than rows of tiles.
+constexpr int kBandRows = 32;
+WIREFURFILTERS_EXPORT void bandOf(int rank, int ranks, int height, int& begin, int& end);
 
 /// True when every rank passed the same `values` (an AllGather; false on a failed exchange).
 bool sameOnEveryRank(vtkMultiProcessController* controller, const std::vector<double>& values);
