@@ -12,6 +12,7 @@
 #include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
 #include "vtkPVSynchronizedRenderer.h"
+#include "vtkProcessModule.h"
 #include "vtkPolyData.h"
 #include "vtkProperty.h"
 #include "vtkPropCollection.h"
@@ -22,6 +23,7 @@
 #include "vtkWireFurRenderPass.h"
 
 #include <cstdio>
+#include <cstring>
 #include <vector>
 
 vtkStandardNewMacro(vtkPVWireFurRenderView);
@@ -94,6 +96,11 @@ vtkPVWireFurRenderView::vtkPVWireFurRenderView()
   this->PassObserver->SetClientData(this);
   this->Pass->AddObserver(vtkCommand::StartEvent, this->PassObserver);
   this->Pass->AddObserver(vtkCommand::EndEvent, this->PassObserver);
+  // After the frame's image has gone from the server to the client (ParaView's synchronizers
+  // observe the same event at priority 0) and before the annotation's renderer draws.
+  this->RendererObserver->SetCallback(&vtkPVWireFurRenderView::OnRendererEnd);
+  this->RendererObserver->SetClientData(this);
+  this->GetRenderer()->AddObserver(vtkCommand::EndEvent, this->RendererObserver, -1.0f);
 
   vtkTextProperty* text = this->Annotation->GetTextProperty();
   text->SetFontSize(11);
@@ -109,6 +116,7 @@ vtkPVWireFurRenderView::vtkPVWireFurRenderView()
 vtkPVWireFurRenderView::~vtkPVWireFurRenderView()
 {
   this->Pass->RemoveObserver(this->PassObserver);
+  this->GetRenderer()->RemoveObserver(this->RendererObserver);
 }
 
 void vtkPVWireFurRenderView::MarkActors()
@@ -187,9 +195,45 @@ void vtkPVWireFurRenderView::Render(bool interactive, bool skip_rendering)
   {
     this->StillRenderImageReductionFactor = this->InteractiveRenderImageReductionFactor = 1;
   }
+  // The client of a pvserver that renders remotely draws no lines itself (the lines are in the
+  // server's image): its annotation and figures must be the server's. Every process that
+  // renders this frame (the client and every server rank, or every pvbatch rank) exchanges
+  // them once the image is across, on the same condition ParaView uses to render remotely.
+  const bool remote = (interactive && this->GetUseLODForInteractiveRender()
+      ? this->GetUseDistributedRenderingForLODRender()
+      : this->GetUseDistributedRenderingForRender());
+  this->ExchangeFigures = remote && !skip_rendering && !this->GetMakingSelection() &&
+    !this->InTileDisplayMode() && !this->InCaveDisplayMode();
   this->Superclass::Render(interactive, skip_rendering);
+  this->ExchangeFigures = false;
   this->StillRenderImageReductionFactor = still;
   this->InteractiveRenderImageReductionFactor = moving;
+}
+
+void vtkPVWireFurRenderView::OnRendererEnd(vtkObject*, unsigned long, void* self, void*)
+{
+  auto* view = static_cast<vtkPVWireFurRenderView*>(self);
+  if (!view->ExchangeFigures)
+  {
+    return;
+  }
+  view->ExchangeFigures = false;  // (once a frame)
+  // A maximum of the figures' bits over every process (vtkPVView::AllReduce: the ranks, then
+  // the server's root with the client): the client contributes zeros, the server's ranks their
+  // figures, which the distributed pass has already made the same on every rank; non-negative
+  // doubles order as their bits do.
+  const bool client = vtkProcessModule::GetProcessType() == vtkProcessModule::PROCESS_CLIENT;
+  for (double& figure : view->Figures)
+  {
+    vtkTypeUInt64 bits = 0, result = 0;
+    if (!client && figure > 0.0)
+    {
+      std::memcpy(&bits, &figure, sizeof bits);
+    }
+    view->AllReduce(bits, result, vtkCommunicator::MAX_OP);
+    std::memcpy(&figure, &result, sizeof figure);
+  }
+  view->UpdateAnnotation();
 }
 
 void vtkPVWireFurRenderView::OnPassEvent(vtkObject*, unsigned long event, void* self, void*)
@@ -201,6 +245,16 @@ void vtkPVWireFurRenderView::OnPassEvent(vtkObject*, unsigned long event, void* 
   }
   else
   {
+    vtkWireFurRenderPass* p = view->Pass;
+    double* f = view->Figures;
+    f[MarkedProps] = p->GetLastMarkedProps();
+    f[CoreSeconds] = p->GetLastCoreSeconds();
+    f[Fragments] = static_cast<double>(p->GetLastFragments());
+    f[ErrorEstimate] = p->GetLastErrorEstimate();
+    f[CoverageError] = p->GetLastCoverageError();
+    f[PassSeconds] = p->GetLastRenderSeconds();
+    f[GatherSeconds] = p->GetLastGatherSeconds();
+    f[CompositeSeconds] = p->GetLastCompositeSeconds();
     view->UpdateAnnotation();
   }
 }
@@ -211,19 +265,18 @@ void vtkPVWireFurRenderView::UpdateAnnotation()
   {
     return;
   }
-  vtkWireFurRenderPass* p = this->Pass;
+  const double* f = this->Figures;
   char line[256];
-  if (p->GetLastMarkedProps() == 0)
+  if (f[MarkedProps] == 0)
   {
     std::snprintf(line, sizeof line, "WireFur: no lines to draw");
   }
   else
   {
     std::snprintf(line, sizeof line,
-      "WireFur %.1f ms, %lld fragments, shading error <= %.1e, coverage 1/%d",
-      1e3 * p->GetLastCoreSeconds(), static_cast<long long>(p->GetLastFragments()),
-      p->GetLastErrorEstimate(),
-      p->GetLastCoverageError() > 0 ? static_cast<int>(1.0 / p->GetLastCoverageError() + 0.5) : 0);
+      "WireFur %.1f ms, %lld fragments, shading error <= %.1e, coverage 1/%d", 1e3 * f[CoreSeconds],
+      static_cast<long long>(f[Fragments]), f[ErrorEstimate],
+      f[CoverageError] > 0 ? static_cast<int>(1.0 / f[CoverageError] + 0.5) : 0);
   }
   this->Annotation->SetInput(line);
 }
@@ -262,35 +315,35 @@ void vtkPVWireFurRenderView::SetShowErrorEstimate(bool show)
 }
 double vtkPVWireFurRenderView::GetErrorEstimate()
 {
-  return this->Pass->GetLastErrorEstimate();
+  return this->Figures[ErrorEstimate];
 }
 double vtkPVWireFurRenderView::GetCoverageError()
 {
-  return this->Pass->GetLastCoverageError();
+  return this->Figures[CoverageError];
 }
 double vtkPVWireFurRenderView::GetCoreSeconds()
 {
-  return this->Pass->GetLastCoreSeconds();
+  return this->Figures[CoreSeconds];
 }
 double vtkPVWireFurRenderView::GetPassSeconds()
 {
-  return this->Pass->GetLastRenderSeconds();
+  return this->Figures[PassSeconds];
 }
 double vtkPVWireFurRenderView::GetFragments()
 {
-  return static_cast<double>(this->Pass->GetLastFragments());
+  return this->Figures[Fragments];
 }
 double vtkPVWireFurRenderView::GetGatherSeconds()
 {
-  return this->Pass->GetLastGatherSeconds();
+  return this->Figures[GatherSeconds];
 }
 double vtkPVWireFurRenderView::GetCompositeSeconds()
 {
-  return this->Pass->GetLastCompositeSeconds();
+  return this->Figures[CompositeSeconds];
 }
 int vtkPVWireFurRenderView::GetMarkedActors()
 {
-  return this->Pass->GetLastMarkedProps();
+  return static_cast<int>(this->Figures[MarkedProps]);
 }
 vtkWireFurRenderPass* vtkPVWireFurRenderView::GetWireFurPass()
 {

@@ -58,7 +58,8 @@ public:
   ///@{
   /// The last render's figures (vtkWireFurRenderPass): the shading error bound (radiance), the
   /// coverage quantisation (1 / subpixels), seconds of the A-buffer alone and of the whole pass,
-  /// fragments, and the number of actors drawn through the A-buffer.
+  /// fragments, and the number of actors drawn through the A-buffer. With pvserver and remote
+  /// rendering, the client shows the server's figures (exchanged after each frame, below).
   double GetErrorEstimate();
   double GetCoverageError();
   double GetCoreSeconds();
@@ -83,13 +84,31 @@ private:
   vtkPVWireFurRenderView(const vtkPVWireFurRenderView&) = delete;
   void operator=(const vtkPVWireFurRenderView&) = delete;
   static void OnPassEvent(vtkObject*, unsigned long event, void* self, void*);
+  static void OnRendererEnd(vtkObject*, unsigned long event, void* self, void*);
   void MarkActors();
   void UpdateAnnotation();
 
   vtkNew<vtkWireFurRenderPass> Pass;
   vtkNew<vtkTextActor> Annotation;
   vtkNew<vtkCallbackCommand> PassObserver;
+  vtkNew<vtkCallbackCommand> RendererObserver;
   bool ShowErrorEstimate = true;
+  // The figures shown and reported: this process's pass's, or, on a client whose frame the
+  // server rendered, the server's. The order of kFigureNames in the .cxx.
+  enum Figure
+  {
+    MarkedProps,
+    CoreSeconds,
+    Fragments,
+    ErrorEstimate,
+    CoverageError,
+    PassSeconds,
+    GatherSeconds,
+    CompositeSeconds,
+    FigureCount
+  };
+  double Figures[FigureCount] = {};
+  bool ExchangeFigures = false;  // in this frame (decided in Render, the same on every process)
 };
 
 #endif
