@@ -772,8 +772,9 @@ void vtkWireFurRenderPass::RenderDistributed(vtkRenderer* ren, vtkMultiProcessCo
   int b0 = 0, b1 = 0;
   wfvtk::bandOf(me, ranks, h, b0, b1);
   // Where no process drew (the compositor cleared to transparent black): the background
-  // (vtkViewport's vertical gradient: Background at the bottom, Background2 at the top).
-  for (int gy = h - b1; gy < h - b0; ++gy)
+  // (vtkViewport's vertical gradient: Background at the bottom, Background2 at the top), when
+  // it is one (BackgroundKnown).
+  for (int gy = h - b1; this->BackgroundKnown && gy < h - b0; ++gy)
   {
     const double s = this->GradientBackground ? (gy + 0.5) / h : 0.0;
     unsigned char bg[4];

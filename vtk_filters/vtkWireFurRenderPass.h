@@ -190,6 +190,12 @@ public:
   vtkGetVector3Macro(Background2, double);
   vtkSetMacro(GradientBackground, bool);
   vtkGetMacro(GradientBackground, bool);
+  /// Off: the background of a distributed frame is not a uniform colour or a vertical gradient
+  /// (a texture, a skybox): the lines over no surface are left over transparent black, with
+  /// their coverage as alpha, for the compositor's background blend (exact only where a line
+  /// covers its pixel wholly). Default on.
+  vtkSetMacro(BackgroundKnown, bool);
+  vtkGetMacro(BackgroundKnown, bool);
   /// Seconds the last distributed frame spent exchanging: gathering the lines (0 when no
   /// marked actor changed), compositing the surfaces' bands and gathering the finished bands.
   vtkGetMacro(LastGatherSeconds, double);
@@ -239,6 +245,7 @@ protected:
   double Background[3] = { 0.0, 0.0, 0.0 };
   double Background2[3] = { 0.0, 0.0, 0.0 };
   bool GradientBackground = false;
+  bool BackgroundKnown = true;
   double LastGatherSeconds = 0.0;
   double LastCompositeSeconds = 0.0;
   int MaskWidth = 8;

@@ -65,13 +65,13 @@ def figures(view):
     return {n: px.GetProperty(n).GetElement(0) for n in FIGURES}
 
 
-def load(p):
+def load(p, channels=3):
     r = vtkPNGReader()
     r.SetFileName(p)
     r.Update()
     d = r.GetOutput()
     nx, ny, _ = d.GetDimensions()
-    return vtk_to_numpy(d.GetPointData().GetScalars()).reshape(ny, nx, -1)[::-1, :, :3].astype(float) / 255.0
+    return vtk_to_numpy(d.GetPointData().GetScalars()).reshape(ny, nx, -1)[::-1, :, :channels].astype(float) / 255.0
 
 
 def red_pixels(img):
@@ -118,8 +118,16 @@ def main():
     check("both actors' kinds found (one marked)", info["MarkedActors"] == 1, str(info["MarkedActors"]))
     img = load(path)
     check("lines drawn", red_pixels(img).sum() > 500, "(%d red pixels)" % red_pixels(img).sum())
+    # A transparent screenshot (ParaView renders it twice, over white and over black, and takes
+    # alpha from the difference: the background must be this frame's, not the last one's).
+    clear = os.path.join(out, "view_np%d_transparent.png" % ranks)
+    SaveScreenshot(clear, view, ImageResolution=[W, H], TransparentBackground=1)
     if ranks > 1:
         compare(img, info, out, "on %d ranks" % ranks, check)
+        a, b = load(clear, 4), load(os.path.join(out, "view_np1_transparent.png"), 4)
+        rms = float(((a - b) ** 2).mean() ** 0.5)
+        check("transparent screenshot on %d ranks = one rank's (RGBA RMS <= 1e-3)" % ranks, rms <= 1e-3,
+              "(RMS %.2e, %d pixels differ)" % (rms, int((abs(a - b).max(axis=2) > 0).sum())))
     with open(os.path.join(out, "view_np%d.json" % ranks), "w") as f:
         json.dump(info, f)
     print("FAILED: " + ", ".join(failures) if failures else "all checks passed")

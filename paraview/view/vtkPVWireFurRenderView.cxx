@@ -11,6 +11,7 @@
 #include "vtkCommunicator.h"
 #include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
+#include "vtkPVRenderViewSettings.h"
 #include "vtkPVSynchronizedRenderer.h"
 #include "vtkProcessModule.h"
 #include "vtkPolyData.h"
@@ -182,10 +183,23 @@ void vtkPVWireFurRenderView::Render(bool interactive, bool skip_rendering)
   if (distributed)
   {
     this->RenderEmptyImages = true;
-    vtkRenderer* renderer = this->GetRenderer();
-    this->Pass->SetBackground(renderer->GetBackground());
-    this->Pass->SetBackground2(renderer->GetBackground2());
-    this->Pass->SetGradientBackground(renderer->GetGradientBackground());
+    // This frame's background, as vtkPVRenderView::UpdateBackground will set it (the renderer's
+    // still holds the last frame's: a transparent screenshot renders over white, then black).
+    int mode = this->ColorMode;
+    double b1[3], b2[3];
+    this->GetBackground(b1);
+    this->GetBackground2(b2);
+    if (this->GetUseRenderViewSettingsForBackground())
+    {
+      vtkPVRenderViewSettings* settings = vtkPVRenderViewSettings::GetInstance();
+      mode = settings->GetBackgroundColorMode();
+      settings->GetBackgroundColor(b1);
+      settings->GetBackground2Color(b2);
+    }
+    this->Pass->SetBackground(b1);
+    this->Pass->SetBackground2(b2);
+    this->Pass->SetGradientBackground(mode == GRADIENT);
+    this->Pass->SetBackgroundKnown(mode == DEFAULT || mode == GRADIENT);
   }
   // IceT's image reduction renders the global view into a corner of the window through its own
   // projection, which the A-buffer's camera does not follow: full size while distributed.
@@ -208,6 +222,12 @@ void vtkPVWireFurRenderView::Render(bool interactive, bool skip_rendering)
   this->ExchangeFigures = false;
   this->StillRenderImageReductionFactor = still;
   this->InteractiveRenderImageReductionFactor = moving;
+}
+
+void vtkPVWireFurRenderView::SetBackgroundColorMode(int mode)
+{
+  this->ColorMode = mode;
+  this->Superclass::SetBackgroundColorMode(mode);
 }
 
 void vtkPVWireFurRenderView::OnRendererEnd(vtkObject*, unsigned long, void* self, void*)

@@ -75,6 +75,9 @@ public:
   double GetGatherSeconds();
   double GetCompositeSeconds();
 
+  /// Recorded (vtkPVRenderView keeps it private) for the distributed frames' background.
+  void SetBackgroundColorMode(int mode) override;
+
 protected:
   vtkPVWireFurRenderView();
   ~vtkPVWireFurRenderView() override;
@@ -108,6 +111,7 @@ private:
     FigureCount
   };
   double Figures[FigureCount] = {};
+  int ColorMode = DEFAULT;       // BackgroundColorMode
   bool ExchangeFigures = false;  // in this frame (decided in Render, the same on every process)
 };
 
