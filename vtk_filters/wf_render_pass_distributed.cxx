@@ -3,7 +3,10 @@
 #include <vtkMultiProcessController.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 
@@ -81,37 +84,52 @@ std::vector<ActorPiece> gatherWires(vtkMultiProcessController* controller,
   if (!controller->AllGather(&length, lengths.data(), 1)) throw std::runtime_error("exchange of the lines' sizes failed");
   vtkIdType total = 0;
   for (int r = 0; r < ranks; ++r) offsets[size_t(r)] = total, total += lengths[size_t(r)];
+  // MPI's counts and displacements are ints (vtkMPICommunicator narrows them): every rank sees
+  // the same lengths, so every rank stops here together.
+  if (total > vtkIdType(std::numeric_limits<int>::max()))
+    throw std::runtime_error("the marked lines of all ranks (" + std::to_string(total / 3) +
+                             " points) are too many to gather over MPI (at most 2^31 - 1 doubles)");
   std::vector<double> all(static_cast<size_t>(total));
   if (!controller->AllGatherV(mine.data(), all.data(), length, lengths.data(), offsets.data()))
     throw std::runtime_error("exchange of the lines failed");
 
-  std::vector<ActorPiece> out(local.size());
+  // Per marked actor, the ranks' lines, grouped by what they are drawn with (the header after
+  // the counts, and whether they carry per-point colours): one piece per group, in the order of
+  // the group's first rank. The actor's property is the same on every rank, so there is one
+  // group but where ranks differ in their data (per-point colours on some ranks only: a partial
+  // array), and each rank's lines are then drawn as that rank alone would draw them.
+  std::vector<ActorPiece> out;
   std::vector<size_t> cursor(static_cast<size_t>(ranks));
   for (int r = 0; r < ranks; ++r) cursor[size_t(r)] = size_t(offsets[size_t(r)]);
   for (size_t i = 0; i < local.size(); ++i) {
-    ActorPiece& p = out[i];
-    p.actor = local[i].actor;
-    p.signature = local[i].signature;
-    p.material = local[i].material;
-    auto g = std::make_shared<wf::GeometryData>();
-    wf::PolylineSet& lines = g->lines;
-    bool described = false, anyColours = false;
-    // First pass: does any rank have colours (a rank without them gets white)?
-    for (int r = 0; r < ranks; ++r) {
-      const double* h = all.data() + cursor[size_t(r)];
-      if (h[0] == 1.0 && h[2] > 0.0) anyColours = true;
-    }
+    struct Group {
+      std::vector<double> key;  // has colours, then the header after the counts
+      ActorPiece piece;
+      std::shared_ptr<wf::GeometryData> geometry;
+    };
+    std::vector<Group> groups;
     for (int r = 0; r < ranks; ++r) {
       size_t& at = cursor[size_t(r)];
-      if (at + kHeader > size_t(offsets[size_t(r)] + lengths[size_t(r)])) throw std::runtime_error("a rank's lines are truncated");
+      const size_t end = size_t(offsets[size_t(r)] + lengths[size_t(r)]);
+      if (at + kHeader > end) throw std::runtime_error("a rank's lines are truncated");
       const double* h = all.data() + at;
       at += kHeader;
       if (h[0] != 1.0) continue;
-      const size_t np = size_t(h[1]), nc = size_t(h[2]), ns = size_t(h[3]);
-      if (at + 3 * np + 3 * nc + ns > size_t(offsets[size_t(r)] + lengths[size_t(r)]) || ns < 2)
+      const double np = h[1], nc = h[2], ns = h[3];
+      // (Counts are whole numbers below 2^53 that fit what this rank received.)
+      if (!(np >= 0 && nc >= 0 && ns >= 2) || np != std::floor(np) || nc != std::floor(nc) || ns != std::floor(ns) ||
+          3 * np + 3 * nc + ns > double(end - at) || (nc != 0 && nc != np))
         throw std::runtime_error("a rank's lines are malformed");
-      if (!described) {
-        described = true;
+      std::vector<double> key(h + 4, h + kHeader);
+      key.insert(key.begin(), nc > 0 ? 1.0 : 0.0);
+      auto g = std::find_if(groups.begin(), groups.end(), [&](const Group& x) { return x.key == key; });
+      if (g == groups.end()) {
+        groups.push_back(Group{std::move(key), ActorPiece{}, std::make_shared<wf::GeometryData>()});
+        g = groups.end() - 1;
+        ActorPiece& p = g->piece;
+        p.actor = local[i].actor;
+        p.signature = local[i].signature;
+        p.material = local[i].material;
         wf::WireDescription wd;
         wd.from = wf::WireDescription::From::Lines;
         wd.where = "actor/wire";
@@ -135,20 +153,24 @@ std::vector<ActorPiece> gatherWires(vtkMultiProcessController* controller,
         p.object.drawSurface = false;
         p.object.wire = std::move(wd);
       }
+      wf::PolylineSet& lines = g->geometry->lines;
+      // The core numbers points with 32 bits.
+      if (double(lines.points.size()) + np > double(std::numeric_limits<std::uint32_t>::max()))
+        throw std::runtime_error("more than 2^32 - 1 points in one marked actor's lines");
       const double* d = all.data() + at;
       const std::uint32_t base = std::uint32_t(lines.points.size());
-      for (size_t j = 0; j < np; ++j) lines.points.emplace_back(d[3 * j], d[3 * j + 1], d[3 * j + 2]);
-      d += 3 * np;
-      if (nc == np && nc > 0)
-        for (size_t j = 0; j < nc; ++j) lines.colours.emplace_back(float(d[3 * j]), float(d[3 * j + 1]), float(d[3 * j + 2]));
-      else if (anyColours)
-        lines.colours.resize(lines.points.size(), glm::vec3(1.0f));
-      d += 3 * nc;
+      for (size_t j = 0; j < size_t(np); ++j) lines.points.emplace_back(d[3 * j], d[3 * j + 1], d[3 * j + 2]);
+      d += 3 * size_t(np);
+      for (size_t j = 0; j < size_t(nc); ++j) lines.colours.emplace_back(float(d[3 * j]), float(d[3 * j + 1]), float(d[3 * j + 2]));
+      d += 3 * size_t(nc);
       if (lines.starts.empty()) lines.starts.push_back(0);
-      for (size_t j = 1; j < ns; ++j) lines.starts.push_back(base + std::uint32_t(d[j]));
-      at += 3 * np + 3 * nc + ns;
+      for (size_t j = 1; j < size_t(ns); ++j) lines.starts.push_back(base + std::uint32_t(d[j]));
+      at += 3 * size_t(np) + 3 * size_t(nc) + size_t(ns);
     }
-    if (described) p.object.geometry = std::move(g);
+    for (Group& g : groups) {
+      g.piece.object.geometry = std::move(g.geometry);
+      out.push_back(std::move(g.piece));
+    }
   }
   return out;
 }

@@ -31,8 +31,9 @@ WIREFURFILTERS_EXPORT void bandOf(int rank, int ranks, int height, int& begin, i
 bool sameOnEveryRank(vtkMultiProcessController* controller, const std::vector<double>& values);
 
 /// The marked pieces with every rank's lines in rank order (piece i of every rank is the same
-/// actor). The wire's description and materials come from the lowest rank whose piece has
-/// lines. Surfaces of marked pieces are not gathered (dropped, counted in `droppedSurfaces`).
+/// actor): one piece per actor and per way its lines are drawn (wire description, material,
+/// per-point colours or none), so that ranks whose data differ (colours on some only) draw as
+/// each would alone; usually one per actor. Surfaces of marked pieces are not gathered (dropped, counted in `droppedSurfaces`).
 /// Throws std::runtime_error when an exchange fails.
 std::vector<ActorPiece> gatherWires(vtkMultiProcessController* controller,
                                     const std::vector<ActorPiece>& local, int& droppedSurfaces);
