@@ -113,6 +113,7 @@ public:
   wf::Scene Scene;                        ///< the pieces assembled (camera and lights per frame)
   bool SceneFailed = false;               ///< the last build failed: nothing of ours is drawn
   bool Gathered = false;                  ///< Scene holds every process's lines (distributed)
+  bool SaidRanksDiffer = false;           ///< the ranks' marked actors differ: said once
   std::vector<vtkProp*> DelegateProps, OverlayProps;
   std::vector<vtkActor*> Marked;
   std::vector<float> WindowDepth, ViewDepth;
@@ -586,7 +587,7 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
   // (not culled per process), and every process must agree on them and on the viewport, else
   // each renders on its own (every process sees the same comparison, so all fall back together).
   vtkMultiProcessController* controller =
-    this->Controller && this->Controller->GetNumberOfProcesses() > 1 ? this->Controller : nullptr;
+    this->Controller && this->ControllerActive && this->Controller->GetNumberOfProcesses() > 1 ? this->Controller : nullptr;
   if (controller)
   {
     std::vector<vtkActor*> local = in.Marked;
@@ -600,12 +601,18 @@ void vtkWireFurRenderPass::Render(const vtkRenderState* s)
     ren->GetTiledSizeAndOrigin(&vw, &vh, &vx, &vy);
     if (!wfvtk::sameOnEveryRank(controller, { double(in.Marked.size()), double(vw), double(vh), in.Core ? 1.0 : 0.0 }))
     {
-      vtkErrorMacro(<< "the processes differ in their marked actors or viewport: each draws its own lines");
+      // Said once until the ranks agree again (not every frame).
+      if (!in.SaidRanksDiffer)
+        vtkErrorMacro(<< "the processes differ in their marked actors or viewport: each draws its own lines");
+      in.SaidRanksDiffer = true;
       controller = nullptr;
       in.Marked = local;
     }
     else
+    {
+      in.SaidRanksDiffer = false;
       anyMarked = !in.Marked.empty();
+    }
   }
   this->LastMarkedProps = int(in.Marked.size());
   this->LastCoreSeconds = 0.0;

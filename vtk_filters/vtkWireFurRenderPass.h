@@ -182,6 +182,12 @@ public:
   /// compositor clears them to transparent. Null (the default): every process on its own.
   virtual void SetController(vtkMultiProcessController* controller);
   vtkGetObjectMacro(Controller, vtkMultiProcessController);
+  /// Off: the frames rendered now are not collective (a redraw of one process's window), and
+  /// each process draws its own lines although a controller is set. A host that knows which of
+  /// its renders are collective (the WireFur ParaView view) turns it on around them only, so
+  /// that a stray render on one rank cannot wait for the others for ever. Default on.
+  vtkSetMacro(ControllerActive, bool);
+  vtkGetMacro(ControllerActive, bool);
   /// The background under the lines in a distributed frame: Background at the bottom,
   /// Background2 at the top when GradientBackground is on (vtkViewport's vertical gradient).
   vtkSetVector3Macro(Background, double);
@@ -246,6 +252,7 @@ protected:
   double Background2[3] = { 0.0, 0.0, 0.0 };
   bool GradientBackground = false;
   bool BackgroundKnown = true;
+  bool ControllerActive = true;
   double LastGatherSeconds = 0.0;
   double LastCompositeSeconds = 0.0;
   int MaskWidth = 8;

@@ -140,7 +140,7 @@ void vtkPVWireFurRenderView::MarkActors()
   // is empty draws the others' lines). The ranks hold the same actors in the same order (the
   // representations are created on all of them); when they do not, each decides alone and the
   // pass falls back to drawing each rank's own lines.
-  if (vtkMultiProcessController* c = this->Pass->GetController())
+  if (vtkMultiProcessController* c = this->Pass->GetControllerActive() ? this->Pass->GetController() : nullptr)
   {
     const int n = int(classes.size());
     int range[2] = { n, -n }, all[2] = { 0, 0 };
@@ -176,7 +176,10 @@ void vtkPVWireFurRenderView::Render(bool interactive, bool skip_rendering)
     (interactive && this->GetUseLODForInteractiveRender() ? this->GetUseDistributedRenderingForLODRender()
                                                           : this->GetUseDistributedRenderingForRender()) &&
     !this->GetUseOrderedCompositing() && !this->InTileDisplayMode() && !this->InCaveDisplayMode();
+  // The controller stays set between frames (changing it rebuilds the pass's scene); it is
+  // active only inside this collective render (a redraw of one rank's window is not one).
   this->Pass->SetController(distributed ? global : nullptr);
+  this->Pass->SetControllerActive(distributed);
   // FXAA (on by default in ParaView, applied to the composited image under MPI) would blur the
   // A-buffer's exact coverage: off in this view.
   this->UseFXAA = false;
@@ -219,6 +222,7 @@ void vtkPVWireFurRenderView::Render(bool interactive, bool skip_rendering)
   this->ExchangeFigures = remote && !skip_rendering && !this->GetMakingSelection() &&
     !this->InTileDisplayMode() && !this->InCaveDisplayMode();
   this->Superclass::Render(interactive, skip_rendering);
+  this->Pass->SetControllerActive(false);
   this->ExchangeFigures = false;
   this->StillRenderImageReductionFactor = still;
   this->InteractiveRenderImageReductionFactor = moving;
