@@ -59,6 +59,25 @@ def build_scene():
     return view
 
 
+def build_thick_lines():
+    """Thick lines (9 px) alone, redistributed: the outer half of the border lines lies outside
+    every rank's bounds, which IceT reads back only (the view shares widened bounds)."""
+    view = CreateView("WireFurRenderView")
+    view.ViewSize = [320, 240]
+    view.OrientationAxesVisibility = 0
+    view.ShowErrorEstimate = 0
+    grid = RedistributeDataSet(Input=ExtractEdges(Input=Plane(XResolution=6, YResolution=6)))
+    grid.BoundaryMode = "Assign to one region"
+    d = Show(grid, view)
+    d.ColorArrayName = ["POINTS", ""]
+    d.AmbientColor = d.DiffuseColor = [1, 0.1, 0.05]
+    d.LineWidth = 9
+    view.CameraPosition = [0, 0, 3]
+    view.CameraFocalPoint = [0, 0, 0]
+    view.CameraViewUp = [0, 1, 0]
+    return view
+
+
 def figures(view):
     px = view.SMProxy
     px.UpdatePropertyInformation()
@@ -122,8 +141,16 @@ def main():
     # alpha from the difference: the background must be this frame's, not the last one's).
     clear = os.path.join(out, "view_np%d_transparent.png" % ranks)
     SaveScreenshot(clear, view, ImageResolution=[W, H], TransparentBackground=1)
+    thick_view = build_thick_lines()
+    Render(thick_view)
+    thick = os.path.join(out, "view_thick_np%d.png" % ranks)
+    SaveScreenshot(thick, thick_view, ImageResolution=[320, 240], TransparentBackground=0)
     if ranks > 1:
         compare(img, info, out, "on %d ranks" % ranks, check)
+        a, b = load(thick), load(os.path.join(out, "view_thick_np1.png"))
+        rms = float(((a - b) ** 2).mean() ** 0.5)
+        check("thick lines at the data's edge on %d ranks = one rank's (RGB RMS <= 1e-3)" % ranks, rms <= 1e-3,
+              "(RMS %.2e, %d pixels differ)" % (rms, int((abs(a - b).max(axis=2) > 0).sum())))
         a, b = load(clear, 4), load(os.path.join(out, "view_np1_transparent.png"), 4)
         rms = float(((a - b) ** 2).mean() ** 0.5)
         check("transparent screenshot on %d ranks = one rank's (RGBA RMS <= 1e-3)" % ranks, rms <= 1e-3,

@@ -3,11 +3,15 @@
 #include "vtkActor.h"
 #include "vtkAlgorithm.h"
 #include "vtkAlgorithmOutput.h"
+#include "vtkBoundingBox.h"
+#include "vtkCamera.h"
 #include "vtkCallbackCommand.h"
 #include "vtkCommand.h"
 #include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
+#include "vtkInformation.h"
 #include "vtkMapper.h"
+#include "vtkMath.h"
 #include "vtkCommunicator.h"
 #include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
@@ -16,6 +20,7 @@
 #include "vtkProcessModule.h"
 #include "vtkPolyData.h"
 #include "vtkProperty.h"
+#include "vtkProp3D.h"
 #include "vtkPropCollection.h"
 #include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
@@ -24,6 +29,7 @@
 #include "vtkWireFurRenderPass.h"
 
 #include <cstdio>
+#include <cmath>
 #include <cstring>
 #include <vector>
 
@@ -31,6 +37,20 @@ vtkStandardNewMacro(vtkPVWireFurRenderView);
 
 namespace
 {
+// A prop that draws nothing and has the bounds it is given (ShareBounds).
+class BoundsOnlyProp : public vtkProp3D
+{
+public:
+  static BoundsOnlyProp* New();
+  vtkTypeMacro(BoundsOnlyProp, vtkProp3D);
+  double* GetBounds() override { return this->Box; }
+  void SetBox(const double b[6]) { std::copy(b, b + 6, this->Box); }
+
+private:
+  double Box[6] = { 0, 0, 0, 0, 0, 0 };
+};
+vtkStandardNewMacro(BoundsOnlyProp);
+
 // The local half of drawnAsWire: 0 not a candidate, 1 a candidate whose data has no polygons
 // and no lines (an empty piece), 2 lines and no polygons, 3 polygons or strips somewhere.
 // True when the actor should be drawn through the A-buffer: a polygonal mapper (not glyphs, not
@@ -102,6 +122,11 @@ vtkPVWireFurRenderView::vtkPVWireFurRenderView()
   this->RendererObserver->SetCallback(&vtkPVWireFurRenderView::OnRendererEnd);
   this->RendererObserver->SetClientData(this);
   this->GetRenderer()->AddObserver(vtkCommand::EndEvent, this->RendererObserver, -1.0f);
+  this->SharedBounds = vtkSmartPointer<BoundsOnlyProp>::New();
+  this->SharedBounds->VisibilityOff();
+  this->SharedBounds->PickableOff();
+  this->SharedBounds->DragableOff();
+  this->GetRenderer()->AddActor(this->SharedBounds);
 
   vtkTextProperty* text = this->Annotation->GetTextProperty();
   text->SetFontSize(11);
@@ -118,6 +143,88 @@ vtkPVWireFurRenderView::~vtkPVWireFurRenderView()
 {
   this->Pass->RemoveObserver(this->PassObserver);
   this->GetRenderer()->RemoveObserver(this->RendererObserver);
+  this->GetRenderer()->RemoveActor(this->SharedBounds);
+}
+
+void vtkPVWireFurRenderView::ShareBounds(vtkMultiProcessController* controller)
+{
+  this->SharedBounds->VisibilityOff();
+  if (!controller)
+  {
+    return;
+  }
+  vtkRenderer* renderer = this->GetRenderer();
+  double local[6];
+  renderer->ComputeVisiblePropBounds(local);
+  // Every rank's bounds (as -min, max) and the widest line: the half width in world units
+  // (WIREFUR_WIRE_THICKNESS) and in pixels (LineWidth), of every actor that may be drawn as lines.
+  double mine[8], all[8];
+  const bool valid = vtkMath::AreBoundsInitialized(local) && local[0] <= local[1];
+  for (int k = 0; k < 3; ++k)
+  {
+    mine[k] = valid ? -local[2 * k] : -VTK_DOUBLE_MAX;
+    mine[3 + k] = valid ? local[2 * k + 1] : -VTK_DOUBLE_MAX;
+  }
+  mine[6] = mine[7] = 0.0;
+  vtkCollectionSimpleIterator it;
+  vtkPropCollection* props = renderer->GetViewProps();
+  props->InitTraversal(it);
+  while (vtkProp* prop = props->GetNextProp(it))
+  {
+    auto* actor = vtkActor::SafeDownCast(prop);
+    if (!actor || !actor->GetVisibility())
+    {
+      continue;
+    }
+    vtkInformation* keys = actor->GetPropertyKeys();
+    if (keys && keys->Has(vtkWireFurRenderPass::WIREFUR_WIRE_THICKNESS()))
+    {
+      mine[6] = std::max(mine[6], 0.5 * keys->Get(vtkWireFurRenderPass::WIREFUR_WIRE_THICKNESS()));
+    }
+    mine[7] = std::max(mine[7], 0.5 * actor->GetProperty()->GetLineWidth());
+  }
+  if (!controller->AllReduce(mine, all, 8, vtkCommunicator::MAX_OP) || !(all[0] > -VTK_DOUBLE_MAX))
+  {
+    return;
+  }
+  double box[6];
+  for (int k = 0; k < 3; ++k)
+  {
+    box[2 * k] = -all[k];
+    box[2 * k + 1] = all[3 + k];
+  }
+  // The width of a pixel at the box's farthest corner (the widest a pixel is over the box),
+  // times the half width in pixels and one pixel of antialiasing.
+  vtkCamera* camera = renderer->GetActiveCamera();
+  const int height = std::max(1, renderer->GetSize()[1]);
+  double pixel = 0.0;
+  if (camera->GetParallelProjection())
+  {
+    pixel = 2.0 * camera->GetParallelScale() / height;
+  }
+  else
+  {
+    double eye[3], far = 0.0;
+    camera->GetPosition(eye);
+    for (int c = 0; c < 8; ++c)
+    {
+      const double p[3] = { box[(c & 1) ? 1 : 0], box[(c & 2) ? 3 : 2], box[(c & 4) ? 5 : 4] };
+      far = std::max(far, std::sqrt(vtkMath::Distance2BetweenPoints(p, eye)));
+    }
+    pixel = 2.0 * far * std::tan(vtkMath::RadiansFromDegrees(0.5 * camera->GetViewAngle())) / height;
+  }
+  const double margin = all[6] + (all[7] + 1.0) * pixel;
+  if (!std::isfinite(margin))
+  {
+    return;
+  }
+  for (int k = 0; k < 3; ++k)
+  {
+    box[2 * k] -= margin;
+    box[2 * k + 1] += margin;
+  }
+  static_cast<BoundsOnlyProp*>(this->SharedBounds.Get())->SetBox(box);
+  this->SharedBounds->VisibilityOn();
 }
 
 void vtkPVWireFurRenderView::MarkActors()
@@ -180,6 +287,7 @@ void vtkPVWireFurRenderView::Render(bool interactive, bool skip_rendering)
   // active only inside this collective render (a redraw of one rank's window is not one).
   this->Pass->SetController(distributed ? global : nullptr);
   this->Pass->SetControllerActive(distributed);
+  this->ShareBounds(distributed ? global : nullptr);
   // FXAA (on by default in ParaView, applied to the composited image under MPI) would blur the
   // A-buffer's exact coverage: off in this view.
   this->UseFXAA = false;

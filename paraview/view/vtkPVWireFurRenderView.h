@@ -26,9 +26,12 @@
 
 #include "WireFurParaViewViewModule.h"
 #include "vtkNew.h"
+#include "vtkSmartPointer.h"
 #include "vtkPVRenderView.h"
 
 class vtkCallbackCommand;
+class vtkMultiProcessController;
+class vtkProp3D;
 class vtkTextActor;
 class vtkWireFurRenderPass;
 
@@ -95,6 +98,11 @@ private:
   vtkNew<vtkTextActor> Annotation;
   vtkNew<vtkCallbackCommand> PassObserver;
   vtkNew<vtkCallbackCommand> RendererObserver;
+  // An invisible prop whose bounds are every rank's, widened by the lines' half width, shown
+  // in distributed frames only: IceT reads back only the window area each rank's bounds
+  // project to, and every rank's picture holds every rank's lines.
+  vtkSmartPointer<vtkProp3D> SharedBounds;
+  void ShareBounds(vtkMultiProcessController* controller);
   bool ShowErrorEstimate = true;
   // The figures shown and reported: this process's pass's, or, on a client whose frame the
   // server rendered, the server's. The order of kFigureNames in the .cxx.
