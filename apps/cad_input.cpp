@@ -24,7 +24,6 @@
 #endif
 
 #include <signal.h>
-#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -365,18 +364,7 @@ int runCadWorker(const std::vector<std::string>& a) {
     std::fprintf(stderr, "wirefur: cad-worker is internal (FILE OUT DEFLECTION ABSOLUTE ANGULAR ISOS THREADS PROGRESS)\n");
     return 1;
   }
-#if !defined(__SANITIZE_ADDRESS__)
-  // A memory cap: OpenCASCADE's mesher can be talked into allocating without end by one wrong
-  // digit (a parameter range of 1e14, found by fuzzing). Half the machine's memory, between 2 and
-  // 16 GiB of address space; the allocation then fails (or the worker dies) instead of the
-  // machine swapping. Not under AddressSanitizer, whose shadow memory needs the address space.
-  {
-    const double phys = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE));
-    const double cap = std::clamp(0.5 * phys, 2.0 * (1 << 30), 16.0 * (1 << 30));
-    const rlimit lim{rlim_t(cap), rlim_t(cap)};
-    setrlimit(RLIMIT_AS, &lim);
-  }
-#endif
+  wf::capWorkerMemory();
   CadOptions o;
   o.deflection = std::strtod(a[2].c_str(), nullptr);
   o.absoluteDeflection = a[3] == "1";

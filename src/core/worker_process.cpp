@@ -3,10 +3,12 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstdlib>
@@ -64,6 +66,15 @@ WorkerExit runWorker(const std::string& executable, const std::vector<std::strin
     r.status = WEXITSTATUS(status);
   }
   return r;
+}
+
+void capWorkerMemory() {
+#if !defined(__SANITIZE_ADDRESS__)
+  const double phys = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE));
+  const double cap = std::clamp(0.5 * phys, 2.0 * (1 << 30), 16.0 * (1 << 30));
+  const rlimit lim{rlim_t(cap), rlim_t(cap)};
+  setrlimit(RLIMIT_AS, &lim);
+#endif
 }
 
 std::string signalDescription(int sig) {

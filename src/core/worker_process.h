@@ -25,6 +25,12 @@ struct WorkerExit {
 WorkerExit runWorker(const std::string& executable, const std::vector<std::string>& args,
                      double timeoutSeconds, bool silenceStderr);
 
+/// Called in a worker: caps its address space at half the machine's memory, between 2 and
+/// 16 GiB, so that a parser talked into allocating without end (OpenCASCADE's mesher, by one
+/// wrong digit: a parameter range of 1e14, found by fuzzing) fails or dies instead of the machine
+/// swapping. Nothing under AddressSanitizer, whose shadow memory needs the address space.
+void capWorkerMemory();
+
 /// "signal 11, Segmentation fault".
 std::string signalDescription(int signal);
 

@@ -4,6 +4,8 @@
 #include "vtkWireFurCADReader.h"
 #include "wf_cad_worker.h"
 
+#include "core/worker_process.h"
+
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkNew.h"
@@ -11,10 +13,6 @@
 #include "vtkStringArray.h"
 #include "vtkXMLPolyDataWriter.h"
 
-#include <sys/resource.h>
-#include <unistd.h>
-
-#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -42,18 +40,7 @@ int main(int argc, char** argv)
     std::fprintf(stderr, "%s is vtkWireFurCADReader's worker process, not a command\n", wfcad::kWorkerName);
     return 1;
   }
-#if !defined(__SANITIZE_ADDRESS__)
-  // OpenCASCADE's mesher can be talked into allocating without end by one wrong digit (a
-  // parameter range of 1e14, found by fuzzing): half the machine's memory, between 2 and 16 GiB
-  // of address space, so that the allocation fails here instead of the host swapping. Not under
-  // AddressSanitizer, whose shadow memory needs the address space.
-  {
-    const double phys = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE));
-    const double cap = std::clamp(0.5 * phys, 2.0 * (1 << 30), 16.0 * (1 << 30));
-    const rlimit lim{ rlim_t(cap), rlim_t(cap) };
-    setrlimit(RLIMIT_AS, &lim);
-  }
-#endif
+  wf::capWorkerMemory();  // (OpenCASCADE can be talked into allocating without end)
   const std::string folder = argv[2];
   vtkNew<vtkWireFurCADReader> reader;
   reader->SetFileName(argv[1]);
