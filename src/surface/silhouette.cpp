@@ -269,11 +269,23 @@ class Tracer {
       }
       line.clear();
     };
+    // A point within 1e-6 px of the one before it on screen is left out: along a degenerate edge
+    // (a pole: the corner of a CAD fillet blend) the root can run where every point is the pole,
+    // up to rounding, and a curve left with one point is no curve (it drew a dot at each corner).
+    glm::dvec2 lastScreen(NAN);
     auto push = [&](const glm::dvec2& uvIn) {  // a non-finite point splits the curve
       const glm::dvec2 uv = wrap(uvIn);
       const glm::dvec3 P = s_.evaluate(uv.x, uv.y).P;
-      if (std::isfinite(P.x) && std::isfinite(P.y) && std::isfinite(P.z)) line.push_back(P);
-      else flush();
+      if (!(std::isfinite(P.x) && std::isfinite(P.y) && std::isfinite(P.z))) {
+        flush();
+        return;
+      }
+      glm::dvec2 q(NAN);
+      const glm::dvec3 e = view_.toEye(P);
+      if (!view_.perspective || -e.z > 0) q = view_.project(e);
+      if (!line.empty() && glm::length(q - lastScreen) <= 1e-6) return;
+      lastScreen = q;
+      line.push_back(P);
     };
     // The mask is over the unit square of the domain (as fur and scales read it: a CAD face's
     // FaceMask clamps (s, t) to [0, 1]^2)

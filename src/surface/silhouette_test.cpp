@@ -281,5 +281,56 @@ TEST(Silhouette, ObliquePlaneSeenEdgeOnHasNone) {
   EXPECT_EQ(lines.points.size(), 0u);
 }
 
+// A degenerate edge (a cone's apex, the corner of a CAD fillet blend): the normal's limit there
+// depends on the direction, so g = N . V changes sign along the edge, and the trace can run
+// along it, where every point is the apex. The true silhouette is the cone's two lines through
+// the apex: every polyline drawn has length, no point repeats the one before it (a run of them
+// drew a dot at each corner of product.step's tray), and each point is on one of the two lines.
+class Cone final : public Surface {
+ public:
+  ParameterDomain domain() const override { return {0.0, 2 * std::numbers::pi, 0.0, 1.0, true, false}; }
+  SurfacePoint evaluate(double u, double v) const override {
+    return {{v * std::cos(u), v * std::sin(u), v}, {-v * std::sin(u), v * std::cos(u), 0.0}, {std::cos(u), std::sin(u), 1.0}};
+  }
+  std::string describe() const override { return "cone"; }
+};
+TEST(Silhouette, ADegenerateEdgeDrawsNoRunOfOnePoint) {
+  const Cone cone;
+  const glm::dvec3 eye(3.0, -2.0, 0.5);
+  PolylineSet lines;
+  SilhouetteStats st;
+  traceSilhouette(cone, nullptr, viewFrom(eye), SilhouetteOptions{}, lines, st);
+  ASSERT_GT(lines.polylineCount(), 0u);
+  // The lines: the generators at u where the cone's normal (cos u, sin u, -1) is at right angles
+  // to eye - P, i.e. eye . (cos u, sin u, -1) = 0.
+  size_t repeats = 0, pointless = 0;
+  double far = 0;
+  for (size_t k = 0; k < lines.polylineCount(); ++k) {
+    double length = 0;
+    for (std::uint32_t i = lines.starts[k]; i < lines.starts[k + 1]; ++i) {
+      const glm::dvec3 P = lines.points[i];
+      if (i > lines.starts[k]) {
+        const double step = glm::length(P - glm::dvec3(lines.points[i - 1]));
+        repeats += step == 0.0;
+        length += step;
+      }
+      // Distance from the nearer generator line through the apex.
+      const double r = std::hypot(P.x, P.y);
+      double best = r;  // (the apex itself)
+      for (double sign : {-1.0, 1.0}) {
+        // eye.x cos u + eye.y sin u = eye.z: u = atan2(eye.y, eye.x) +- acos(eye.z / |eye.xy|)
+        const double u = std::atan2(eye.y, eye.x) + sign * std::acos(eye.z / std::hypot(eye.x, eye.y));
+        const glm::dvec3 d = glm::normalize(glm::dvec3(std::cos(u), std::sin(u), 1.0));
+        best = std::min(best, glm::length(P - glm::dot(P, d) * d));
+      }
+      far = std::max(far, best);
+    }
+    pointless += !(length > 0);
+  }
+  EXPECT_EQ(repeats, 0u);
+  EXPECT_EQ(pointless, 0u);
+  EXPECT_LT(far, 1e-3) << "a point off the cone's two silhouette lines";
+}
+
 }  // namespace
 }  // namespace wf

@@ -119,3 +119,75 @@ TEST(CadSilhouetteFilter, EdgeVisibilityOfExactSilhouettesAgreesWithTheTrueTorus
   f->Update();
   EXPECT_GT(disagreements(f->GetOutput(), checked), 0);
 }
+
+// product.step (a tray whose vertical and bottom fillets meet at its corners in blend faces with
+// a degenerate edge, a pole): seen obliquely from above, the exact path's curves lie within 1% of
+// the model's size of the mesh path's (a different algorithm; the mesh path's own error is the
+// tessellation's), and none is a run of one point. The blends' traces along their degenerate
+// edges came out as four polylines of 33 copies of a corner point each, 16.5 units (0.37 of the
+// model) from any mesh silhouette, drawn as a dot at each corner.
+TEST(CadSilhouetteFilter, ProductTrayExactAgreesWithTheMeshAndHasNoPointRuns) {
+  vtkNew<vtkWireFurCADReader> reader;
+  const std::string path = std::string(WIREFUR_SOURCE_DIR) + "/data/cad/product.step";
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  double b[6];
+  reader->GetOutput(0)->GetBounds(b);
+  const double c[3] = {(b[0] + b[1]) / 2, (b[2] + b[3]) / 2, (b[4] + b[5]) / 2};
+  const double size = std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) + (b[5] - b[4]) * (b[5] - b[4]));
+  vtkNew<vtkCamera> camera;
+  camera->SetPosition(c[0] + 1.1 * size, c[1] - 1.4 * size, c[2] + 1.0 * size);
+  camera->SetFocalPoint(c);
+  camera->SetViewUp(0, 0, 1);
+  vtkNew<vtkWireFurSilhouette> exact, mesh;
+  for (vtkWireFurSilhouette* f : {exact.Get(), mesh.Get()}) {
+    f->SetInputConnection(reader->GetOutputPort(0));
+    f->SetCamera(camera);
+    f->SetViewportSize(800, 600);
+  }
+  mesh->UseExactSurfacesOff();
+  exact->Update();
+  mesh->Update();
+  ASSERT_TRUE(exact->UsedExactSurfaces());
+  vtkPolyData* e = exact->GetOutput();
+  vtkPolyData* m = mesh->GetOutput();
+  ASSERT_GT(e->GetNumberOfLines(), 4);
+  ASSERT_GT(m->GetNumberOfLines(), 4);
+  // Chords of the mesh path's polylines, for the distance from each exact point.
+  std::vector<std::pair<glm::dvec3, glm::dvec3>> chords;
+  vtkNew<vtkIdList> ids;
+  m->GetLines()->InitTraversal();
+  while (m->GetLines()->GetNextCell(ids))
+    for (vtkIdType k = 1; k < ids->GetNumberOfIds(); ++k) {
+      glm::dvec3 p, q;
+      m->GetPoint(ids->GetId(k - 1), &p.x);
+      m->GetPoint(ids->GetId(k), &q.x);
+      chords.emplace_back(p, q);
+    }
+  double far = 0;
+  int runs = 0, repeats = 0;
+  e->GetLines()->InitTraversal();
+  while (e->GetLines()->GetNextCell(ids)) {
+    double span = 0;
+    glm::dvec3 first, prev;
+    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k) {
+      glm::dvec3 p;
+      e->GetPoint(ids->GetId(k), &p.x);
+      if (k == 0) first = p;
+      else repeats += p == prev;
+      span = std::max(span, glm::length(p - first));
+      prev = p;
+      double best = HUGE_VAL;
+      for (const auto& [a, bb] : chords) {
+        const glm::dvec3 d = bb - a;
+        const double t = glm::dot(d, d) > 0 ? std::clamp(glm::dot(p - a, d) / glm::dot(d, d), 0.0, 1.0) : 0.0;
+        best = std::min(best, glm::length(a + t * d - p));
+      }
+      far = std::max(far, best);
+    }
+    runs += !(span > 0);
+  }
+  EXPECT_EQ(runs, 0);
+  EXPECT_EQ(repeats, 0);
+  EXPECT_LT(far, 0.01 * size) << "an exact silhouette point far from every mesh silhouette";
+}
