@@ -29,6 +29,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -293,30 +294,40 @@ CadGeometry readGeometry(BlobReader& r) {
   return g;
 }
 
+// "out of memory" or the worker's last words on stderr, for a worker that left no result.
+std::string workerFailureDetail(const wf::WorkerExit& e, const std::string& stderrFile) {
+  if (!e.signalled && e.status == wf::kWorkerExitOutOfMemory) {
+    char cap[32];
+    std::snprintf(cap, sizeof cap, "%.1f", wf::workerMemoryCap() / double(1 << 30));
+    return std::string(", out of memory under its cap of ") + cap + " GiB";
+  }
+  const std::string words = stderrFile.empty() ? std::string() : wf::lastLineOf(stderrFile);
+  return words.empty() ? std::string() : ": " + words;
+}
+
 CadGeometry readCadInWorker(const std::string& path, const CadOptions& o) {
   const wf::TemporaryFolder folder("wirefur-cad-");
   if (folder.path().empty()) throw std::runtime_error("cannot make a temporary folder for the CAD worker");
   const std::string out = folder.path() + "/result";
-  char number[64];
-  std::vector<std::string> args = {"wirefur", "cad-worker", path, out};
-  std::snprintf(number, sizeof number, "%.17g", o.deflection);
-  args.push_back(number);
+  std::vector<std::string> args = {"wirefur", "cad-worker", path, out, std::to_string(getpid()),
+                                   wf::workerNumber(o.timeoutSeconds)};
+  args.push_back(wf::workerNumber(o.deflection));
   args.push_back(o.absoluteDeflection ? "1" : "0");
-  std::snprintf(number, sizeof number, "%.17g", o.angularDegrees);
-  args.push_back(number);
+  args.push_back(wf::workerNumber(o.angularDegrees));
   args.push_back(std::to_string(o.isos));
   args.push_back(std::to_string(o.threads));
   args.push_back(o.showProgress ? "1" : "0");
-  // The worker's stderr carries its progress lines on a terminal; elsewhere it is silenced, so
-  // that what a dying worker prints (std::terminate's words) does not add to the one line.
-  const wf::WorkerExit e = wf::runWorker("/proc/self/exe", args, o.timeoutSeconds, !o.showProgress);
+  // The worker's stderr carries its progress lines on a terminal; elsewhere it goes to a file,
+  // whose last line explains a worker that could not run or write (std::terminate's words or a
+  // dying loader's), without adding lines of its own to the one line.
+  wf::WorkerOptions run;
+  run.timeoutSeconds = o.timeoutSeconds;
+  run.stderrPath = o.showProgress ? std::string() : folder.path() + "/stderr";
+  const wf::WorkerExit e = wf::runWorker("/proc/self/exe", args, run);
   if (!e.started) throw std::runtime_error("cannot start the CAD worker: " + e.startError);
-  if (e.timedOut) {
-    char limit[32];
-    std::snprintf(limit, sizeof limit, "%g", o.timeoutSeconds);
-    throw UsageError(path + ": reading and meshing did not finish within " + limit +
+  if (e.timedOut)
+    throw UsageError(path + ": reading and meshing did not finish within " + wf::workerNumber(o.timeoutSeconds) +
                      " s (OpenCASCADE may loop on a corrupt file; --cad-timeout S sets the limit)");
-  }
   if (e.signalled)
     throw UsageError(path + ": OpenCASCADE crashed reading this file (" + wf::signalDescription(e.signal) +
                      (e.signal == SIGKILL || e.signal == SIGABRT ? ", out of memory?" : "") +
@@ -326,11 +337,18 @@ CadGeometry readCadInWorker(const std::string& path, const CadOptions& o) {
   ss << in.rdbuf();
   const std::string bytes = ss.str();
   // No result at all: the worker died inside OpenCASCADE without a signal reaching us (a
-  // sanitizer's handler, for one, turns the crash into an exit status).
-  if (bytes.size() < sizeof kBlobMagic || std::memcmp(bytes.data(), kBlobMagic, sizeof kBlobMagic) != 0)
-    throw UsageError(path + ": OpenCASCADE crashed reading this file (the worker stopped with status " +
-                     std::to_string(e.status) +
-                     " and no result): it is corrupt, or uses something OpenCASCADE 7.6 cannot read");
+  // sanitizer's handler, for one, turns the crash into an exit status), ran out of memory, or
+  // could not run or write. (Whether the status is known or not: the blob is written last.)
+  if (bytes.size() < sizeof kBlobMagic || std::memcmp(bytes.data(), kBlobMagic, sizeof kBlobMagic) != 0) {
+    if (!e.signalled && (e.status == wf::kWorkerExitWriteFailed || e.status == wf::kWorkerExitCannotRun ||
+                         e.status == wf::kWorkerExitUsage))
+      throw std::runtime_error("the CAD worker failed (status " + std::to_string(e.status) + ")" +
+                               workerFailureDetail(e, run.stderrPath));
+    throw UsageError(path + ": OpenCASCADE crashed reading this file (the worker stopped with " +
+                     (e.statusUnknown ? std::string("an unknown status") : "status " + std::to_string(e.status)) +
+                     " and no result" + workerFailureDetail(e, run.stderrPath) +
+                     "): it is corrupt, or uses something OpenCASCADE 7.6 cannot read");
+  }
   const std::string body = bytes.substr(sizeof kBlobMagic);
   BlobReader r(body);
   const std::uint8_t kind = r.pod<std::uint8_t>();
@@ -360,18 +378,17 @@ CadGeometry readCad(const std::string& path, const CadOptions& o, bool withSurfa
 }
 
 int runCadWorker(const std::vector<std::string>& a) {
-  if (a.size() != 8) {
-    std::fprintf(stderr, "wirefur: cad-worker is internal (FILE OUT DEFLECTION ABSOLUTE ANGULAR ISOS THREADS PROGRESS)\n");
-    return 1;
-  }
-  wf::capWorkerMemory();
   CadOptions o;
-  o.deflection = std::strtod(a[2].c_str(), nullptr);
-  o.absoluteDeflection = a[3] == "1";
-  o.angularDegrees = std::strtod(a[4].c_str(), nullptr);
-  o.isos = std::atoi(a[5].c_str());
-  o.threads = std::atoi(a[6].c_str());
-  o.showProgress = a[7] == "1";
+  if (a.size() != 10 || !wf::parseWorkerNumber(a[4], o.deflection) || !wf::parseWorkerNumber(a[6], o.angularDegrees)) {
+    std::fprintf(stderr, "wirefur: cad-worker is internal "
+                         "(FILE OUT PARENT TIMEOUT DEFLECTION ABSOLUTE ANGULAR ISOS THREADS PROGRESS)\n");
+    return wf::kWorkerExitUsage;
+  }
+  wf::becomeWorker(a[2], a[3]);
+  o.absoluteDeflection = a[5] == "1";
+  o.isos = std::atoi(a[7].c_str());
+  o.threads = std::atoi(a[8].c_str());
+  o.showProgress = a[9] == "1";
   // The result is made in memory and written at the end: a worker that dies on the way leaves
   // the file empty, which the command reads as a crash.
   std::ostringstream buffer(std::ios::binary);
@@ -395,7 +412,11 @@ int runCadWorker(const std::vector<std::string>& a) {
   const std::string bytes = buffer.str();
   out.write(bytes.data(), std::streamsize(bytes.size()));
   out.close();
-  return out ? status : 1;
+  if (!out) {
+    std::fprintf(stderr, "cannot write the result to %s: %s\n", a[1].c_str(), std::strerror(errno));
+    return wf::kWorkerExitWriteFailed;
+  }
+  return status;
 }
 
 std::shared_ptr<wf::GeometryData> cadGeometryData(CadGeometry&& cad) {

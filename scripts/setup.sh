@@ -22,6 +22,7 @@ packages=(
   libzip-dev libpugixml-dev pkgconf # FreeCAD documents: the zip (found with pkg-config) and its XML
   clang libclang-rt-14-dev          # libFuzzer targets (tests/fuzz)
   libembree-dev                     # Embree 3: the ray-cast peer of the benchmarks only (tests/bench/peer)
+  locales                           # a decimal-comma locale, compiled by a test (tests/cad/worker_test.cpp)
 )
 
 missing=()

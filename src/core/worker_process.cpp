@@ -3,25 +3,40 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
+#include <charconv>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <new>
+#include <sstream>
 #include <thread>
+
+#if defined(__SANITIZE_ADDRESS__)
+#define WF_UNDER_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define WF_UNDER_ASAN 1
+#endif
+#endif
 
 extern char** environ;
 
 namespace wf {
 
 WorkerExit runWorker(const std::string& executable, const std::vector<std::string>& args,
-                     double timeoutSeconds, bool silenceStderr) {
+                     const WorkerOptions& options) {
   WorkerExit r;
   std::vector<std::string> copy = args;
   std::vector<char*> argv;
@@ -30,31 +45,58 @@ WorkerExit runWorker(const std::string& executable, const std::vector<std::strin
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);  // OpenCASCADE prints
-  if (silenceStderr) posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+  if (!options.stderrPath.empty())
+    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, options.stderrPath.c_str(),
+                                     O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  // Nothing past stderr: a host's sockets (pvserver's client, MPI's transport) held open by a
+  // worker would outlive the host.
+  posix_spawn_file_actions_addclosefrom_np(&actions, STDERR_FILENO + 1);
+  // No blocked or ignored signal from the host (ParaView, MPI and Python set some).
+  posix_spawnattr_t attr;
+  posix_spawnattr_init(&attr);
+  sigset_t none, all;
+  sigemptyset(&none);
+  sigfillset(&all);
+  posix_spawnattr_setsigmask(&attr, &none);
+  posix_spawnattr_setsigdefault(&attr, &all);
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
   pid_t pid = 0;
-  const int spawned = posix_spawn(&pid, executable.c_str(), &actions, nullptr, argv.data(), environ);
+  const int spawned = posix_spawn(&pid, executable.c_str(), &actions, &attr, argv.data(), environ);
+  posix_spawnattr_destroy(&attr);
   posix_spawn_file_actions_destroy(&actions);
   if (spawned != 0) {
     r.startError = std::strerror(spawned);
     return r;
   }
   r.started = true;
+  const double limit = std::isfinite(options.timeoutSeconds) && options.timeoutSeconds > 0
+                           ? options.timeoutSeconds
+                           : HUGE_VAL;
   const auto t0 = std::chrono::steady_clock::now();
   int status = 0;
+  auto killAndReap = [&] {
+    kill(pid, SIGKILL);
+    // (Blocks only while the child is in uninterruptible sleep, a hung network file system.)
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+  };
   // Polled rather than waited on with a signal or a timer: nothing here may disturb the host's
   // own signal handling (ParaView, MPI). 2 ms of latency against reads of tens of milliseconds.
   while (true) {
     const pid_t w = waitpid(pid, &status, WNOHANG);
     if (w == pid) break;
-    if (w < 0 && errno != EINTR) {  // not our child any more (a host that reaps every child)
-      r.status = -1;
+    if (w < 0 && errno != EINTR) {  // not our child any more: the host reaped it
+      r.statusUnknown = true;
       return r;
     }
-    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > timeoutSeconds) {
-      kill(pid, SIGKILL);
-      while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-      }
+    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > limit) {
+      killAndReap();
       r.timedOut = true;
+      return r;
+    }
+    if (options.poll && !options.poll()) {
+      killAndReap();
+      r.aborted = true;
       return r;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
@@ -68,13 +110,75 @@ WorkerExit runWorker(const std::string& executable, const std::vector<std::strin
   return r;
 }
 
-void capWorkerMemory() {
-#if !defined(__SANITIZE_ADDRESS__)
-  const double phys = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE));
-  const double cap = std::clamp(0.5 * phys, 2.0 * (1 << 30), 16.0 * (1 << 30));
-  const rlimit lim{rlim_t(cap), rlim_t(cap)};
-  setrlimit(RLIMIT_AS, &lim);
+namespace {
+
+// The memory this process may use: the machine's, or a cgroup v2 limit above it when lower.
+double usableMemory() {
+  double bytes = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE));
+  std::ifstream cgroups("/proc/self/cgroup");
+  std::string line;
+  while (std::getline(cgroups, line)) {
+    if (line.rfind("0::", 0) != 0) continue;
+    std::filesystem::path p = std::filesystem::path("/sys/fs/cgroup") / line.substr(4);
+    for (; p.string().size() >= std::string("/sys/fs/cgroup").size(); p = p.parent_path()) {
+      std::ifstream max(p / "memory.max");
+      std::string v;
+      if (max >> v && v != "max") {
+        double limit = 0;
+        if (parseWorkerNumber(v, limit) && limit > 0) bytes = std::min(bytes, limit);
+      }
+      if (p == p.parent_path()) break;
+    }
+  }
+  return bytes;
+}
+
+}  // namespace
+
+double workerMemoryCap() {
+#if defined(WF_UNDER_ASAN)
+  return 0.0;
+#else
+  return std::clamp(0.5 * usableMemory(), 1.0 * (1 << 30), 16.0 * (1 << 30));
 #endif
+}
+
+double capWorkerMemory() {
+  const double cap = workerMemoryCap();
+  if (cap > 0) {
+    const rlimit lim{rlim_t(cap), rlim_t(cap)};
+    setrlimit(RLIMIT_DATA, &lim);
+  }
+  return cap;
+}
+
+void becomeWorker(const std::string& parentPid, const std::string& timeoutSeconds) {
+  prctl(PR_SET_PDEATHSIG, SIGKILL);
+  // The parent may have gone before the line above: then we are someone else's child now.
+  if (std::to_string(getppid()) != parentPid) _exit(kWorkerExitUsage);
+  double timeout = 0;
+  if (parseWorkerNumber(timeoutSeconds, timeout) && std::isfinite(timeout) && timeout > 0)
+    alarm(unsigned(std::min(std::ceil(timeout) + 10.0, 4.0e9)));
+  const rlimit noCore{0, 0};
+  setrlimit(RLIMIT_CORE, &noCore);
+  capWorkerMemory();
+  std::set_new_handler([] {
+    static const char m[] = "out of memory under the worker's cap\n";
+    [[maybe_unused]] const ssize_t n = write(STDERR_FILENO, m, sizeof m - 1);
+    _exit(kWorkerExitOutOfMemory);
+  });
+}
+
+std::string workerNumber(double value) {
+  char buffer[64];
+  const std::to_chars_result r = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::string(buffer, r.ptr);
+}
+
+bool parseWorkerNumber(const std::string& text, double& value) {
+  const char* end = text.data() + text.size();
+  const std::from_chars_result r = std::from_chars(text.data(), end, value);
+  return r.ec == std::errc() && r.ptr == end;
 }
 
 std::string signalDescription(int sig) {
@@ -82,14 +186,38 @@ std::string signalDescription(int sig) {
   return std::string("signal ") + std::to_string(sig) + (d ? std::string(", ") + d : std::string());
 }
 
-TemporaryFolder::TemporaryFolder(const std::string& prefix) {
-  std::string base = "/tmp";
-  if (const char* t = std::getenv("TMPDIR"); t && *t) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(t, ec)) base = t;
+std::string lastLineOf(const std::string& path, size_t maxChars) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::string();
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  const std::streamoff from = std::max<std::streamoff>(0, size - 4096);
+  in.seekg(from);
+  std::string text(size_t(size - from), '\0');
+  in.read(text.data(), std::streamsize(text.size()));
+  std::string last, line;
+  std::istringstream lines(text);
+  while (std::getline(lines, line)) {
+    const bool blank = std::all_of(line.begin(), line.end(), [](char c) { return std::isspace(static_cast<unsigned char>(c)); });
+    if (!blank) last = line;
   }
-  std::string pattern = base + "/" + prefix + "XXXXXX";
-  if (mkdtemp(pattern.data())) path_ = pattern;
+  for (char& c : last)
+    if (static_cast<unsigned char>(c) < 32 || c == 127) c = ' ';
+  if (last.size() > maxChars) last = last.substr(0, maxChars - 3) + "...";
+  return last;
+}
+
+TemporaryFolder::TemporaryFolder(const std::string& prefix) {
+  std::vector<std::string> bases;
+  if (const char* t = std::getenv("TMPDIR"); t && *t) bases.push_back(t);
+  bases.push_back("/tmp");
+  for (const std::string& base : bases) {
+    std::string pattern = base + "/" + prefix + "XXXXXX";
+    if (mkdtemp(pattern.data())) {
+      path_ = pattern;
+      return;
+    }
+  }
 }
 
 TemporaryFolder::~TemporaryFolder() {

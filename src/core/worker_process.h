@@ -2,8 +2,14 @@
 // (apps/cad_input.cpp) and vtkWireFurCADReader's ReadInWorker (vtk_filters/cad/) start a child,
 // wait for it with a time limit and read its result from a private temporary folder. A crash, a
 // hang or a memory cap hit in the child is reported by the parent, which carries on.
+//
+// The child inherits nothing it should not: no file descriptor past stderr (a pvserver's client
+// socket, an MPI transport's), no blocked or ignored signal; it dies with its parent
+// (becomeWorker) and stops itself shortly after its time limit even when nobody is left to kill
+// it. Numbers cross on the command line in a form no locale changes (workerNumber).
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -14,28 +20,69 @@ struct WorkerExit {
   bool started = false;     ///< false: posix_spawn failed (startError says why)
   std::string startError;
   bool timedOut = false;    ///< killed after the time limit
+  bool aborted = false;     ///< killed because WorkerOptions::poll returned false
   bool signalled = false;   ///< ended by a signal (a crash, or the kernel's OOM killer)
   int signal = 0;
   int status = 0;           ///< exit status when it exited
+  /// The host reaped the child before we could (SIGCHLD ignored, or a waitpid(-1) elsewhere):
+  /// how it ended is unknown, and the caller judges by the result the worker left (a
+  /// completion marker written last).
+  bool statusUnknown = false;
+};
+
+/// Exit statuses a worker uses besides 0 (done) and 2 (the input is bad, with a message).
+constexpr int kWorkerExitUsage = 3;        ///< wrong arguments: a worker of another version
+constexpr int kWorkerExitWriteFailed = 4;  ///< the result could not be written (a full disk)
+constexpr int kWorkerExitOutOfMemory = 5;  ///< an allocation failed under the memory cap
+constexpr int kWorkerExitCannotRun = 127;  ///< the loader could not start it (a missing library)
+
+struct WorkerOptions {
+  /// Wall-clock limit; then SIGKILL. Not finite or not positive (NaN included): no limit.
+  double timeoutSeconds = 600.0;
+  /// Where the worker's stderr goes: empty, inherited; else this file (or "/dev/null").
+  std::string stderrPath;
+  /// Called about every 2 ms while the worker runs; returning false kills it (aborted).
+  std::function<bool()> poll;
 };
 
 /// Starts `executable` with `args` (args[0] is the program's name as it sees it), stdout to
-/// /dev/null (and stderr too when silenceStderr), waits at most timeoutSeconds (then kills it
-/// with SIGKILL). Never throws.
+/// /dev/null, and waits for it as `options` say. Never throws.
 WorkerExit runWorker(const std::string& executable, const std::vector<std::string>& args,
-                     double timeoutSeconds, bool silenceStderr);
+                     const WorkerOptions& options);
 
-/// Called in a worker: caps its address space at half the machine's memory, between 2 and
-/// 16 GiB, so that a parser talked into allocating without end (OpenCASCADE's mesher, by one
-/// wrong digit: a parameter range of 1e14, found by fuzzing) fails or dies instead of the machine
-/// swapping. Nothing under AddressSanitizer, whose shadow memory needs the address space.
-void capWorkerMemory();
+/// Called first in a worker's main, with the parent's pid and time limit from its command line:
+/// the worker gets SIGKILL when its parent goes (and ends now if it has gone already), stops
+/// itself (SIGALRM) 10 s after the limit, writes no core dump, its memory is capped
+/// (capWorkerMemory) and a failed C++ allocation ends it with kWorkerExitOutOfMemory.
+void becomeWorker(const std::string& parentPid, const std::string& timeoutSeconds);
+
+/// Caps the data the process may map (RLIMIT_DATA: heap and private writable mappings, not the
+/// address space malloc's arenas reserve) at half the memory it may use: the machine's, or its
+/// cgroup's memory.max when lower; between 1 and 16 GiB. So a parser talked into allocating
+/// without end (OpenCASCADE's mesher, by one wrong digit: a parameter range of 1e14, found by
+/// fuzzing) fails or dies instead of the machine swapping. Nothing under AddressSanitizer, whose
+/// shadow memory needs the room. Returns the cap in bytes (0: none).
+double capWorkerMemory();
+
+/// The cap capWorkerMemory sets (bytes; 0 under AddressSanitizer), for messages.
+double workerMemoryCap();
+
+/// A double on the command line: shortest round-trip form, the same in every locale (a Qt or
+/// Python host may have set LC_NUMERIC to a decimal comma). parseWorkerNumber reads it back
+/// exactly; false when the text is not a whole number in that form.
+std::string workerNumber(double value);
+bool parseWorkerNumber(const std::string& text, double& value);
 
 /// "signal 11, Segmentation fault".
 std::string signalDescription(int signal);
 
-/// A private folder (mode 0700) under $TMPDIR (or /tmp when unset or not a folder), removed with
-/// everything in it when this object goes. path() is empty when it could not be made.
+/// The last non-empty line of a small text file (a worker's stderr), at most maxChars long,
+/// control characters replaced by spaces; empty when there is none.
+std::string lastLineOf(const std::string& path, size_t maxChars = 240);
+
+/// A private folder (mode 0700) under $TMPDIR, or /tmp when TMPDIR is unset or no folder can be
+/// made there; removed with everything in it when this object goes. path() is empty when it
+/// could not be made.
 class TemporaryFolder {
  public:
   explicit TemporaryFolder(const std::string& prefix);

@@ -20,10 +20,21 @@
 #include <vtkPointData.h>
 #include <vtkStringArray.h>
 
+#include "core/worker_process.h"
+
+#include <vtkCallbackCommand.h>
+#include <vtkCommand.h>
+
+#include <signal.h>
+
 #include <chrono>
+#include <clocale>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <thread>
 
 using namespace cadtest;
 
@@ -201,6 +212,33 @@ TEST(CadWorker, TheReadersOwnErrorsAreTheSame) {
   EXPECT_EQ(local.reader->GetErrorMessage(), worker.reader->GetErrorMessage());
 }
 
+// The folder is made under TMPDIR; where it cannot be (TMPDIR a file), under /tmp.
+TEST(CadWorker, TheTemporaryFolderIsUnderTmpdir) {
+  const std::filesystem::path tmp = std::filesystem::path(tempPath("worker_tmpdir_direct"));
+  std::filesystem::create_directories(tmp);
+  const char* was = std::getenv("TMPDIR");
+  const std::string old = was ? was : "";
+  setenv("TMPDIR", tmp.c_str(), 1);
+  std::string made, fallback;
+  {
+    const wf::TemporaryFolder f("wirefur-test-");
+    made = f.path();
+    EXPECT_TRUE(std::filesystem::is_directory(made));
+  }
+  const std::string file = tempPath("worker_tmpdir_is_a_file");
+  writeBytes(file, "x");
+  setenv("TMPDIR", file.c_str(), 1);
+  {
+    const wf::TemporaryFolder f("wirefur-test-");
+    fallback = f.path();
+  }
+  if (was) setenv("TMPDIR", old.c_str(), 1);
+  else unsetenv("TMPDIR");
+  EXPECT_EQ(made.rfind(tmp.string() + "/wirefur-test-", 0), 0u) << made;
+  EXPECT_FALSE(std::filesystem::exists(made)) << "removed when it goes";
+  EXPECT_EQ(fallback.rfind("/tmp/wirefur-test-", 0), 0u) << fallback;
+}
+
 TEST(CadWorker, TemporaryFilesGoUnderTmpdirAndAreRemoved) {
   const std::string path = writeBrep(model(), "worker_tmpdir.brep");
   const std::filesystem::path tmp = std::filesystem::path(tempPath("worker_tmpdir"));
@@ -211,10 +249,155 @@ TEST(CadWorker, TemporaryFilesGoUnderTmpdirAndAreRemoved) {
   vtkNew<vtkWireFurCADReader> reader;
   reader->SetFileName(path.c_str());
   reader->ReadInWorkerOn();
-  // Looked at while the worker runs: its folder is under TMPDIR.
+  // Looked at while the worker runs (its progress events): its folder is under TMPDIR.
+  int seen = 0;
+  vtkNew<vtkCallbackCommand> look;
+  look->SetClientData(&seen);
+  look->SetCallback([](vtkObject*, unsigned long, void* data, void*) {
+    std::error_code ec;
+    if (!std::filesystem::is_empty(std::getenv("TMPDIR"), ec)) ++*static_cast<int*>(data);
+  });
+  reader->AddObserver(vtkCommand::ProgressEvent, look);
   reader->Update();
+  EXPECT_GT(seen, 0) << "no folder under TMPDIR while the worker ran";
   if (was) setenv("TMPDIR", old.c_str(), 1);
   else unsetenv("TMPDIR");
   EXPECT_EQ(reader->GetErrorMessage(), "");
   EXPECT_TRUE(std::filesystem::is_empty(tmp)) << "left behind in " << tmp;
+}
+
+// Numbers cross to the worker in a form no locale changes: every double comes back exactly, and
+// under a decimal-comma locale (when one is installed) the worker reads what in-process reads.
+TEST(CadWorker, NumbersCrossInEveryLocale) {
+  for (double v : {0.1, 1e-7, 1.0 / 3.0, 1e308, 5e-324, -0.0, 600.0, 2e-3, 0.5}) {
+    double back = 1.0;
+    ASSERT_TRUE(wf::parseWorkerNumber(wf::workerNumber(v), back)) << wf::workerNumber(v);
+    EXPECT_EQ(std::memcmp(&v, &back, sizeof v), 0) << wf::workerNumber(v);
+  }
+  double x = 0;
+  EXPECT_FALSE(wf::parseWorkerNumber("0,001", x));
+  EXPECT_FALSE(wf::parseWorkerNumber("", x));
+  // An installed German locale, else one compiled here from the locales package's definitions
+  // (localedef into a folder named by LOCPATH, about a second).
+  const char* comma = nullptr;
+  for (const char* name : {"de_DE.UTF-8", "de_DE.utf8"})
+    if (std::setlocale(LC_NUMERIC, name)) comma = name;
+  const std::string compiled = tempPath("worker_locales");
+  if (!comma && std::filesystem::exists("/usr/share/i18n/locales/de_DE")) {
+    std::filesystem::create_directories(compiled);
+    const std::string command = "localedef -i de_DE -f UTF-8 " + compiled + "/de_DE.UTF-8 >/dev/null 2>&1";
+    if (std::system(command.c_str()) == 0) {
+      setenv("LOCPATH", compiled.c_str(), 1);
+      if (std::setlocale(LC_NUMERIC, "de_DE.UTF-8")) comma = "de_DE.UTF-8";
+    }
+  }
+  if (!comma) GTEST_SKIP() << "no decimal-comma locale (neither installed nor made by localedef): the round trip alone was checked";
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", 0.5);
+  EXPECT_STREQ(text, "0,5") << "the locale does not use a decimal comma";
+  EXPECT_EQ(wf::workerNumber(0.5), "0.5");
+  const std::string path = writeBrep(model(), "worker_locale.brep");
+  auto configure = [](vtkWireFurCADReader* r) { r->SetLinearDeflection(2e-3), r->SetFeatureAngle(15); };
+  const Read worker = readOk(path, [&](vtkWireFurCADReader* r) { configure(r), r->ReadInWorkerOn(); });
+  std::setlocale(LC_NUMERIC, "C");
+  unsetenv("LOCPATH");
+  const Read local = readOk(path, configure);
+  expectSameData(local.faces, worker.faces, "faces");
+  expectSameData(local.edges, worker.edges, "edges");
+}
+
+// A host that reaps its children itself (SIGCHLD ignored: the kernel reaps them) leaves the exit
+// status unknown: the worker's completion marker decides, and the read succeeds.
+TEST(CadWorker, AHostThatReapsItsChildren) {
+  const std::string path = writeBrep(model(), "worker_reaped.brep");
+  const Read local = readOk(path);
+  struct sigaction ignore {}, old {};
+  ignore.sa_handler = SIG_IGN;
+  sigemptyset(&ignore.sa_mask);
+  sigaction(SIGCHLD, &ignore, &old);
+  const Read worker = readOk(path, inWorker);
+  const Read bad = readBad(regression("brep_segv_in_mesher.brep"), inWorker);
+  sigaction(SIGCHLD, &old, nullptr);
+  expectSameData(local.faces, worker.faces, "faces");
+  expectSameData(local.edges, worker.edges, "edges");
+  const std::string m = bad.reader->GetErrorMessage();
+  EXPECT_NE(m.find("crashed"), std::string::npos) << m;
+  EXPECT_NE(m.find("an unknown status"), std::string::npos) << m;
+}
+
+// Progress comes from the worker while it meshes, and AbortExecute stops it at once.
+TEST(CadWorker, ProgressComesFromTheWorkerAndAbortStopsIt) {
+  const std::string path = writeBrep(BRepPrimAPI_MakeSphere(gp_Pnt(0, 0, 0), 10).Shape(), "worker_abort.brep");
+  struct Seen {
+    double most = 0;
+    int events = 0;
+  } seen;
+  vtkNew<vtkCallbackCommand> watch;
+  watch->SetClientData(&seen);
+  watch->SetCallback([](vtkObject* caller, unsigned long, void* data, void* call) {
+    Seen& s = *static_cast<Seen*>(data);
+    const double p = *static_cast<double*>(call);
+    s.most = std::max(s.most, p);
+    ++s.events;
+    if (p >= 0.3) static_cast<vtkAlgorithm*>(caller)->SetAbortExecute(1);  // read, now meshing
+  });
+  const auto t0 = std::chrono::steady_clock::now();
+  const Read r = readBad(path, [&](vtkWireFurCADReader* reader) {
+    reader->ReadInWorkerOn();
+    reader->SetLinearDeflection(1e-7);
+    reader->SetMaximumTriangles(VTK_ID_MAX);
+    reader->AddObserver(vtkCommand::ProgressEvent, watch);
+  });
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_EQ(r.reader->GetErrorMessage(), path + ": the read was aborted");
+  EXPECT_GE(seen.most, 0.3);
+  EXPECT_LT(seen.most, 1.0);
+  EXPECT_LT(seconds, 10.0);
+}
+
+// A worker whose parent is killed dies too (a killed pvserver must not leave OpenCASCADE looping
+// for ever): a shell starts the worker on a slow mesh and is killed after 0.5 s.
+TEST(CadWorker, TheWorkerDiesWithItsParent) {
+  const std::string path = writeBrep(BRepPrimAPI_MakeSphere(gp_Pnt(0, 0, 0), 10).Shape(), "worker_orphan.brep");
+  const std::string folder = tempPath("worker_orphan_folder");
+  std::filesystem::create_directories(folder);
+  const std::string exe = vtkWireFurCADReader::GetWorkerExecutable();
+  ASSERT_FALSE(exe.empty());
+  auto running = [&] {  // a process whose command line names the folder
+    int n = 0;
+    for (const auto& e : std::filesystem::directory_iterator("/proc")) {
+      std::ifstream in(e.path() / "cmdline", std::ios::binary);
+      std::string cmd((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      if (cmd.rfind(exe, 0) == 0 && cmd.find(folder) != std::string::npos) ++n;
+    }
+    return n;
+  };
+  wf::WorkerOptions run;
+  run.timeoutSeconds = 0.5;
+  const wf::WorkerExit e = wf::runWorker(
+    "/bin/sh", {"sh", "-c", "\"$0\" \"$1\" \"$2\" $$ 60 1e-7 1 0.5 0 0 9223372036854775807 30 1 & wait", exe, path, folder},
+    run);
+  EXPECT_TRUE(e.timedOut);
+  int left = 1;
+  for (int i = 0; i < 100 && left > 0; ++i) {
+    left = running();
+    if (left > 0) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  EXPECT_EQ(left, 0) << "the worker outlived its parent by 2 s";
+  // And a worker that finds its parent gone already ends at once (status 3), writing nothing.
+  const wf::WorkerExit stale = wf::runWorker(exe, {exe, path, folder, "1", "60", "1e-3", "1", "0.5", "0", "0",
+                                                   "1000000", "30", "1"}, wf::WorkerOptions());
+  EXPECT_EQ(stale.status, wf::kWorkerExitUsage);
+  EXPECT_FALSE(std::filesystem::exists(folder + "/done"));
+}
+
+// The exact faces read later come from the file the worker read: once it has changed, none (with
+// a warning), and the silhouette filter falls back to the mesh.
+TEST(CadWorker, LazyFacesRefuseAChangedFile) {
+  const std::string path = writeBrep(model(), "worker_changed.brep");
+  const Read worker = readOk(path, inWorker);
+  std::ofstream(path, std::ios::app) << "\n";  // changed after the read
+  std::vector<WireFurCadFace> faces;
+  EXPECT_EQ(wirefur_cad_face_surfaces(worker.reader, &faces), 0);
+  EXPECT_TRUE(faces.empty());
 }

@@ -45,6 +45,7 @@
 #include <Prs3d_IsoAspect.hxx>
 #include <ShapeAnalysis_Surface.hxx>
 #include <Standard_Failure.hxx>
+#include <Standard_OutOfMemory.hxx>
 #include <StdPrs_Isolines.hxx>
 #include <TColgp_HSequenceOfPnt.hxx>
 #include <TopExp.hxx>
@@ -70,7 +71,9 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <map>
+#include <mutex>
 
 vtkStandardNewMacro(vtkWireFurCADReader);
 
@@ -435,6 +438,11 @@ public:
   // when asked for (wirefur_cad_face_surfaces), once.
   bool viaWorker = false, facesRead = false;
   std::vector<int> workerFaceIds;
+  // The file the worker read, as it was then: the lazy read refuses a file changed since (its
+  // faces would not be the ones meshed).
+  std::string workerPath;
+  std::filesystem::file_time_type workerFileTime{};
+  std::uintmax_t workerFileSize = 0;
   void clear() { *this = vtkInternals(); }
 };
 
@@ -444,13 +452,26 @@ extern "C" WIREFURCAD_EXPORT int wirefur_cad_face_surfaces(vtkWireFurCADReader* 
     return 0;
   vtkWireFurCADReader::vtkInternals& in = *reader->GetInternals();
   faces->clear();
-  if (in.viaWorker && !in.facesRead && reader->GetFileName())
+  // (Two filters may ask at once: the lazy read below writes the reader's lists.)
+  static std::mutex lazyRead;
+  const std::lock_guard<std::mutex> lock(lazyRead);
+  if (in.viaWorker && !in.facesRead)
   {
     // The worker has read and meshed the file cleanly: its exact faces are read here, without
-    // meshing, and those the worker meshed are kept (as wirefur_cad_face_surfaces promises).
+    // meshing, and those the worker meshed are kept (as wirefur_cad_face_surfaces promises) --
+    // from the file the worker read, if it is unchanged since.
     in.facesRead = true;
+    std::error_code ec1, ec2;
+    const auto time = std::filesystem::last_write_time(in.workerPath, ec1);
+    const std::uintmax_t size = std::filesystem::file_size(in.workerPath, ec2);
+    if (ec1 || ec2 || time != in.workerFileTime || size != in.workerFileSize)
+    {
+      vtkWarningWithObjectMacro(reader, << in.workerPath
+        << ": changed or gone since it was read: no exact faces (Modified() the reader to read it again)");
+      return 0;
+    }
     vtkNew<vtkWireFurCADReader> again;
-    again->SetFileName(reader->GetFileName());
+    again->SetFileName(in.workerPath.c_str());
     again->FacesOnlyOn();
     again->SetNumberOfThreads(reader->GetNumberOfThreads());
     again->Update();
@@ -647,6 +668,15 @@ int vtkWireFurCADReader::RequestData(vtkInformation*, vtkInformationVector**, vt
           params.InParallel = this->NumberOfThreads != 1;
           BRepMesh_IncrementalMesh mesher(distinct[i], params, progress->Start());
         });
+      }
+      catch (const Standard_OutOfMemory&)
+      {
+        // Not a face to skip: the model would come out with holes that depend on the memory.
+        return fail("out of memory while meshing");
+      }
+      catch (const std::bad_alloc&)
+      {
+        return fail("out of memory while meshing");
       }
       catch (const Standard_Failure&)
       {
@@ -941,16 +971,44 @@ int vtkWireFurCADReader::RequestData(vtkInformation*, vtkInformationVector**, vt
 namespace
 {
 void workerAnchor() {}
+
+// This library's folder, found when it is loaded (a relative path from LD_LIBRARY_PATH would
+// mean another folder once the host changes directory).
+const std::filesystem::path gLibraryFolder = [] {
+  Dl_info info{};
+  if (!dladdr(reinterpret_cast<void*>(&workerAnchor), &info) || !info.dli_fname)
+    return std::filesystem::path();
+  std::error_code ec;
+  const std::filesystem::path lib = std::filesystem::canonical(info.dli_fname, ec);
+  return ec ? std::filesystem::path(info.dli_fname).parent_path() : lib.parent_path();
+}();
+
+double readProgress(const std::string& file)
+{
+  double p = 0;
+  std::ifstream in(file, std::ios::binary);
+  return in.read(reinterpret_cast<char*>(&p), sizeof p) && std::isfinite(p) ? std::clamp(p, 0.0, 1.0) : 0.0;
+}
 } // namespace
+
+void vtkWireFurCADReader::SetWorkerTimeout(double seconds)
+{
+  if (std::isnan(seconds))
+    return;
+  seconds = std::clamp(seconds, 0.1, 1e6);
+  if (seconds != this->WorkerTimeout)
+  {
+    this->WorkerTimeout = seconds;
+    this->Modified();
+  }
+}
 
 std::string vtkWireFurCADReader::GetWorkerExecutable()
 {
-  Dl_info info{};
-  if (!dladdr(reinterpret_cast<void*>(&workerAnchor), &info) || !info.dli_fname)
+  if (gLibraryFolder.empty())
     return std::string();
   std::error_code ec;
-  const std::filesystem::path exe =
-    std::filesystem::path(info.dli_fname).parent_path() / wfcad::kWorkerName;
+  const std::filesystem::path exe = gLibraryFolder / wfcad::kWorkerName;
   return std::filesystem::is_regular_file(exe, ec) && access(exe.c_str(), X_OK) == 0 ? exe.string() : std::string();
 }
 
@@ -969,40 +1027,81 @@ int vtkWireFurCADReader::RequestDataInWorker(const std::string& path, vtkPolyDat
   const wf::TemporaryFolder folder("wirefur-cad-");
   if (folder.path().empty())
     return fail("cannot make a temporary folder for the CAD worker");
-  char number[64];
-  std::vector<std::string> args = { wfcad::kWorkerName, path, folder.path() };
-  auto add = [&](double v) {
-    std::snprintf(number, sizeof number, "%.17g", v);
-    args.push_back(number);
-  };
-  add(this->LinearDeflection);
+  // The file as it is now, for the exact faces read later (wirefur_cad_face_surfaces).
+  std::error_code ec;
+  in.workerPath = std::filesystem::absolute(path, ec).string();
+  in.workerFileTime = std::filesystem::last_write_time(path, ec);
+  in.workerFileSize = std::filesystem::file_size(path, ec);
+  std::vector<std::string> args = { wfcad::kWorkerName, path, folder.path(), std::to_string(getpid()),
+    wf::workerNumber(this->WorkerTimeout) };
+  args.push_back(wf::workerNumber(this->LinearDeflection));
   args.push_back(this->RelativeDeflection ? "1" : "0");
-  add(this->AngularDeflection);
+  args.push_back(wf::workerNumber(this->AngularDeflection));
   args.push_back(std::to_string(this->NumberOfUIsoLines));
   args.push_back(std::to_string(this->NumberOfVIsoLines));
   args.push_back(std::to_string(this->MaximumTriangles));
-  add(this->FeatureAngle);
+  args.push_back(wf::workerNumber(this->FeatureAngle));
   args.push_back(std::to_string(this->NumberOfThreads));
   this->UpdateProgress(0.0);
-  const wf::WorkerExit e = wf::runWorker(exe, args, this->WorkerTimeout, true);
+  // While it runs: its progress (a double it rewrites in FOLDER/progress) every 50 ms, and an
+  // abort request (AbortExecute) kills it.
+  const std::string progressFile = folder.path() + "/" + wfcad::kWorkerProgressFile;
+  auto lastLook = std::chrono::steady_clock::now();
+  double shown = 0.0;
+  wf::WorkerOptions run;
+  run.timeoutSeconds = this->WorkerTimeout;
+  run.stderrPath = folder.path() + "/stderr";
+  run.poll = [&] {
+    if (this->GetAbortExecute())
+      return false;
+    const auto now = std::chrono::steady_clock::now();
+    if (now - lastLook > std::chrono::milliseconds(50))
+    {
+      lastLook = now;
+      const double p = readProgress(progressFile);
+      if (p > shown)
+        this->UpdateProgress(shown = p);
+    }
+    return true;
+  };
+  const wf::WorkerExit e = wf::runWorker(exe, args, run);
   if (!e.started)
     return fail("cannot start the CAD worker " + exe + ": " + e.startError);
   if (e.timedOut)
-  {
-    std::snprintf(number, sizeof number, "%g", this->WorkerTimeout);
-    return fail(std::string("reading and meshing did not finish within ") + number +
+    return fail("reading and meshing did not finish within " + wf::workerNumber(this->WorkerTimeout) +
       " s (OpenCASCADE may loop on a corrupt file; WorkerTimeout sets the limit)");
-  }
+  if (e.aborted)
+    return fail("the read was aborted");
   if (e.signalled)
     return fail("OpenCASCADE crashed reading this file (" + wf::signalDescription(e.signal) +
       (e.signal == SIGKILL || e.signal == SIGABRT ? ", out of memory?" : "") +
       "): it is corrupt, or uses something OpenCASCADE 7.6 cannot read");
+  // The worker writes its completion marker last, holding its exit status: without it there
+  // is no whole result, whatever the status (unknown when the host reaps its children itself).
+  int done = -1;
+  {
+    std::ifstream marker(folder.path() + "/" + wfcad::kWorkerDoneFile);
+    if (!(marker >> done))
+      done = -1;
+  }
+  const int status = e.statusUnknown ? done : e.status;
+  const std::string words = wf::lastLineOf(run.stderrPath);
+  if (status == wf::kWorkerExitOutOfMemory)
+  {
+    char cap[32];
+    std::snprintf(cap, sizeof cap, "%.1f", wf::workerMemoryCap() / double(1 << 30));
+    return fail(std::string("out of memory in the CAD worker (its cap is ") + cap +
+      " GiB: half the memory this machine or its cgroup allows; turn ReadInWorker off to read without it)");
+  }
+  if (status == wf::kWorkerExitCannotRun || status == wf::kWorkerExitUsage || status == wf::kWorkerExitWriteFailed)
+    return fail("the CAD worker " + exe + " failed (status " + std::to_string(status) + ")" +
+      (words.empty() ? std::string() : ": " + words));
+  if ((status != 0 && status != 2) || done != status)
+    return fail("OpenCASCADE crashed reading this file (the worker stopped with " +
+      (status < 0 ? std::string("an unknown status") : "status " + std::to_string(status)) + " and no result" +
+      (words.empty() ? std::string() : ": " + words) +
+      "): it is corrupt, or uses something OpenCASCADE 7.6 cannot read");
   const std::string facesFile = folder.path() + "/faces.vtp", edgesFile = folder.path() + "/edges.vtp";
-  std::error_code ec;
-  if ((e.status != 0 && e.status != 2) || !std::filesystem::is_regular_file(facesFile, ec) ||
-    !std::filesystem::is_regular_file(edgesFile, ec))
-    return fail("OpenCASCADE crashed reading this file (the worker stopped with status " +
-      std::to_string(e.status) + " and no result): it is corrupt, or uses something OpenCASCADE 7.6 cannot read");
   vtkNew<vtkXMLPolyDataReader> faces, edges;
   faces->SetFileName(facesFile.c_str());
   edges->SetFileName(edgesFile.c_str());
@@ -1014,13 +1113,8 @@ int vtkWireFurCADReader::RequestDataInWorker(const std::string& path, vtkPolyDat
   if (faces->GetErrorCode() || edges->GetErrorCode() || !figures || !messages ||
     figures->GetNumberOfValues() != wfcad::kFigureCount || messages->GetNumberOfValues() != 2)
     return fail("the CAD worker's result is unreadable");
-  if (e.status == 2 || !messages->GetValue(0).empty())
-  {
-    in.error = messages->GetValue(0).empty() ? path + ": the CAD worker failed" : messages->GetValue(0);
-    vtkErrorMacro(<< in.error);
-    return 1;
-  }
-  in.viaWorker = true;
+  // The figures, also for a failed read (as in process: "none of the N faces could be meshed"
+  // leaves N faces, N skipped).
   in.warning = messages->GetValue(1);
   in.faces = int(figures->GetValue(wfcad::kFaces));
   in.meshedFaces = int(figures->GetValue(wfcad::kMeshedFaces));
@@ -1032,6 +1126,13 @@ int vtkWireFurCADReader::RequestDataInWorker(const std::string& path, vtkPolyDat
   in.modelSize = figures->GetValue(wfcad::kModelSize);
   in.readSeconds = figures->GetValue(wfcad::kReadSeconds);
   in.meshSeconds = figures->GetValue(wfcad::kMeshSeconds);
+  if (status == 2 || !messages->GetValue(0).empty())
+  {
+    in.error = messages->GetValue(0).empty() ? path + ": the CAD worker failed" : messages->GetValue(0);
+    vtkErrorMacro(<< in.error);
+    return 1;
+  }
+  in.viaWorker = true;
   field->RemoveArray(wfcad::kWorkerFigures);
   field->RemoveArray(wfcad::kWorkerMessages);
   if (vtkStringArray* names = vtkStringArray::SafeDownCast(field->GetAbstractArray("PartNames")))

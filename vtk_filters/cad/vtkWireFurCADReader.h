@@ -47,7 +47,7 @@
  * IGES files crash OpenCASCADE 7.6 itself (fuzzing found null entities dereferenced in its STEP
  * and IGES translators), and some make it loop for ever: with ReadInWorker on, the file is read
  * and meshed in a process of its own (wirefur-cad-worker, beside this library), so that a crash,
- * a hang (WorkerTimeout) or memory exhaustion becomes the one-line error above and the program
+ * a hang (WorkerTimeout) or the worker's memory cap becomes the one-line error above and the program
  * carries on. ParaView's proxy turns it on; the wirefur command has a worker of its own.
  *
  * OpenCASCADE is private to this module (hidden behind a PIMPL): this header needs only VTK.
@@ -126,16 +126,21 @@ public:
 
   ///@{
   /// On: read and mesh the file in a child process (wirefur-cad-worker, found beside this
-  /// library), which returns both outputs through a private temporary folder; a crash, a hang
-  /// past WorkerTimeout seconds (default 600) or the worker's memory cap (half the machine's
-  /// memory, 2 to 16 GiB) ends the update with one line instead of taking the program down. The
-  /// outputs are the same as in process, bit for bit. The exact faces (wf_cad_plugin.h) are then
-  /// read in this process only when asked for (vtkWireFurSilhouette), once the worker has shown
-  /// that the file reads cleanly. FacesOnly always reads in process. Default off.
+  /// library), which returns both outputs through a private temporary folder (under $TMPDIR); a
+  /// crash, a hang past WorkerTimeout seconds (default 600; NaN is ignored) or the worker's
+  /// memory cap ends the update with one line instead of taking the program down. The cap
+  /// limits the data the worker maps (RLIMIT_DATA) to half the memory of the machine or of its
+  /// cgroup, 1 to 16 GiB; a file that needs more fails in the worker ("out of memory in the CAD
+  /// worker") where it might read in process. Otherwise the outputs are those read in process,
+  /// bit for bit. Progress comes from the worker every 50 ms, and AbortExecute stops it. The
+  /// worker dies with this process. The exact faces (wf_cad_plugin.h) are then read in this
+  /// process only when asked for (vtkWireFurSilhouette), once the worker has shown that the file
+  /// reads cleanly, and only if the file has not changed since (else none, with a warning).
+  /// FacesOnly always reads in process. Default off.
   vtkSetMacro(ReadInWorker, bool);
   vtkGetMacro(ReadInWorker, bool);
   vtkBooleanMacro(ReadInWorker, bool);
-  vtkSetClampMacro(WorkerTimeout, double, 0.1, 1e6);
+  virtual void SetWorkerTimeout(double seconds);
   vtkGetMacro(WorkerTimeout, double);
   ///@}
 
