@@ -117,9 +117,16 @@ int vtkWireFurSilhouette::RequestData(
   vtkNew<vtkCellArray> lines;
 
   // Exact path: the CAD reader upstream.
+  // ParaView puts a vtkPVPostFilter (it passes the data through, adding derived arrays) after
+  // every source: looked through, by name (nothing here links ParaView).
   vtkAlgorithm* producer = this->GetNumberOfInputConnections(0) > 0 ? this->GetInputAlgorithm(0, 0) : nullptr;
-  if (this->UseExactSurfaces && producer && producer->IsA("vtkWireFurCADReader") &&
-      this->GetInputConnection(0, 0)->GetIndex() == 0)
+  vtkAlgorithmOutput* port = producer ? this->GetInputConnection(0, 0) : nullptr;
+  while (producer && producer->IsA("vtkPVPostFilter") && producer->GetNumberOfInputConnections(0) == 1)
+  {
+    port = producer->GetInputConnection(0, 0);
+    producer = producer->GetInputAlgorithm(0, 0);
+  }
+  if (this->UseExactSurfaces && producer && producer->IsA("vtkWireFurCADReader") && port->GetIndex() == 0)
     if (WireFurCadFacesFunction faces = cadFacesFunction(producer))
     {
       std::vector<WireFurCadFace> list;
@@ -140,7 +147,8 @@ int vtkWireFurSilhouette::RequestData(
             lines->InsertCellPoint(points->InsertNextPoint(&curves.points[i].x));
         }
       }
-      this->Exact = true;
+      // No faces (the file changed since it was read, or none could be evaluated): the mesh.
+      this->Exact = !list.empty();
     }
 
   if (!this->Exact)
