@@ -294,13 +294,8 @@ CadGeometry readGeometry(BlobReader& r) {
   return g;
 }
 
-// "out of memory" or the worker's last words on stderr, for a worker that left no result.
-std::string workerFailureDetail(const wf::WorkerExit& e, const std::string& stderrFile) {
-  if (!e.signalled && e.status == wf::kWorkerExitOutOfMemory) {
-    char cap[32];
-    std::snprintf(cap, sizeof cap, "%.1f", wf::workerMemoryCap() / double(1 << 30));
-    return std::string(", out of memory under its cap of ") + cap + " GiB";
-  }
+// The worker's last words on stderr, for a worker that left no result.
+std::string workerFailureDetail(const wf::WorkerExit&, const std::string& stderrFile) {
   const std::string words = stderrFile.empty() ? std::string() : wf::lastLineOf(stderrFile);
   return words.empty() ? std::string() : ": " + words;
 }
@@ -325,9 +320,15 @@ CadGeometry readCadInWorker(const std::string& path, const CadOptions& o) {
   run.stderrPath = o.showProgress ? std::string() : folder.path() + "/stderr";
   const wf::WorkerExit e = wf::runWorker("/proc/self/exe", args, run);
   if (!e.started) throw std::runtime_error("cannot start the CAD worker: " + e.startError);
-  if (e.timedOut)
+  if (e.timedOut || (e.signalled && e.signal == SIGALRM))  // (SIGALRM: the worker's own limit)
     throw UsageError(path + ": reading and meshing did not finish within " + wf::workerNumber(o.timeoutSeconds) +
                      " s (OpenCASCADE may loop on a corrupt file; --cad-timeout S sets the limit)");
+  if (!e.signalled && e.status == wf::kWorkerExitOutOfMemory) {
+    char cap[32];
+    std::snprintf(cap, sizeof cap, "%.1f", wf::workerMemoryCap() / double(1 << 30));
+    throw UsageError(path + ": out of memory in the CAD worker (its cap is " + cap +
+                     " GiB: half the memory this machine or its cgroup allows)");
+  }
   if (e.signalled)
     throw UsageError(path + ": OpenCASCADE crashed reading this file (" + wf::signalDescription(e.signal) +
                      (e.signal == SIGKILL || e.signal == SIGABRT ? ", out of memory?" : "") +
@@ -340,8 +341,8 @@ CadGeometry readCadInWorker(const std::string& path, const CadOptions& o) {
   // sanitizer's handler, for one, turns the crash into an exit status), ran out of memory, or
   // could not run or write. (Whether the status is known or not: the blob is written last.)
   if (bytes.size() < sizeof kBlobMagic || std::memcmp(bytes.data(), kBlobMagic, sizeof kBlobMagic) != 0) {
-    if (!e.signalled && (e.status == wf::kWorkerExitWriteFailed || e.status == wf::kWorkerExitCannotRun ||
-                         e.status == wf::kWorkerExitUsage))
+    if (!e.signalled && !e.statusUnknown && e.status != 0 && e.status != 1 && e.status != 2 &&
+        e.status != wf::kWorkerExitOutOfMemory && e.status < 128)
       throw std::runtime_error("the CAD worker failed (status " + std::to_string(e.status) + ")" +
                                workerFailureDetail(e, run.stderrPath));
     throw UsageError(path + ": OpenCASCADE crashed reading this file (the worker stopped with " +
@@ -408,15 +409,17 @@ int runCadWorker(const std::vector<std::string>& a) {
     w.str(e.what());
     status = 1;
   }
-  std::ofstream out(a[1], std::ios::binary | std::ios::trunc);
+  // Written whole beside its name, then renamed: the parent never reads half a result.
+  const std::string part = a[1] + ".part";
+  std::ofstream out(part, std::ios::binary | std::ios::trunc);
   const std::string bytes = buffer.str();
   out.write(bytes.data(), std::streamsize(bytes.size()));
   out.close();
-  if (!out) {
+  if (!out || std::rename(part.c_str(), a[1].c_str()) != 0) {
     std::fprintf(stderr, "cannot write the result to %s: %s\n", a[1].c_str(), std::strerror(errno));
-    return wf::kWorkerExitWriteFailed;
+    wf::endWorker(wf::kWorkerExitWriteFailed);
   }
-  return status;
+  wf::endWorker(status);
 }
 
 std::shared_ptr<wf::GeometryData> cadGeometryData(CadGeometry&& cad) {

@@ -96,6 +96,14 @@ for i in range(ex.GetNumberOfPoints()):
     far = max(far, d2.get() ** 0.5)
 print(f"exact silhouette to the mesh path's: at most {far:.4g} ({far / size:.2e} of the model's size)")
 check("exact and mesh silhouettes agree within 1% of the size", far < 0.01 * size, True)
+locator = vtkCellLocator()
+locator.SetDataSet(ex)
+locator.BuildLocator()
+back = 0.0
+for i in range(me.GetNumberOfPoints()):
+    locator.FindClosestPoint(me.GetPoint(i), closest, vtkGenericCell(), cell_id, sub_id, d2)
+    back = max(back, d2.get() ** 0.5)
+check("no mesh silhouette without an exact one within 2% of the size", back < 0.02 * size, True)
 before = ex.GetNumberOfPoints()
 exact.CameraPosition = [centre[0] - 1.6 * size, centre[1] + 0.4 * size, centre[2] + 0.8 * size]
 exact.UpdatePipeline()
@@ -109,6 +117,12 @@ seen_length, hidden_length = info(hidden, "VisibleLength"), info(hidden, "Hidden
 print(f"edge visibility: {seen_length:.4g} seen, {hidden_length:.4g} hidden")
 bare = WireFurEdgeVisibility(Input=OutputPort(reader, 1), **camera)
 bare.UpdatePipeline()
+# A camera 3,000 units away (vtkCamera's own clipping range ends at 1,000): the range is fitted to
+# the data, so the edges are in the view, as near.
+far_camera = dict(camera, CameraPosition=[centre[0] + 3000, centre[1] - 1000, centre[2] + 1000], CameraViewAngle=1.5)
+distant = WireFurEdgeVisibility(Input=OutputPort(reader, 1), **far_camera)
+distant.UpdatePipeline()
+check("a distant camera sees every edge", info(distant, "HiddenLength"), 0.0)
 check("no surface: nothing hidden", info(bare, "HiddenLength"), 0.0)
 check("no surface: the whole length seen",
       abs(info(bare, "VisibleLength") - seen_length - hidden_length) < 1e-9 * size, True)

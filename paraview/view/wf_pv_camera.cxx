@@ -41,7 +41,8 @@ void fitClippingRange(vtkCamera* camera, vtkInformationVector** inputs, int port
   if (!(farthest > 0))
     return;
   const double far = farthest * 1.01;
-  camera->SetClippingRange(std::max(nearest * 0.99, far * 1e-6), far);
+  // (near at least 1e-3 of far, as VTK's renderer keeps it: what the view clips, this clips)
+  camera->SetClippingRange(std::max(nearest * 0.99, far * 1e-3), far);
 }
 
 }  // namespace wfpv

@@ -12,7 +12,8 @@ class vtkInformationVector;
 namespace wfpv {
 
 /// Sets camera's clipping range to hold the bounds of every input on ports [0, ports): nearest
-/// and farthest corner along the view direction, with 1% to spare (near at least 1e-6 of far).
+/// and farthest corner along the view direction, with 1% to spare (near at least 1e-3 of far,
+/// as VTK's renderer keeps it).
 /// Does not touch the camera when nothing is in front of it.
 void fitClippingRange(vtkCamera* camera, vtkInformationVector** inputs, int ports);
 

@@ -15,6 +15,7 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -44,6 +45,7 @@ WorkerExit runWorker(const std::string& executable, const std::vector<std::strin
   argv.push_back(nullptr);
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);  // (a host's socket)
   posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);  // OpenCASCADE prints
   if (!options.stderrPath.empty())
     posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, options.stderrPath.c_str(),
@@ -94,7 +96,14 @@ WorkerExit runWorker(const std::string& executable, const std::vector<std::strin
       r.timedOut = true;
       return r;
     }
-    if (options.poll && !options.poll()) {
+    bool goOn = true;
+    try {
+      goOn = !options.poll || options.poll();
+    } catch (...) {
+      killAndReap();
+      throw;
+    }
+    if (!goOn) {
       killAndReap();
       r.aborted = true;
       return r;
@@ -139,7 +148,13 @@ double workerMemoryCap() {
 #if defined(WF_UNDER_ASAN)
   return 0.0;
 #else
-  return std::clamp(0.5 * usableMemory(), 1.0 * (1 << 30), 16.0 * (1 << 30));
+  double cap = 0;
+  if (const char* set = std::getenv("WIREFUR_WORKER_MEMORY_CAP"); set && parseWorkerNumber(set, cap) && cap > 0)
+    return cap;
+  cap = std::clamp(0.5 * usableMemory(), 1.0 * (1 << 30), 16.0 * (1 << 30));
+  rlimit now{};
+  if (getrlimit(RLIMIT_DATA, &now) == 0 && now.rlim_max != RLIM_INFINITY) cap = std::min(cap, double(now.rlim_max));
+  return cap;
 #endif
 }
 
@@ -147,15 +162,22 @@ double capWorkerMemory() {
   const double cap = workerMemoryCap();
   if (cap > 0) {
     const rlimit lim{rlim_t(cap), rlim_t(cap)};
-    setrlimit(RLIMIT_DATA, &lim);
+    if (setrlimit(RLIMIT_DATA, &lim) != 0) return 0.0;
   }
   return cap;
 }
 
+}  // namespace wf
+
+// Defined by worker_malloc.cpp in the programs that link it (weak: absent elsewhere).
+extern "C" void wirefur_worker_allocation_failures_are_fatal(int exitStatus) __attribute__((weak));
+
+namespace wf {
+
 void becomeWorker(const std::string& parentPid, const std::string& timeoutSeconds) {
   prctl(PR_SET_PDEATHSIG, SIGKILL);
   // The parent may have gone before the line above: then we are someone else's child now.
-  if (std::to_string(getppid()) != parentPid) _exit(kWorkerExitUsage);
+  if (std::to_string(getppid()) != parentPid) _exit(kWorkerExitOrphaned);
   double timeout = 0;
   if (parseWorkerNumber(timeoutSeconds, timeout) && std::isfinite(timeout) && timeout > 0)
     alarm(unsigned(std::min(std::ceil(timeout) + 10.0, 4.0e9)));
@@ -167,6 +189,13 @@ void becomeWorker(const std::string& parentPid, const std::string& timeoutSecond
     [[maybe_unused]] const ssize_t n = write(STDERR_FILENO, m, sizeof m - 1);
     _exit(kWorkerExitOutOfMemory);
   });
+  if (wirefur_worker_allocation_failures_are_fatal) wirefur_worker_allocation_failures_are_fatal(kWorkerExitOutOfMemory);
+}
+
+void endWorker(int status) {
+  std::fflush(stderr);
+  std::fflush(stdout);
+  _exit(status);
 }
 
 std::string workerNumber(double value) {
@@ -191,6 +220,7 @@ std::string lastLineOf(const std::string& path, size_t maxChars) {
   if (!in) return std::string();
   in.seekg(0, std::ios::end);
   const std::streamoff size = in.tellg();
+  if (size <= 0) return std::string();
   const std::streamoff from = std::max<std::streamoff>(0, size - 4096);
   in.seekg(from);
   std::string text(size_t(size - from), '\0');
@@ -203,7 +233,11 @@ std::string lastLineOf(const std::string& path, size_t maxChars) {
   }
   for (char& c : last)
     if (static_cast<unsigned char>(c) < 32 || c == 127) c = ' ';
-  if (last.size() > maxChars) last = last.substr(0, maxChars - 3) + "...";
+  if (last.size() > maxChars) {
+    size_t cut = maxChars - 3;
+    while (cut > 0 && (static_cast<unsigned char>(last[cut]) & 0xC0) == 0x80) --cut;  // (whole UTF-8 characters)
+    last = last.substr(0, cut) + "...";
+  }
   return last;
 }
 

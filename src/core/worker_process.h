@@ -34,6 +34,7 @@ struct WorkerExit {
 constexpr int kWorkerExitUsage = 3;        ///< wrong arguments: a worker of another version
 constexpr int kWorkerExitWriteFailed = 4;  ///< the result could not be written (a full disk)
 constexpr int kWorkerExitOutOfMemory = 5;  ///< an allocation failed under the memory cap
+constexpr int kWorkerExitOrphaned = 6;     ///< its parent was gone when it started: nobody to read it
 constexpr int kWorkerExitCannotRun = 127;  ///< the loader could not start it (a missing library)
 
 struct WorkerOptions {
@@ -41,27 +42,36 @@ struct WorkerOptions {
   double timeoutSeconds = 600.0;
   /// Where the worker's stderr goes: empty, inherited; else this file (or "/dev/null").
   std::string stderrPath;
-  /// Called about every 2 ms while the worker runs; returning false kills it (aborted).
+  /// Called about every 2 ms while the worker runs; returning false kills it (aborted). If it
+  /// throws, the worker is killed and reaped and the exception goes on.
   std::function<bool()> poll;
 };
 
-/// Starts `executable` with `args` (args[0] is the program's name as it sees it), stdout to
-/// /dev/null, and waits for it as `options` say. Never throws.
+/// Starts `executable` with `args` (args[0] is the program's name as it sees it), stdin and
+/// stdout on /dev/null, and waits for it as `options` say. Throws only what poll throws.
 WorkerExit runWorker(const std::string& executable, const std::vector<std::string>& args,
                      const WorkerOptions& options);
 
 /// Called first in a worker's main, with the parent's pid and time limit from its command line:
-/// the worker gets SIGKILL when its parent goes (and ends now if it has gone already), stops
-/// itself (SIGALRM) 10 s after the limit, writes no core dump, its memory is capped
-/// (capWorkerMemory) and a failed C++ allocation ends it with kWorkerExitOutOfMemory.
+/// the worker gets SIGKILL when its parent goes (and ends now, kWorkerExitOrphaned, if it has
+/// gone already), stops itself (SIGALRM) 10 s after the limit, writes no core dump, its memory
+/// is capped (capWorkerMemory) and a failed allocation ends it with kWorkerExitOutOfMemory: C++
+/// new, and malloc / calloc / realloc too in a program that links worker_malloc.cpp (the two
+/// CAD workers: OpenCASCADE and VTK allocate with them, and catch their own failures).
 void becomeWorker(const std::string& parentPid, const std::string& timeoutSeconds);
 
-/// Caps the data the process may map (RLIMIT_DATA: heap and private writable mappings, not the
-/// address space malloc's arenas reserve) at half the memory it may use: the machine's, or its
-/// cgroup's memory.max when lower; between 1 and 16 GiB. So a parser talked into allocating
-/// without end (OpenCASCADE's mesher, by one wrong digit: a parameter range of 1e14, found by
-/// fuzzing) fails or dies instead of the machine swapping. Nothing under AddressSanitizer, whose
-/// shadow memory needs the room. Returns the cap in bytes (0: none).
+/// A worker's end once its result is written: stderr flushed, then _exit(status), so that no
+/// static destructor (OpenCASCADE's registries, TBB, VTK) can turn a whole result into a crash.
+[[noreturn]] void endWorker(int status);
+
+/// Caps the data the process may map (RLIMIT_DATA: heap, thread stacks and other private
+/// writable mappings, not the address space malloc's arenas reserve) at half the memory it may
+/// use: the machine's, or its cgroup's memory.max when lower; between 1 and 16 GiB, and never
+/// above a hard limit already in force. So a parser talked into allocating without end
+/// (OpenCASCADE's mesher, by one wrong digit: a parameter range of 1e14, found by fuzzing)
+/// fails instead of the machine swapping. WIREFUR_WORKER_MEMORY_CAP (bytes) sets the cap
+/// instead (tests). Nothing under AddressSanitizer, whose shadow memory needs the room. Returns
+/// the cap in force, in bytes (0: none).
 double capWorkerMemory();
 
 /// The cap capWorkerMemory sets (bytes; 0 under AddressSanitizer), for messages.

@@ -261,7 +261,17 @@ class Tracer {
     done_ += fine.size();
     // Trim: runs where the face is, ended at the border found by bisection.
     std::vector<glm::dvec3> line;
+    // The screen box of the line so far: a curve that fits inside the tolerance is no curve at
+    // this resolution (a pole that is one only within the model's tolerance, 1e-7 to 1e-4
+    // units, scatters its points by that much).
+    glm::dvec2 boxLo(HUGE_VAL), boxHi(-HUGE_VAL);
     auto flush = [&] {
+      const glm::dvec2 extent = boxHi - boxLo;
+      if (line.size() >= 2 && std::isfinite(extent.x) && std::isfinite(extent.y) &&
+          std::max(extent.x, extent.y) < o_.tolerancePx)
+        line.clear();
+      boxLo = glm::dvec2(HUGE_VAL);
+      boxHi = glm::dvec2(-HUGE_VAL);
       if (line.size() >= 2) {
         out.add(line);
         ++st_.curves;
@@ -285,6 +295,8 @@ class Tracer {
       if (!view_.perspective || -e.z > 0) q = view_.project(e);
       if (!line.empty() && glm::length(q - lastScreen) <= 1e-6) return;
       lastScreen = q;
+      boxLo = glm::min(boxLo, q);  // (glm::min keeps the box: a point behind the eye, NaN, is left out)
+      boxHi = glm::max(boxHi, q);
       line.push_back(P);
     };
     // The mask is over the unit square of the domain (as fur and scales read it: a CAD face's

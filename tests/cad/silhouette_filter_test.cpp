@@ -15,6 +15,7 @@
 #include <vtkIdList.h>
 #include <vtkPolyData.h>
 #include <vtkCamera.h>
+#include <vtkMatrix4x4.h>
 #include <vtkCellData.h>
 
 #include <cmath>
@@ -153,30 +154,32 @@ TEST(CadSilhouetteFilter, ProductTrayExactAgreesWithTheMeshAndHasNoPointRuns) {
   vtkPolyData* m = mesh->GetOutput();
   ASSERT_GT(e->GetNumberOfLines(), 4);
   ASSERT_GT(m->GetNumberOfLines(), 4);
-  // Chords of the mesh path's polylines, for the distance from each exact point.
-  std::vector<std::pair<glm::dvec3, glm::dvec3>> chords;
-  vtkNew<vtkIdList> ids;
-  m->GetLines()->InitTraversal();
-  while (m->GetLines()->GetNextCell(ids))
-    for (vtkIdType k = 1; k < ids->GetNumberOfIds(); ++k) {
-      glm::dvec3 p, q;
-      m->GetPoint(ids->GetId(k - 1), &p.x);
-      m->GetPoint(ids->GetId(k), &q.x);
-      chords.emplace_back(p, q);
-    }
-  double far = 0;
-  int runs = 0, repeats = 0;
-  e->GetLines()->InitTraversal();
-  while (e->GetLines()->GetNextCell(ids)) {
-    double span = 0;
-    glm::dvec3 first, prev;
-    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k) {
+  // Pixels on the 800 x 600 screen, from the camera's own projection.
+  vtkMatrix4x4* m4 = camera->GetCompositeProjectionTransformMatrix(800.0 / 600.0, -1, 1);
+  auto pixel = [&](const glm::dvec3& p) {
+    double in[4] = {p.x, p.y, p.z, 1.0}, out[4];
+    m4->MultiplyPoint(in, out);
+    return glm::dvec2(400.0 * (out[0] / out[3] + 1.0), 300.0 * (out[1] / out[3] + 1.0));
+  };
+  // Chords of one output's polylines, and the farthest point of the other from them.
+  auto chordsOf = [](vtkPolyData* d) {
+    std::vector<std::pair<glm::dvec3, glm::dvec3>> chords;
+    vtkNew<vtkIdList> ids;
+    d->GetLines()->InitTraversal();
+    while (d->GetLines()->GetNextCell(ids))
+      for (vtkIdType k = 1; k < ids->GetNumberOfIds(); ++k) {
+        glm::dvec3 p, q;
+        d->GetPoint(ids->GetId(k - 1), &p.x);
+        d->GetPoint(ids->GetId(k), &q.x);
+        chords.emplace_back(p, q);
+      }
+    return chords;
+  };
+  auto farthest = [](vtkPolyData* from, const std::vector<std::pair<glm::dvec3, glm::dvec3>>& chords) {
+    double far = 0;
+    for (vtkIdType i = 0; i < from->GetNumberOfPoints(); ++i) {
       glm::dvec3 p;
-      e->GetPoint(ids->GetId(k), &p.x);
-      if (k == 0) first = p;
-      else repeats += p == prev;
-      span = std::max(span, glm::length(p - first));
-      prev = p;
+      from->GetPoint(i, &p.x);
       double best = HUGE_VAL;
       for (const auto& [a, bb] : chords) {
         const glm::dvec3 d = bb - a;
@@ -185,9 +188,31 @@ TEST(CadSilhouetteFilter, ProductTrayExactAgreesWithTheMeshAndHasNoPointRuns) {
       }
       far = std::max(far, best);
     }
-    runs += !(span > 0);
+    return far;
+  };
+  // Every exact curve is one on the screen: more than the tracer's tolerance (0.1 px) across.
+  int runs = 0, repeats = 0;
+  vtkNew<vtkIdList> ids;
+  e->GetLines()->InitTraversal();
+  while (e->GetLines()->GetNextCell(ids)) {
+    glm::dvec2 lo(HUGE_VAL), hi(-HUGE_VAL);
+    glm::dvec3 prev;
+    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k) {
+      glm::dvec3 p;
+      e->GetPoint(ids->GetId(k), &p.x);
+      if (k > 0) repeats += p == prev;
+      prev = p;
+      lo = glm::min(lo, pixel(p));
+      hi = glm::max(hi, pixel(p));
+    }
+    runs += !(std::max(hi.x - lo.x, hi.y - lo.y) > 0.1);
   }
   EXPECT_EQ(runs, 0);
   EXPECT_EQ(repeats, 0);
+  const double far = farthest(e, chordsOf(m));
+  // And the other way: no mesh silhouette without an exact one near it (2%: the mesh path's
+  // curves cut corners of the tessellation).
+  const double back = farthest(m, chordsOf(e));
+  EXPECT_LT(back, 0.02 * size) << "a mesh silhouette point far from every exact silhouette";
   EXPECT_LT(far, 0.01 * size) << "an exact silhouette point far from every mesh silhouette";
 }

@@ -25,8 +25,12 @@
 #include <vtkCallbackCommand.h>
 #include <vtkCommand.h>
 
+#include <fcntl.h>
+#include <pthread.h>
 #include <signal.h>
+#include <unistd.h>
 
+#include <cctype>
 #include <chrono>
 #include <clocale>
 #include <cmath>
@@ -34,6 +38,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <thread>
 
 using namespace cadtest;
@@ -278,7 +283,19 @@ TEST(CadWorker, NumbersCrossInEveryLocale) {
   EXPECT_FALSE(wf::parseWorkerNumber("0,001", x));
   EXPECT_FALSE(wf::parseWorkerNumber("", x));
   // An installed German locale, else one compiled here from the locales package's definitions
-  // (localedef into a folder named by LOCPATH, about a second).
+  // (localedef into a folder named by LOCPATH, about a second). Both are put back at the end.
+  const std::string oldNumeric = std::setlocale(LC_NUMERIC, nullptr);
+  const char* oldLocpath = std::getenv("LOCPATH");
+  const std::string keptLocpath = oldLocpath ? oldLocpath : "";
+  struct Restore {
+    std::string numeric, locpath;
+    bool had;
+    ~Restore() {
+      if (had) setenv("LOCPATH", locpath.c_str(), 1);
+      else unsetenv("LOCPATH");
+      std::setlocale(LC_NUMERIC, numeric.c_str());
+    }
+  } restore{oldNumeric, keptLocpath, oldLocpath != nullptr};
   const char* comma = nullptr;
   for (const char* name : {"de_DE.UTF-8", "de_DE.utf8"})
     if (std::setlocale(LC_NUMERIC, name)) comma = name;
@@ -300,7 +317,6 @@ TEST(CadWorker, NumbersCrossInEveryLocale) {
   auto configure = [](vtkWireFurCADReader* r) { r->SetLinearDeflection(2e-3), r->SetFeatureAngle(15); };
   const Read worker = readOk(path, [&](vtkWireFurCADReader* r) { configure(r), r->ReadInWorkerOn(); });
   std::setlocale(LC_NUMERIC, "C");
-  unsetenv("LOCPATH");
   const Read local = readOk(path, configure);
   expectSameData(local.faces, worker.faces, "faces");
   expectSameData(local.edges, worker.edges, "edges");
@@ -373,21 +389,31 @@ TEST(CadWorker, TheWorkerDiesWithItsParent) {
     return n;
   };
   wf::WorkerOptions run;
-  run.timeoutSeconds = 0.5;
+  run.timeoutSeconds = 10.0;
+  // The shell is killed only once its worker is seen running (else the test would prove nothing).
+  int seenRunning = 0;
+  auto lastLook = std::chrono::steady_clock::now();
+  run.poll = [&] {
+    if (std::chrono::steady_clock::now() - lastLook < std::chrono::milliseconds(50)) return true;
+    lastLook = std::chrono::steady_clock::now();
+    if (running() > 0) ++seenRunning;
+    return seenRunning < 3;  // (seen three times, 100 ms apart: past its start-up)
+  };
   const wf::WorkerExit e = wf::runWorker(
     "/bin/sh", {"sh", "-c", "\"$0\" \"$1\" \"$2\" $$ 60 1e-7 1 0.5 0 0 9223372036854775807 30 1 & wait", exe, path, folder},
     run);
-  EXPECT_TRUE(e.timedOut);
+  EXPECT_TRUE(e.aborted);
+  EXPECT_GE(seenRunning, 3);
   int left = 1;
   for (int i = 0; i < 100 && left > 0; ++i) {
     left = running();
     if (left > 0) std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   EXPECT_EQ(left, 0) << "the worker outlived its parent by 2 s";
-  // And a worker that finds its parent gone already ends at once (status 3), writing nothing.
-  const wf::WorkerExit stale = wf::runWorker(exe, {exe, path, folder, "1", "60", "1e-3", "1", "0.5", "0", "0",
+  // And a worker that finds its parent gone already ends at once, writing nothing.
+  const wf::WorkerExit stale = wf::runWorker(exe, {exe, path, folder, "0", "60", "1e-3", "1", "0.5", "0", "0",
                                                    "1000000", "30", "1"}, wf::WorkerOptions());
-  EXPECT_EQ(stale.status, wf::kWorkerExitUsage);
+  EXPECT_EQ(stale.status, wf::kWorkerExitOrphaned);
   EXPECT_FALSE(std::filesystem::exists(folder + "/done"));
 }
 
@@ -400,4 +426,102 @@ TEST(CadWorker, LazyFacesRefuseAChangedFile) {
   std::vector<WireFurCadFace> faces;
   EXPECT_EQ(wirefur_cad_face_surfaces(worker.reader, &faces), 0);
   EXPECT_TRUE(faces.empty());
+}
+
+// What a worker inherits: no file descriptor past stderr (fd 100 is opened here without
+// O_CLOEXEC first), stdin on /dev/null, no blocked signal (SIGUSR1 is blocked here) and no
+// ignored one (SIGPIPE is ignored here). `ls` and `grep`, started as workers, write what they
+// have to their stderr files (ls opens one fd of its own, the folder it lists).
+TEST(CadWorker, AWorkerInheritsNoFdAndNoSignalState) {
+  const std::string folder = tempPath("worker_inherits");
+  std::filesystem::create_directories(folder);
+  const int fd = ::open("/dev/null", O_RDONLY);  // (no O_CLOEXEC)
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::dup2(fd, 100), 100);
+  sigset_t usr1, old;
+  sigemptyset(&usr1);
+  sigaddset(&usr1, SIGUSR1);
+  pthread_sigmask(SIG_BLOCK, &usr1, &old);
+  struct sigaction ignore {}, oldPipe {};
+  ignore.sa_handler = SIG_IGN;
+  sigemptyset(&ignore.sa_mask);
+  sigaction(SIGPIPE, &ignore, &oldPipe);
+  wf::WorkerOptions run;
+  run.timeoutSeconds = 20;
+  run.stderrPath = folder + "/fds";
+  const wf::WorkerExit a = wf::runWorker("/bin/sh", {"sh", "-c", "exec ls /proc/self/fd 1>&2"}, run);
+  const std::string fds = run.stderrPath;
+  run.stderrPath = folder + "/signals";
+  const wf::WorkerExit b =
+    wf::runWorker("/bin/sh", {"sh", "-c", "exec grep -E '^Sig(Blk|Ign)|^State' /proc/self/status 1>&2"}, run);
+  run.stderrPath = folder + "/stdin";
+  const wf::WorkerExit c = wf::runWorker("/bin/sh", {"sh", "-c", "exec readlink /proc/self/fd/0 1>&2"}, run);
+  sigaction(SIGPIPE, &oldPipe, nullptr);
+  pthread_sigmask(SIG_SETMASK, &old, nullptr);
+  ::close(100);
+  ::close(fd);
+  EXPECT_EQ(a.status + b.status + c.status, 0);
+  std::vector<std::string> listed;
+  {
+    std::ifstream in(fds);
+    for (std::string line; std::getline(in, line);) listed.push_back(line);
+  }
+  EXPECT_LE(listed.size(), 4u);  // 0, 1, 2 and ls's own
+  for (const std::string& f : listed) {
+    EXPECT_NE(f, "100") << "fd 100 inherited";
+  }
+  std::map<std::string, unsigned long long> mask;
+  {
+    std::ifstream in(folder + "/signals");
+    for (std::string line; std::getline(in, line);)
+      if (line.rfind("Sig", 0) == 0) mask[line.substr(0, 6)] = std::stoull(line.substr(line.find('\t') + 1), nullptr, 16);
+  }
+  ASSERT_EQ(mask.size(), 2u);
+  // Signals 1 to 31 (glibc keeps 32 and 33 for itself).
+  EXPECT_EQ(mask["SigBlk"] & 0x7fffffffull, 0ull);
+  EXPECT_EQ(mask["SigIgn"] & 0x7fffffffull, 0ull);
+  EXPECT_EQ(wf::lastLineOf(folder + "/stdin"), "/dev/null");
+}
+
+// A worker of another version (arguments it cannot read) and one that cannot write its result
+// are named as such, with the line the worker printed, not taken for a corrupt file.
+TEST(CadWorker, AWorkerThatCannotRunOrWriteSaysSo) {
+  const std::string exe = vtkWireFurCADReader::GetWorkerExecutable();
+  ASSERT_FALSE(exe.empty());
+  const std::string folder = tempPath("worker_cannot");
+  std::filesystem::create_directories(folder);
+  const std::string path = writeBrep(model(), "worker_cannot.brep");
+  wf::WorkerOptions run;
+  run.stderrPath = folder + "/stderr";
+  const wf::WorkerExit usage = wf::runWorker(exe, {exe, path, folder, std::to_string(getpid()), "60", "0,001", "1", "0.5",
+                                                   "0", "0", "1000000", "30", "1"}, run);
+  EXPECT_EQ(usage.status, wf::kWorkerExitUsage);
+  EXPECT_NE(wf::lastLineOf(run.stderrPath).find("not a command"), std::string::npos) << wf::lastLineOf(run.stderrPath);
+  const std::string gone = folder + "/no/such/folder";
+  const wf::WorkerExit write = wf::runWorker(exe, {exe, path, gone, std::to_string(getpid()), "60", "1e-3", "1", "0.5",
+                                                   "0", "0", "1000000", "30", "1"}, run);
+  EXPECT_EQ(write.status, wf::kWorkerExitWriteFailed);
+  EXPECT_NE(wf::lastLineOf(run.stderrPath).find("cannot write the result under " + gone), std::string::npos)
+    << wf::lastLineOf(run.stderrPath);
+}
+
+// Past the worker's memory cap (set low here with WIREFUR_WORKER_MEMORY_CAP), meshing fails with
+// "out of memory in the CAD worker", not with faces skipped: OpenCASCADE's failed allocations end
+// the worker (worker_malloc.cpp) instead of failing faces one by one.
+TEST(CadWorker, PastTheMemoryCapTheReadFailsAsOutOfMemory) {
+  const std::string path = writeBrep(BRepPrimAPI_MakeSphere(gp_Pnt(0, 0, 0), 10).Shape(), "worker_oom.brep");
+  setenv("WIREFUR_WORKER_MEMORY_CAP", "400000000", 1);
+  const auto t0 = std::chrono::steady_clock::now();
+  const Read r = readBad(path, [](vtkWireFurCADReader* reader) {
+    reader->ReadInWorkerOn();
+    reader->SetWorkerTimeout(60);
+    reader->SetLinearDeflection(1e-7);
+    reader->SetMaximumTriangles(VTK_ID_MAX);
+  });
+  unsetenv("WIREFUR_WORKER_MEMORY_CAP");
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const std::string m = r.reader->GetErrorMessage();
+  EXPECT_EQ(m.rfind(path + ": out of memory in the CAD worker (its cap is 0.4 GiB", 0), 0u) << m;
+  EXPECT_EQ(r.faces->GetNumberOfCells(), 0);
+  EXPECT_LT(seconds, 60.0);
 }

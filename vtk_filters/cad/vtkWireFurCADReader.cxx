@@ -61,6 +61,7 @@
 #include <tbb/task_arena.h>
 
 #include <dlfcn.h>
+#include <sys/stat.h>
 #include <signal.h>
 #include <unistd.h>
 
@@ -441,10 +442,24 @@ public:
   // The file the worker read, as it was then: the lazy read refuses a file changed since (its
   // faces would not be the ones meshed).
   std::string workerPath;
-  std::filesystem::file_time_type workerFileTime{};
-  std::uintmax_t workerFileSize = 0;
+  std::string workerFileStamp;  // device, inode, size, modification and change times
   void clear() { *this = vtkInternals(); }
 };
+
+namespace
+{
+// What tells one version of a file from another: device, inode, size, modification time and
+// change time (which no utime can set back); empty when it cannot be read.
+std::string fileStamp(const std::string& path)
+{
+  struct stat st{};
+  if (::stat(path.c_str(), &st) != 0)
+    return std::string();
+  return std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino) + ":" + std::to_string(st.st_size) + ":" +
+    std::to_string(st.st_mtim.tv_sec) + "." + std::to_string(st.st_mtim.tv_nsec) + ":" +
+    std::to_string(st.st_ctim.tv_sec) + "." + std::to_string(st.st_ctim.tv_nsec);
+}
+} // namespace
 
 extern "C" WIREFURCAD_EXPORT int wirefur_cad_face_surfaces(vtkWireFurCADReader* reader, std::vector<WireFurCadFace>* faces)
 {
@@ -461,10 +476,8 @@ extern "C" WIREFURCAD_EXPORT int wirefur_cad_face_surfaces(vtkWireFurCADReader* 
     // meshing, and those the worker meshed are kept (as wirefur_cad_face_surfaces promises) --
     // from the file the worker read, if it is unchanged since.
     in.facesRead = true;
-    std::error_code ec1, ec2;
-    const auto time = std::filesystem::last_write_time(in.workerPath, ec1);
-    const std::uintmax_t size = std::filesystem::file_size(in.workerPath, ec2);
-    if (ec1 || ec2 || time != in.workerFileTime || size != in.workerFileSize)
+    const std::string stamp = fileStamp(in.workerPath);
+    if (stamp.empty() || stamp != in.workerFileStamp)
     {
       vtkWarningWithObjectMacro(reader, << in.workerPath
         << ": changed or gone since it was read: no exact faces (Modified() the reader to read it again)");
@@ -1030,8 +1043,7 @@ int vtkWireFurCADReader::RequestDataInWorker(const std::string& path, vtkPolyDat
   // The file as it is now, for the exact faces read later (wirefur_cad_face_surfaces).
   std::error_code ec;
   in.workerPath = std::filesystem::absolute(path, ec).string();
-  in.workerFileTime = std::filesystem::last_write_time(path, ec);
-  in.workerFileSize = std::filesystem::file_size(path, ec);
+  in.workerFileStamp = fileStamp(path);
   std::vector<std::string> args = { wfcad::kWorkerName, path, folder.path(), std::to_string(getpid()),
     wf::workerNumber(this->WorkerTimeout) };
   args.push_back(wf::workerNumber(this->LinearDeflection));
@@ -1067,7 +1079,7 @@ int vtkWireFurCADReader::RequestDataInWorker(const std::string& path, vtkPolyDat
   const wf::WorkerExit e = wf::runWorker(exe, args, run);
   if (!e.started)
     return fail("cannot start the CAD worker " + exe + ": " + e.startError);
-  if (e.timedOut)
+  if (e.timedOut || (e.signalled && e.signal == SIGALRM))  // (SIGALRM: the worker's own limit)
     return fail("reading and meshing did not finish within " + wf::workerNumber(this->WorkerTimeout) +
       " s (OpenCASCADE may loop on a corrupt file; WorkerTimeout sets the limit)");
   if (e.aborted)
@@ -1093,7 +1105,8 @@ int vtkWireFurCADReader::RequestDataInWorker(const std::string& path, vtkPolyDat
     return fail(std::string("out of memory in the CAD worker (its cap is ") + cap +
       " GiB: half the memory this machine or its cgroup allows; turn ReadInWorker off to read without it)");
   }
-  if (status == wf::kWorkerExitCannotRun || status == wf::kWorkerExitUsage || status == wf::kWorkerExitWriteFailed)
+  if (status == wf::kWorkerExitCannotRun || status == wf::kWorkerExitUsage || status == wf::kWorkerExitWriteFailed ||
+    status == wf::kWorkerExitOrphaned)
     return fail("the CAD worker " + exe + " failed (status " + std::to_string(status) + ")" +
       (words.empty() ? std::string() : ": " + words));
   if ((status != 0 && status != 2) || done != status)

@@ -131,8 +131,9 @@ public:
   /// memory cap ends the update with one line instead of taking the program down. The cap
   /// limits the data the worker maps (RLIMIT_DATA) to half the memory of the machine or of its
   /// cgroup, 1 to 16 GiB; a file that needs more fails in the worker ("out of memory in the CAD
-  /// worker") where it might read in process. Otherwise the outputs are those read in process,
-  /// bit for bit. Progress comes from the worker every 50 ms, and AbortExecute stops it. The
+  /// worker") where it might read in process (a failed allocation ends the worker: OpenCASCADE
+  /// would skip the face). Otherwise the outputs are those read in process, bit for bit.
+  /// Progress comes from the worker every 50 ms, and AbortExecute stops it. The
   /// worker dies with this process. The exact faces (wf_cad_plugin.h) are then read in this
   /// process only when asked for (vtkWireFurSilhouette), once the worker has shown that the file
   /// reads cleanly, and only if the file has not changed since (else none, with a warning).

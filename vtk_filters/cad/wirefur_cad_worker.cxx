@@ -128,7 +128,7 @@ int main(int argc, char** argv)
     !writeSmall(folder + "/" + wfcad::kWorkerDoneFile, std::to_string(status)))
   {
     std::fprintf(stderr, "cannot write the result under %s: %s\n", folder.c_str(), std::strerror(errno));
-    return wf::kWorkerExitWriteFailed;
+    wf::endWorker(wf::kWorkerExitWriteFailed);
   }
-  return status;
+  wf::endWorker(status);
 }
