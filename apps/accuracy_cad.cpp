@@ -4,6 +4,7 @@
 // (u, v) and tangents are exact at every vertex). Time is reading + meshing + rendering. The
 // angular deflection is set loose (80 degrees) so that the linear deflection is the knob.
 #include "accuracy_cad.h"
+#include "cli.h"
 
 #include "cad_input.h"
 #include "render_command.h"
@@ -22,7 +23,7 @@ namespace wfapp {
 using json = nlohmann::ordered_json;
 
 json cadTessellationStudy(bool quick, const Progress& progress, std::vector<std::pair<std::string, PlotSpec>>& plots) {
-  const std::string path = std::string(WIREFUR_SOURCE_DIR) + "/data/cad/product.step";
+  const std::string path = dataDir() + "/cad/product.step";
   json out = json::array();
   if (!std::filesystem::exists(path)) return out;
   progress.say("CAD tessellation study: " + path);

@@ -10,6 +10,7 @@
 //    on the three paths at <= 320 pixels: time (median of 3), the render's own bound, and the
 //    largest difference to the exact path (same geometry and coverage, so it is the shading).
 #include "accuracy_shading.h"
+#include "cli.h"
 
 #include "accuracy_abuffer.h"
 #include "cad_input.h"
@@ -127,7 +128,7 @@ json shadingPathsStudy(bool quick, const Progress& progress, std::vector<std::pa
   // ---- 3. the gallery's scenes and a CAD part ---------------------------------------------------
   progress.say("shading paths: the gallery's scenes and a CAD part on every path");
   std::vector<std::string> files;
-  const std::string scenesDir = std::string(WIREFUR_SOURCE_DIR) + "/data/scenes";
+  const std::string scenesDir = dataDir() + "/scenes";
   std::error_code ec;
   if (std::filesystem::is_directory(scenesDir, ec))
     for (const auto& e : std::filesystem::directory_iterator(scenesDir))
@@ -140,7 +141,7 @@ json shadingPathsStudy(bool quick, const Progress& progress, std::vector<std::pa
         if (std::filesystem::path(f).stem() == stem) few.push_back(f);
     files = few;
   }
-  const std::string cad = std::string(WIREFUR_SOURCE_DIR) + "/data/cad/product.step";
+  const std::string cad = dataDir() + "/cad/product.step";
   if (std::filesystem::exists(cad, ec)) files.push_back(cad);
   const int side = quick ? 96 : 320, reps = quick ? 1 : 3;
   json scenes = json::array();

@@ -54,15 +54,22 @@ using Factory = vtkWireFurCADReader* (*)();
 
 WireFurCadFacesFunction facesFunction = nullptr;
 
-// Opens the CAD module once: first the library this program was built with, then by name (an
-// installed copy on the library path).
+// Opens the CAD module once: the one installed beside this program (../lib), else the library
+// it was built with, else by name (a copy on the library path).
 Factory cadFactory() {
   static std::once_flag once;
   static Factory factory = nullptr;
   static std::string problem;
   std::call_once(once, [] {
-    void* h = dlopen(WIREFUR_CAD_LIBRARY, RTLD_NOW | RTLD_LOCAL);
-    if (!h) h = dlopen(std::filesystem::path(WIREFUR_CAD_LIBRARY).filename().c_str(), RTLD_NOW | RTLD_LOCAL);
+    // An installed wirefur (bin/) opens the module installed with it (lib/), not the build's.
+    const std::string name = std::filesystem::path(WIREFUR_CAD_LIBRARY).filename().string();
+    std::error_code ec;
+    const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+    const std::filesystem::path installed = exe.parent_path().parent_path() / WIREFUR_INSTALL_LIBDIR / name;
+    void* h = nullptr;
+    if (!ec && std::filesystem::is_regular_file(installed, ec)) h = dlopen(installed.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (!h) h = dlopen(WIREFUR_CAD_LIBRARY, RTLD_NOW | RTLD_LOCAL);
+    if (!h) h = dlopen(name.c_str(), RTLD_NOW | RTLD_LOCAL);
     if (!h) {
       const char* e = dlerror();
       problem = e ? e : "dlopen failed";

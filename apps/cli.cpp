@@ -53,6 +53,16 @@ std::string byteSizeProblem(const std::string& value) {
   return "expected bytes or a size such as 512M, 2G (0: unlimited), got '" + value + "'";
 }
 
+std::string dataDir() {
+  std::error_code ec;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const std::filesystem::path installed = exe.parent_path().parent_path() / "share" / "wirefur";
+    if (std::filesystem::is_directory(installed / "scenes", ec)) return installed.string();
+  }
+  return std::string(WIREFUR_SOURCE_DIR) + "/data";
+}
+
 std::string oneLine(const std::string& text) {
   std::string out;
   out.reserve(text.size());

@@ -16,6 +16,10 @@ namespace wfapp {
 /// so that a message quoting a file name, a JSON key or a value stays one line.
 std::string oneLine(const std::string& text);
 
+/// The folder holding scenes/ and cad/: <prefix>/share/wirefur beside an installed wirefur
+/// (bin/wirefur), else data/ of the source tree this program was built from.
+std::string dataDir();
+
 /// Bad input from the user: reported as one line on stderr, exit status 2. The message is made one
 /// line here (oneLine), whatever names or values it quotes: a file name or a scene key with a
 /// newline in it cannot split it.

@@ -89,7 +89,9 @@ void writeIndex(const std::string& dir, const std::vector<Entry>& entries, doubl
 
 }  // namespace
 
-int runGallery(const GalleryOptions& opt) {
+int runGallery(const GalleryOptions& options) {
+  GalleryOptions opt = options;
+  if (opt.scenesDir.empty()) opt.scenesDir = dataDir() + "/scenes";
   const auto tStart = std::chrono::steady_clock::now();
   const Progress progress(opt.quiet);
   {

@@ -8,7 +8,7 @@ namespace wfapp {
 
 struct GalleryOptions {
   std::string outDir = "out/gallery";
-  std::string scenesDir = WIREFUR_SOURCE_DIR "/data/scenes";
+  std::string scenesDir;  ///< empty: dataDir() + "/scenes"
   int size = 0;  ///< > 0: scale every scene down so that its longer side is at most this
   bool quiet = false;
 };

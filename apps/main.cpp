@@ -36,7 +36,7 @@ void declareGallery(CLI::App& wirefur, wfapp::GalleryOptions& o) {
   CLI::App* c = wfapp::addCommand(wirefur, "gallery",
                                   "every scene of data/scenes (and the shading tables) as PNG files with index.html");
   wfapp::addOutputOption(*c, o.outDir, "DIR", "output folder (default out/gallery)");
-  c->add_option("--scenes", o.scenesDir, "the scene files to render (default: data/scenes of the source tree)")
+  c->add_option("--scenes", o.scenesDir, "the scene files to render (default: share/wirefur/scenes of the install, or data/scenes of the source tree)")
       ->type_name("DIR")
       ->trigger_on_parse();
   wfapp::addIntegerOption(*c, "--size", o.size, 16, wf::kMaxImageSide,
