@@ -23,6 +23,7 @@ packages=(
   clang libclang-rt-14-dev          # libFuzzer targets (tests/fuzz)
   libembree-dev                     # Embree 3: the ray-cast peer of the benchmarks only (tests/bench/peer)
   locales                           # a decimal-comma locale, compiled by a test (tests/cad/worker_test.cpp)
+  dpkg-dev                          # the .deb's dependencies (cpack runs dpkg-shlibdeps; docs/install.md)
 )
 
 missing=()
