@@ -24,6 +24,7 @@ packages=(
   libembree-dev                     # Embree 3: the ray-cast peer of the benchmarks only (tests/bench/peer)
   locales                           # a decimal-comma locale, compiled by a test (tests/cad/worker_test.cpp)
   dpkg-dev                          # the .deb's dependencies (cpack runs dpkg-shlibdeps; docs/install.md)
+  libjemalloc2                      # a preloaded allocator for a test (tests/apps/preloaded_allocator_test.sh)
 )
 
 missing=()

@@ -1,5 +1,7 @@
 #include "core/worker_process.h"
 
+#include "core/sanitizers.h"
+
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
@@ -24,13 +26,6 @@
 #include <sstream>
 #include <thread>
 
-#if defined(__SANITIZE_ADDRESS__)
-#define WF_UNDER_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define WF_UNDER_ASAN 1
-#endif
-#endif
 
 extern char** environ;
 
