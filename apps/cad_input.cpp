@@ -1,6 +1,8 @@
 #include "cad_input.h"
 
 #include "cli.h"
+#include "reader_worker.h"
+#include "safe_files.h"
 
 #include "core/srgb.h"
 #include "core/worker_process.h"
@@ -193,63 +195,7 @@ CadGeometry readCadInProcess(const std::string& path, const CadOptions&, bool, b
 
 namespace {
 
-constexpr char kBlobMagic[8] = {'W', 'F', 'C', 'A', 'D', '1', '\n', '\0'};
-
-class BlobWriter {
- public:
-  explicit BlobWriter(std::ostream& out) : out_(out) {}
-  template <class T>
-  void pod(const T& v) { out_.write(reinterpret_cast<const char*>(&v), sizeof v); }
-  template <class T>
-  void vec(const std::vector<T>& v) {
-    pod(std::uint64_t(v.size()));
-    if (!v.empty()) out_.write(reinterpret_cast<const char*>(v.data()), std::streamsize(v.size() * sizeof(T)));
-  }
-  void str(const std::string& s) {
-    pod(std::uint64_t(s.size()));
-    out_.write(s.data(), std::streamsize(s.size()));
-  }
-
- private:
-  std::ostream& out_;
-};
-
-class BlobReader {
- public:
-  BlobReader(const std::string& bytes) : b_(bytes) {}
-  template <class T>
-  T pod() {
-    T v{};
-    need(sizeof v);
-    std::memcpy(&v, b_.data() + at_, sizeof v);
-    at_ += sizeof v;
-    return v;
-  }
-  template <class T>
-  std::vector<T> vec() {
-    const std::uint64_t n = pod<std::uint64_t>();
-    if (n > (b_.size() - at_) / sizeof(T)) throw std::runtime_error("CAD worker result is truncated");
-    std::vector<T> v;
-    v.resize(size_t(n));
-    if (n) std::memcpy(v.data(), b_.data() + at_, size_t(n) * sizeof(T));
-    at_ += size_t(n) * sizeof(T);
-    return v;
-  }
-  std::string str() {
-    const std::uint64_t n = pod<std::uint64_t>();
-    need(size_t(n));
-    std::string s = b_.substr(at_, size_t(n));
-    at_ += size_t(n);
-    return s;
-  }
-
- private:
-  void need(size_t n) const {
-    if (b_.size() - at_ < n) throw std::runtime_error("CAD worker result is truncated");
-  }
-  const std::string& b_;
-  size_t at_ = 0;
-};
+const std::string kCadMagic("WFCAD1\n\0", 8);
 
 void writeGeometry(BlobWriter& w, const CadGeometry& g) {
   const wf::TriangleMesh& m = g.geometry.mesh;
@@ -294,6 +240,9 @@ CadGeometry readGeometry(BlobReader& r) {
     if (t.x >= nv || t.y >= nv || t.z >= nv) throw std::runtime_error("CAD worker result is inconsistent");
   if (g.trianglePart.size() != m.triangles.size() || g.triangleFace.size() != m.triangles.size())
     throw std::runtime_error("CAD worker result is inconsistent");
+  if (!polylineStartsFit(g.geometry.lines.starts, g.geometry.lines.points.size()) ||
+      !polylineStartsFit(g.isoLines.starts, g.isoLines.points.size()))
+    throw std::runtime_error("CAD worker result is inconsistent");
   const size_t edges = g.geometry.lines.polylineCount();
   if (g.edgeClasses.size() != edges || g.edgeAngles.size() != edges) throw std::runtime_error("CAD worker result is inconsistent");
   for (wf::EdgeClass c : g.edgeClasses)
@@ -301,74 +250,29 @@ CadGeometry readGeometry(BlobReader& r) {
   return g;
 }
 
-// The worker's last words on stderr, for a worker that left no result.
-std::string workerFailureDetail(const wf::WorkerExit&, const std::string& stderrFile) {
-  const std::string words = stderrFile.empty() ? std::string() : wf::lastLineOf(stderrFile);
-  return words.empty() ? std::string() : ": " + words;
-}
-
 CadGeometry readCadInWorker(const std::string& path, const CadOptions& o) {
-  const wf::TemporaryFolder folder("wirefur-cad-");
-  if (folder.path().empty()) throw std::runtime_error("cannot make a temporary folder for the CAD worker");
-  const std::string out = folder.path() + "/result";
-  std::vector<std::string> args = {"wirefur", "cad-worker", path, out, std::to_string(getpid()),
-                                   wf::workerNumber(o.timeoutSeconds)};
-  args.push_back(wf::workerNumber(o.deflection));
-  args.push_back(o.absoluteDeflection ? "1" : "0");
-  args.push_back(wf::workerNumber(o.angularDegrees));
-  args.push_back(std::to_string(o.isos));
-  args.push_back(std::to_string(o.threads));
-  args.push_back(o.showProgress ? "1" : "0");
-  // The worker's stderr carries its progress lines on a terminal; elsewhere it goes to a file,
-  // whose last line explains a worker that could not run or write (std::terminate's words or a
-  // dying loader's), without adding lines of its own to the one line.
-  wf::WorkerOptions run;
-  run.timeoutSeconds = o.timeoutSeconds;
-  run.stderrPath = o.showProgress ? std::string() : folder.path() + "/stderr";
-  const wf::WorkerExit e = wf::runWorker("/proc/self/exe", args, run);
-  if (!e.started) throw std::runtime_error("cannot start the CAD worker: " + e.startError);
-  if (e.timedOut || (e.signalled && e.signal == SIGALRM))  // (SIGALRM: the worker's own limit)
-    throw UsageError(path + ": reading and meshing did not finish within " + wf::workerNumber(o.timeoutSeconds) +
-                     " s (OpenCASCADE may loop on a corrupt file; --cad-timeout S sets the limit)");
-  if (!e.signalled && e.status == wf::kWorkerExitOutOfMemory) {
-    char cap[32];
-    std::snprintf(cap, sizeof cap, "%.1f", wf::workerMemoryCap() / double(1 << 30));
-    throw UsageError(path + ": out of memory in the CAD worker (its cap is " + cap +
-                     " GiB: half the memory this machine or its cgroup allows)");
-  }
-  if (e.signalled)
-    throw UsageError(path + ": OpenCASCADE crashed reading this file (" + wf::signalDescription(e.signal) +
-                     (e.signal == SIGKILL || e.signal == SIGABRT ? ", out of memory?" : "") +
-                     "): it is corrupt, or uses something OpenCASCADE 7.6 cannot read");
-  std::ifstream in(out, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const std::string bytes = ss.str();
-  // No result at all: the worker died inside OpenCASCADE without a signal reaching us (a
-  // sanitizer's handler, for one, turns the crash into an exit status), ran out of memory, or
-  // could not run or write. (Whether the status is known or not: the blob is written last.)
-  if (bytes.size() < sizeof kBlobMagic || std::memcmp(bytes.data(), kBlobMagic, sizeof kBlobMagic) != 0) {
-    if (!e.signalled && !e.statusUnknown && e.status != 0 && e.status != 1 && e.status != 2 &&
-        e.status != wf::kWorkerExitOutOfMemory && e.status < 128)
-      throw std::runtime_error("the CAD worker failed (status " + std::to_string(e.status) + ")" +
-                               workerFailureDetail(e, run.stderrPath));
-    throw UsageError(path + ": OpenCASCADE crashed reading this file (the worker stopped with " +
-                     (e.statusUnknown ? std::string("an unknown status") : "status " + std::to_string(e.status)) +
-                     " and no result" + workerFailureDetail(e, run.stderrPath) +
-                     "): it is corrupt, or uses something OpenCASCADE 7.6 cannot read");
-  }
-  const std::string body = bytes.substr(sizeof kBlobMagic);
+  ReaderWorkerCall call;
+  call.mode = "cad-worker";
+  call.magic = kCadMagic;
+  call.workerName = "CAD worker";
+  call.what = "reading and meshing";
+  call.library = "OpenCASCADE";
+  call.cannotRead = "it is corrupt, or uses something OpenCASCADE 7.6 cannot read";
+  call.timeoutHint = "--read-timeout S sets the limit";
+  call.timeoutSeconds = o.timeoutSeconds;
+  call.inheritStderr = o.showProgress;
+  call.extra = {wf::workerNumber(o.deflection), o.absoluteDeflection ? "1" : "0", wf::workerNumber(o.angularDegrees),
+                std::to_string(o.isos), std::to_string(o.threads), o.showProgress ? "1" : "0"};
+  const std::string body = runReaderWorker(path, call);
   BlobReader r(body);
-  const std::uint8_t kind = r.pod<std::uint8_t>();
-  if (kind == 2) throw UsageError(r.str());
-  if (kind == 1) throw std::runtime_error(r.str());
   return readGeometry(r);
 }
 
 }  // namespace
 
 CadGeometry readCad(const std::string& path, const CadOptions& o, bool withSurfaces) {
-  if (!o.isolate) return readCadInProcess(path, o, withSurfaces);
+  requireInputFile(path);
+  if (!o.isolate || !readerWorkersEnabled()) return readCadInProcess(path, o, withSurfaces);
   CadGeometry g = readCadInWorker(path, o);
   // The exact surfaces live in this process only: once the worker has shown the file reads
   // cleanly, it is read again here for them, without meshing it again; the faces the worker
@@ -397,36 +301,7 @@ int runCadWorker(const std::vector<std::string>& a) {
   o.isos = std::atoi(a[7].c_str());
   o.threads = std::atoi(a[8].c_str());
   o.showProgress = a[9] == "1";
-  // The result is made in memory and written at the end: a worker that dies on the way leaves
-  // the file empty, which the command reads as a crash.
-  std::ostringstream buffer(std::ios::binary);
-  buffer.write(kBlobMagic, sizeof kBlobMagic);
-  BlobWriter w(buffer);
-  int status = 0;
-  try {
-    const CadGeometry g = readCadInProcess(a[0], o, false);
-    w.pod(std::uint8_t(0));
-    writeGeometry(w, g);
-  } catch (const UsageError& e) {
-    w.pod(std::uint8_t(2));
-    w.str(e.what());
-    status = 2;
-  } catch (const std::exception& e) {
-    w.pod(std::uint8_t(1));
-    w.str(e.what());
-    status = 1;
-  }
-  // Written whole beside its name, then renamed: the parent never reads half a result.
-  const std::string part = a[1] + ".part";
-  std::ofstream out(part, std::ios::binary | std::ios::trunc);
-  const std::string bytes = buffer.str();
-  out.write(bytes.data(), std::streamsize(bytes.size()));
-  out.close();
-  if (!out || std::rename(part.c_str(), a[1].c_str()) != 0) {
-    std::fprintf(stderr, "cannot write the result to %s: %s\n", a[1].c_str(), std::strerror(errno));
-    wf::endWorker(wf::kWorkerExitWriteFailed);
-  }
-  wf::endWorker(status);
+  finishReaderWorker(a[1], kCadMagic, [&](BlobWriter& w) { writeGeometry(w, readCadInProcess(a[0], o, false)); });
 }
 
 std::shared_ptr<wf::GeometryData> cadGeometryData(CadGeometry&& cad) {

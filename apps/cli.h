@@ -28,6 +28,13 @@ struct UsageError : std::runtime_error {
   explicit UsageError(const char* what) : UsageError(std::string(what)) {}
 };
 
+/// The system failed, not the input: a file could not be written on the way (a full disk, a
+/// quota), a reader worker was stopped by a signal from outside. One line on stderr, exit
+/// status 1, without "internal error".
+struct OutputError : std::runtime_error {
+  explicit OutputError(const std::string& what) : std::runtime_error(oneLine(what)) {}
+};
+
 /// One "wirefur: warning: ..." line on stderr, made one line by oneLine (a warning quotes file
 /// and object names).
 void warn(const std::string& what);

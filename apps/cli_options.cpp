@@ -374,8 +374,12 @@ void addCadOptions(CLI::App& app, CadOptions& cad) {
       ->group(group);
   addIntegerOption(app, "--isos", cad.isos, 0, wf::kMaxCadIsos, "u and v iso lines per face, {range} (default 0)")->group(group);
   // Only here: the worker's time limit is no scene key.
-  addNumberOption(app, "--cad-timeout", cad.timeoutSeconds, 0.1, 1e6,
-                  "read and mesh in a worker process stopped after S seconds, {range} (default 600)", "S")
+  addNumberOption(app, "--read-timeout", cad.timeoutSeconds, 0.1, 1e6,
+                  "read CAD, mesh and polyline files in a worker process stopped after S seconds, {range} "
+                  "(default 600)", "S")
+      ->group(group);
+  // Its older name, kept for scripts.
+  addNumberOption(app, "--cad-timeout", cad.timeoutSeconds, 0.1, 1e6, "the same as --read-timeout (its older name)", "S")
       ->group(group);
 }
 

@@ -1,6 +1,7 @@
 #include "export_command.h"
 
 #include "cli.h"
+#include "safe_files.h"
 #include "render_command.h"
 #include "scene_file.h"
 
@@ -201,11 +202,11 @@ int runExport(const ExportOptions& o) {
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
   if (ext != ".vtp" && ext != ".vtk" && ext != ".obj" && ext != ".ply")
     throw UsageError(output + ": the output must be .vtp, .vtk, .obj or .ply");
-  const std::filesystem::path target(output), parent = target.parent_path();
-  std::error_code ec;
-  if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
-    throw UsageError(output + ": the folder " + parent.string() + " does not exist");
-  if (std::filesystem::is_directory(target, ec)) throw UsageError(output + ": is a folder");
+  requireOutputPath(output);  // its folder exists; not a folder, device or FIFO (apps/safe_files.h)
+  // Written under a unique temporary name beside the target (made now: the folder can be
+  // written) and renamed: nothing half-written, nothing left behind when stopped.
+  OutputFile out(output);
+  const std::string tmp = out.temporaryPath();
 
   SceneOverrides overrides = o.overrides;
   // Visibility needs the faces even where the style draws none: as hold-outs (hidden-line
@@ -255,48 +256,35 @@ int runExport(const ExportOptions& o) {
     warn(output + ": PLY holds no lines: " + std::to_string(pd->GetNumberOfLines()) +
          " wire and hair polylines are left out (use .vtp, .vtk or .obj)");
 
-  // Written under a temporary name beside the target and renamed: nothing half-written.
-  std::string tmpName = target.filename().string();
-  tmpName.insert(0, 1, '.');
-  tmpName += ".tmp" + ext;
-  const std::filesystem::path tmp = parent / tmpName;
   int error = 0;
   if (ext == ".vtp") {
     vtkNew<vtkXMLPolyDataWriter> w;
-    w->SetFileName(tmp.string().c_str());
+    w->SetFileName(tmp.c_str());
     w->SetInputData(pd);
     w->SetDataModeToAppended();
     w->SetCompressorTypeToZLib();
     error = w->Write() == 1 ? 0 : 1;
   } else if (ext == ".vtk") {
     vtkNew<vtkPolyDataWriter> w;
-    w->SetFileName(tmp.string().c_str());
+    w->SetFileName(tmp.c_str());
     w->SetInputData(pd);
     w->SetFileTypeToBinary();
     error = w->Write() == 1 ? 0 : 1;
   } else if (ext == ".obj") {
     vtkNew<vtkOBJWriter> w;
-    w->SetFileName(tmp.string().c_str());
+    w->SetFileName(tmp.c_str());
     w->SetInputData(pd);
     error = w->Write() == 1 ? 0 : 1;
   } else {
     vtkNew<vtkPLYWriter> w;
-    w->SetFileName(tmp.string().c_str());
+    w->SetFileName(tmp.c_str());
     w->SetInputData(pd);
     w->SetFileTypeToBinary();
     w->SetArrayName("Colors");
     error = w->Write() == 1 ? 0 : 1;
   }
-  if (error || !std::filesystem::exists(tmp)) {
-    std::filesystem::remove(tmp, ec);
-    throw std::runtime_error(output + ": cannot write");
-  }
-  std::filesystem::rename(tmp, target, ec);
-  if (ec) {
-    const std::string why = ec.message();
-    std::filesystem::remove(tmp, ec);
-    throw std::runtime_error(output + ": cannot write (" + why + ")");
-  }
+  if (error) throw OutputError(output + ": cannot write");
+  out.commit();
   return 0;
 }
 

@@ -1,16 +1,13 @@
 #include "image_io.h"
 
 #include "cli.h"
+#include "safe_files.h"
 
 #include "core/srgb.h"
 
-#include <vtkImageData.h>
-#include <vtkNew.h>
-#include <vtkPNGWriter.h>
-#include <vtkUnsignedCharArray.h>
-
 #include <png.h>
 
+#include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <vector>
@@ -29,8 +26,7 @@ wf::ImageRGBA readPng(const std::string& path, size_t maxPixels) {
   // libpng's simplified API: it checks every chunk, reports a bad file as a message instead of
   // longjmp-ing through our stack (VTK's PNG reader crashes on a corrupt file), and converts to
   // 16-bit linear light itself (sRGB or the file's gAMA decoded). Alpha is composited over black.
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw UsageError(path + ": is a directory, not a PNG image");
+  requireInputFile(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw UsageError(path + ": cannot open the image");
   unsigned char sig[8] = {0};
@@ -61,42 +57,41 @@ wf::ImageRGBA readPng(const std::string& path, size_t maxPixels) {
   return img;
 }
 
-void writePng(const wf::ImageRGBA& image, const std::string& path, int compression) {
-  if (image.width <= 0 || image.height <= 0) throw std::runtime_error(path + ": empty image");
-  vtkNew<vtkImageData> data;
-  data->SetDimensions(image.width, image.height, 1);
-  data->AllocateScalars(VTK_UNSIGNED_CHAR, 3);
-  auto* out = static_cast<unsigned char*>(data->GetScalarPointer());
-  for (int y = 0; y < image.height; ++y) {
-    // VTK images start at the bottom row.
-    const int row = image.height - 1 - y;
+void writePngFile(const wf::ImageRGBA& image, const std::string& file, const std::string& name, int compression) {
+  if (image.width <= 0 || image.height <= 0) throw std::runtime_error(name + ": empty image");
+  std::vector<png_byte> rgb(size_t(image.width) * size_t(image.height) * 3);
+  for (int y = 0; y < image.height; ++y)
     for (int x = 0; x < image.width; ++x) {
       const glm::vec4& p = image.at(x, y);
-      unsigned char* o = out + 3 * (size_t(row) * image.width + x);
-      for (int c = 0; c < 3; ++c) o[c] = (unsigned char)std::lround(255.0f * linearToSrgb(p[c]));
+      png_byte* o = &rgb[3 * (size_t(y) * size_t(image.width) + size_t(x))];
+      for (int c = 0; c < 3; ++c) o[c] = png_byte(std::lround(255.0f * linearToSrgb(p[c])));
     }
-  }
-  const std::filesystem::path target(path);
-  std::string tmpName = target.filename().string();  // hidden sibling: ".NAME.tmp"
-  tmpName.insert(0, 1, '.');
-  tmpName += ".tmp";
-  const std::filesystem::path tmp = target.parent_path() / tmpName;
-  vtkNew<vtkPNGWriter> writer;
-  writer->SetFileName(tmp.string().c_str());
-  writer->SetInputData(data);
-  writer->SetCompressionLevel(std::clamp(compression, 0, 9));
-  writer->Write();
-  std::error_code ec;
-  if (writer->GetErrorCode() != 0 || !std::filesystem::exists(tmp)) {
-    std::filesystem::remove(tmp, ec);
-    throw std::runtime_error(path + ": cannot write PNG");
-  }
-  std::filesystem::rename(tmp, target, ec);
-  if (ec) {
-    const std::string why = ec.message();  // before remove() overwrites ec
-    std::filesystem::remove(tmp, ec);
-    throw std::runtime_error(path + ": cannot write PNG (" + why + ")");
-  }
+  // libpng's simplified API: no message of its own on stderr (a full disk is one line here), and
+  // the file is flushed and closed before it counts as written.
+  png_image png;
+  std::memset(&png, 0, sizeof png);
+  png.version = PNG_IMAGE_VERSION;
+  png.width = png_uint_32(image.width);
+  png.height = png_uint_32(image.height);
+  png.format = PNG_FORMAT_RGB;
+  if (compression <= 3) png.flags |= PNG_IMAGE_FLAG_FAST;
+  FILE* f = std::fopen(file.c_str(), "wb");
+  if (!f) throw OutputError(name + ": cannot write (" + std::strerror(errno) + ")");
+  const bool encoded = png_image_write_to_stdio(&png, f, 0, rgb.data(), 0, nullptr) != 0;
+  const std::string why = encoded ? std::string() : std::string(png.message);
+  const bool flushed = encoded && std::fflush(f) == 0 && !std::ferror(f);
+  const int err = errno;
+  const bool closed = std::fclose(f) == 0;
+  png_image_free(&png);
+  if (!encoded) throw OutputError(name + ": cannot write the PNG (" + why + ")");
+  if (!flushed || !closed) throw OutputError(name + ": cannot write (" + std::strerror(flushed ? errno : err) + ")");
+}
+
+void writePng(const wf::ImageRGBA& image, const std::string& path, int compression) {
+  requireOutputPath(path);
+  OutputFile out(path);
+  writePngFile(image, out.temporaryPath(), path, compression);
+  out.commit();
 }
 
 }  // namespace wfapp

@@ -1,5 +1,6 @@
-// Writing the core's linear float images as 8-bit sRGB PNG (VTK's PNG writer), and reading PNG
-// textures (libpng's simplified API, which turns every corrupt file into a message).
+// Writing the core's linear float images as 8-bit sRGB PNG, and reading PNG textures: libpng's
+// simplified API both ways, which turns every corrupt file and every failed write into a message
+// and prints nothing of its own.
 #pragma once
 
 #include "core/image.h"
@@ -11,11 +12,15 @@ namespace wfapp {
 /// sRGB transfer function of one linear value, clamped to [0, 1]; NaN -> 0.
 float linearToSrgb(float linear);
 
-/// Writes RGB over black (alpha premultiplied coverage). Writes to a temporary name in the same
-/// directory and renames, so a failed write leaves nothing half-written. Throws on failure.
-/// `compression`: zlib's level, 0 ... 9 (1: about three times faster than the default 5, files a
-/// fifth larger; the gallery writes many).
+/// Writes RGB over black (alpha premultiplied coverage) to `path`: refused when the path is a
+/// device, FIFO or folder (UsageError); written under a unique temporary name beside it and
+/// renamed (apps/safe_files.h), so a failed or stopped write leaves nothing, and renders writing
+/// one path at once leave one whole image. A failed write throws OutputError. `compression`:
+/// 0 ... 3 is libpng's fast mode (about three times faster, files a fifth larger; the gallery
+/// writes many), above it the default.
 void writePng(const wf::ImageRGBA& image, const std::string& path, int compression = 5);
+/// The same written straight to `file` (a temporary the caller renames); `name` in messages.
+void writePngFile(const wf::ImageRGBA& image, const std::string& file, const std::string& name, int compression = 5);
 
 /// Reads any PNG libpng reads (grey, palette, RGB, with or without alpha, 1 to 16 bits) as a
 /// linear-light RGB image (alpha composited over black; alpha of the result 1), row 0 at the

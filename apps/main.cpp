@@ -4,11 +4,15 @@
 #include "cli.h"
 #include "cli_options.h"
 #include "gallery.h"
+#include "mesh_io.h"
+#include "reader_worker.h"
 #include "export_command.h"
 #include "render_command.h"
 #ifdef WIREFUR_WITH_VIEW
 #include "view_command.h"
 #endif
+
+#include "core/cleanup_on_signal.h"
 
 #include <vtkLogger.h>
 #include <vtkObject.h>
@@ -157,6 +161,11 @@ int run(const std::vector<std::string>& a) {
   if (a.empty()) throw wfapp::UsageError("no command (try wirefur --help)");
   // The CAD worker process (apps/cad_input.cpp): internal, not in the contract, its own arguments.
   if (a[0] == "cad-worker") return wfapp::runCadWorker(std::vector<std::string>(a.begin() + 1, a.end()));
+  if (a[0] == "mesh-worker") return wfapp::runMeshWorker(std::vector<std::string>(a.begin() + 1, a.end()));
+  // A stopped command leaves no temporary output, reader folder or worker behind (apps/safe_files.h),
+  // and reads untrusted files in workers that are copies of itself (apps/reader_worker.h).
+  wf::installCleanupOnSignals();
+  wfapp::enableReaderWorkers();
 
   CLI::App wirefur("WireFur: shaded wires, fur and hair drawn with an A-buffer.", "wirefur");
   wirefur.set_version_flag("--version", "wirefur 0.1.0");
@@ -209,6 +218,9 @@ int main(int argc, char** argv) {
   } catch (const wfapp::UsageError& e) {
     std::cerr << "wirefur: " << e.what() << "\n";
     return 2;
+  } catch (const wfapp::OutputError& e) {
+    std::cerr << "wirefur: " << e.what() << "\n";
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "wirefur: internal error: " << wfapp::oneLine(e.what()) << "\n";
     return 1;

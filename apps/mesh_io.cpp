@@ -1,12 +1,17 @@
 #include "mesh_io.h"
 
 #include "cli.h"
+#include "reader_worker.h"
+#include "safe_files.h"
+
+#include "core/worker_process.h"
 
 #include <vtkCellArray.h>
 #include <vtkCommand.h>
 #include <vtkDataArray.h>
 #include <vtkIdList.h>
 #include <vtkNew.h>
+#include <vtkObject.h>
 #include <vtkOBJReader.h>
 #include <vtkPLYReader.h>
 #include <vtkPointData.h>
@@ -729,9 +734,8 @@ bool isGeometryFile(const std::string& path) {
   return e == ".vtp" || e == ".vtk" || e == ".stl" || e == ".obj" || e == ".ply";
 }
 
-LoadedGeometry readGeometry(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw UsageError(path + ": no such file");
+LoadedGeometry readGeometryInProcess(const std::string& path) {
+  requireInputFile(path);
   const std::string e = extension(path);
   vtkSmartPointer<vtkAlgorithm> reader;
   if (e == ".vtp") {
@@ -771,6 +775,8 @@ LoadedGeometry readGeometry(const std::string& path) {
     // counts ask for terabytes): bad input, not an internal failure.
     throw UsageError(path + ": the file's counts ask for more memory than there is (corrupt, or not a " + e +
                      " file)");
+  } catch (const std::length_error&) {  // (a count past what a vector may hold: the same)
+    throw UsageError(path + ": the file's counts are past what can be held (corrupt, or not a " + e + " file)");
   }
   vtkPolyData* pd = vtkPolyData::SafeDownCast(reader->GetOutputDataObject(0));
   if (!catcher->message.empty()) throw UsageError(path + ": " + catcher->message);
@@ -877,6 +883,72 @@ LoadedGeometry readGeometry(const std::string& path) {
   if (g.mesh.triangles.empty() && g.lines.points.empty())
     throw UsageError(path + ": no polygons or lines to draw");
   return g;
+}
+
+namespace {
+
+const std::string kMeshMagic("WFMSH1\n\0", 8);
+
+void writeLoaded(BlobWriter& w, const LoadedGeometry& g) {
+  const wf::TriangleMesh& m = g.mesh;
+  w.vec(m.positions), w.vec(m.normals), w.vec(m.uvs), w.vec(m.colours), w.vec(m.triangles);
+  w.vec(g.lines.points), w.vec(g.lines.colours), w.vec(g.lines.starts);
+}
+
+// What the worker wrote, checked as the renderer relies on it before anyone indexes it.
+LoadedGeometry readLoaded(BlobReader& r) {
+  const auto bad = [] { return std::runtime_error("the mesh worker's result is inconsistent"); };
+  LoadedGeometry g;
+  wf::TriangleMesh& m = g.mesh;
+  m.positions = r.vec<glm::dvec3>();
+  m.normals = r.vec<glm::dvec3>();
+  m.uvs = r.vec<glm::dvec2>();
+  m.colours = r.vec<glm::vec3>();
+  m.triangles = r.vec<glm::uvec3>();
+  g.lines.points = r.vec<glm::dvec3>();
+  g.lines.colours = r.vec<glm::vec3>();
+  g.lines.starts = r.vec<std::uint32_t>();
+  const size_t nv = m.positions.size();
+  for (size_t n : {m.normals.size(), m.uvs.size(), m.colours.size()})
+    if (n != 0 && n != nv) throw bad();
+  for (const glm::uvec3& t : m.triangles)
+    if (t.x >= nv || t.y >= nv || t.z >= nv) throw bad();
+  if (!g.lines.colours.empty() && g.lines.colours.size() != g.lines.points.size()) throw bad();
+  if (!polylineStartsFit(g.lines.starts, g.lines.points.size())) throw bad();
+  if (m.triangles.empty() && g.lines.points.empty()) throw bad();  // the reader refuses a file with neither
+  if (!r.atEnd()) throw bad();
+  return g;
+}
+
+}  // namespace
+
+LoadedGeometry readGeometry(const std::string& path, bool isolate, double timeoutSeconds) {
+  requireInputFile(path);
+  if (!isGeometryFile(path))  // the extension first: no process for a name it cannot be
+    throw UsageError(path + ": unsupported file type '" + extension(path) + "' (expected .vtp .vtk .stl .obj .ply)");
+  if (!isolate || !readerWorkersEnabled()) return readGeometryInProcess(path);
+  ReaderWorkerCall call;
+  call.mode = "mesh-worker";
+  call.magic = kMeshMagic;
+  call.workerName = "mesh worker";
+  call.what = "reading";
+  call.library = "VTK's reader";
+  call.cannotRead = "it is corrupt, or not a " + extension(path) + " file VTK 9.1 can read";
+  call.timeoutHint = "--read-timeout S sets the limit";
+  call.timeoutSeconds = timeoutSeconds;
+  const std::string body = runReaderWorker(path, call);
+  BlobReader r(body);
+  return readLoaded(r);
+}
+
+int runMeshWorker(const std::vector<std::string>& a) {
+  if (a.size() != 4) {
+    std::fprintf(stderr, "wirefur: mesh-worker is internal (FILE OUT PARENT TIMEOUT)\n");
+    return wf::kWorkerExitUsage;
+  }
+  wf::becomeWorker(a[2], a[3]);
+  vtkObject::GlobalWarningDisplayOff();
+  finishReaderWorker(a[1], kMeshMagic, [&](BlobWriter& w) { writeLoaded(w, readGeometryInProcess(a[0])); });
 }
 
 void writePolylinesVtp(const wf::PolylineSet& lines, const std::string& path) {

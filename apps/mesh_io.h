@@ -6,6 +6,7 @@
 #include "render/scene.h"
 
 #include <string>
+#include <vector>
 
 namespace wfapp {
 
@@ -16,8 +17,16 @@ struct LoadedGeometry {
 
 /// True for the extensions readGeometry accepts.
 bool isGeometryFile(const std::string& path);
-/// Reads a mesh / polyline file. Throws UsageError("FILE: problem") on failure.
-LoadedGeometry readGeometry(const std::string& path);
+/// Reads a mesh / polyline file. Throws UsageError("FILE: problem") on failure. With `isolate`
+/// (the wirefur command) VTK's reader runs in a worker process ("wirefur mesh-worker",
+/// apps/reader_worker.h) stopped after `timeoutSeconds` and capped in memory: a reader that
+/// crashes, hangs or asks for unbounded memory on a corrupt file becomes that one line too.
+/// Without, in this process (readGeometryInProcess).
+LoadedGeometry readGeometry(const std::string& path, bool isolate = true, double timeoutSeconds = 600.0);
+/// The reading itself, in this process: what the worker runs, and the fuzz target.
+LoadedGeometry readGeometryInProcess(const std::string& path);
+/// The worker's main: FILE OUT PARENT TIMEOUT (apps/main.cpp's "mesh-worker").
+int runMeshWorker(const std::vector<std::string>& args);
 /// Writes polylines as a VTK XML PolyData file (used to make the example data).
 void writePolylinesVtp(const wf::PolylineSet& lines, const std::string& path);
 

@@ -4,13 +4,17 @@
 
 #include "cad_input.h"
 #include "cli.h"
+#include "safe_files.h"
 #include "image_io.h"
 #include "mesh_io.h"
 
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <optional>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -19,6 +23,15 @@
 namespace wfapp {
 
 using json = nlohmann::ordered_json;
+
+long currentRssBytes() {
+  long pages = 0, resident = 0;
+  if (FILE* f = std::fopen("/proc/self/statm", "r")) {
+    if (std::fscanf(f, "%ld %ld", &pages, &resident) != 2) resident = 0;
+    std::fclose(f);
+  }
+  return resident * sysconf(_SC_PAGESIZE);
+}
 
 long peakRssBytes() {
   rusage u{};
@@ -31,6 +44,7 @@ SceneFile loadInput(const std::string& input, const std::string& style, const Sc
     if (!style.empty()) throw UsageError("--style applies to a mesh or CAD input, not to the built-in scene");
     return defaultScene(overrides);
   }
+  requireInputFile(input);  // a FIFO or a device is refused at once, before its type is guessed
   if (isCadFile(input)) return sceneForCadFile(input, style.empty() ? "wire-over-surface" : style, overrides);
   if (isGeometryFile(input)) return sceneForGeometryFile(input, style.empty() ? "wire-over-surface" : style, overrides);
   std::string e = std::filesystem::path(input).extension().string();
@@ -168,6 +182,16 @@ int runRender(const RenderCommandOptions& o) {
     for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
     if (e != ".png") throw UsageError(o.output + ": the output must be a .png file");
   }
+  // The outputs, before anything is read or rendered: their folders exist, and neither is a
+  // folder, a device, a FIFO or a socket (apps/safe_files.h). Each is written under a unique
+  // temporary beside it (which also shows the folder can be written) and renamed at the end.
+  requireOutputPath(o.output);
+  if (!o.statsPath.empty()) requireOutputPath(o.statsPath);
+  if (!o.statsPath.empty() && std::filesystem::absolute(o.statsPath) == std::filesystem::absolute(o.output))
+    throw UsageError(o.statsPath + ": --stats and -o name the same file");
+  OutputFile png(o.output);
+  std::optional<OutputFile> statsFile;
+  if (!o.statsPath.empty()) statsFile.emplace(o.statsPath);
   const Progress progress(o.quiet);
   SceneOverrides overrides;
   overrides.time = o.time;
@@ -203,41 +227,63 @@ int runRender(const RenderCommandOptions& o) {
   if (o.wireDepth == "flat") ro.wireDepth = wf::WireDepth::Flat;
   if (o.memoryBudget) ro.memoryBudget = *o.memoryBudget;
   if (const std::string p = ro.problem(); !p.empty()) throw UsageError("render: " + p);
-  // The memory the render (and the reference of --measure-error) will need, with this scene,
-  // plus the 8-bit copy the PNG is encoded from: refused before anything large is allocated.
-  {
-    const std::size_t png = std::size_t(ro.width) * std::size_t(ro.height) * 3;
-    wf::RenderOptions check = ro;
-    if (check.memoryBudget > 0) check.memoryBudget = check.memoryBudget > png ? check.memoryBudget - png : 1;
-    std::string p = wf::memoryProblem(sf.scene, check, o.reference);
-    if (p.empty() && o.measureError) p = wf::memoryProblem(sf.scene, check, true);
-    if (!p.empty()) throw UsageError("render: " + (o.input.empty() ? std::string("built-in scene") : o.input) + ": " + p);
-  }
-  // Make sure the outputs can be written before spending time on the render: the folder
-  // exists, the name is not a folder, and a file can be created beside it.
-  for (const std::string& f : {o.output, o.statsPath}) {
-    if (f.empty()) continue;
-    const std::filesystem::path target(f), parent = target.parent_path();
-    std::error_code ec;
-    if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
-      throw UsageError(f + ": the folder " + parent.string() + " does not exist");
-    if (std::filesystem::is_directory(target, ec)) throw UsageError(f + ": is a folder");
-    std::string probeName = target.filename().string();
-    probeName.insert(0, 1, '.');
-    probeName += ".probe";
-    const std::filesystem::path probe = parent / probeName;
-    {
-      std::ofstream test(probe);
-      if (!test) throw UsageError(f + ": cannot be written here");
+  // The memory the whole command will hold at its peak, refused before anything large is
+  // allocated: what it holds now (the program, its libraries and the scene it read), the render
+  // (renderer.h, estimateRenderBytes: image, tile buffers, primitives, bins, tables), the 8-bit
+  // copy the PNG is encoded from, and with --measure-error the reference and the second render
+  // over a transparent background, held at once. An upper bound on the peak resident memory
+  // (tests/apps: MemoryEstimateBoundsThePeak).
+  const double memoryEstimate = [&] {
+    // (Plus what no count here sees: libpng's and zlib's buffers, the threads' stacks, the
+    // allocator's slack: 32 MiB and 3 % of the rest.)
+    double need = double(currentRssBytes()) + 32.0 * double(1 << 20) + 1.03 * (double(ro.width) * double(ro.height) * 3.0 +
+                  double(wf::estimateRenderBytes(sf.scene, ro, o.reference)));
+    if (o.measureError && !o.reference) {
+      wf::RenderOptions rr = ro;
+      rr.shading = wf::ShadingPath::Exact;
+      need += 1.03 * double(wf::estimateRenderBytes(sf.scene, rr, true));
+      if (sf.scene.background.w > 0.0f) need += 1.03 * double(wf::estimateRenderBytes(sf.scene, ro, false));
     }
-    std::filesystem::remove(probe, ec);
+    // A peak already passed (the reading, a worker's result held while decoded) counts too.
+    return std::max(need, double(peakRssBytes()));
+  }();
+  if (ro.memoryBudget > 0 && memoryEstimate > double(ro.memoryBudget)) {
+    char need[64], budget[64];
+    std::snprintf(need, sizeof need, "%.3g GiB", memoryEstimate / double(1 << 30));
+    std::snprintf(budget, sizeof budget, "%.3g GiB", double(ro.memoryBudget) / double(1 << 30));
+    throw UsageError("render: " + (o.input.empty() ? std::string("built-in scene") : o.input) + ": image of " +
+                     std::to_string(ro.width) + "x" + std::to_string(ro.height) + " needs about " + need +
+                     (o.measureError ? " with the reference of --measure-error" : "") + ", over the memory budget of " +
+                     budget + " (--memory-budget; half the machine's memory by default)");
   }
-  if (!o.statsPath.empty() && std::filesystem::absolute(o.statsPath) == std::filesystem::absolute(o.output))
-    throw UsageError(o.statsPath + ": --stats and -o name the same file");
   progress.say("rendering " + (o.input.empty() ? std::string("the built-in scene") : o.input) + " at " +
                std::to_string(ro.width) + "x" + std::to_string(ro.height) + (o.reference ? " (reference)" : ""));
   const wf::RenderResult r = o.reference ? wf::renderReference(sf.scene, ro) : wf::render(sf.scene, ro);
-  for (const std::string& w : r.stats.warnings) warn((o.input.empty() ? "built-in scene" : o.input) + ": " + w);
+  const std::string inputName = o.input.empty() ? std::string("built-in scene") : o.input;
+  for (const std::string& w : r.stats.warnings) warn(inputName + ": " + w);
+  // An image of the background alone says why. Nothing could be drawn (no finite geometry, no
+  // primitive accepted, or, with a camera framed on the input, all its points in one place or
+  // spread past the camera's depth range, 1e15; a mesh file's 1e308 reads as 3.4e38): bad
+  // input, exit 2 and no PNG. Otherwise the view missed what is there (a scene's camera looking
+  // away, an edge selection that drew nothing inside it): a warning, the background is written.
+  // (The reference path keeps no A-buffer counters: there, no primitive left after clipping.)
+  if (o.reference ? r.stats.primitives == 0 : r.stats.abuffer.coveredPixels == 0) {
+    const wf::RenderStats& st = r.stats;
+    glm::dvec3 lo, hi;
+    const bool finite = sf.scene.bounds(lo, hi);
+    const double extent = finite ? std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}) : 0.0;
+    std::string why;
+    if (!finite) why = "no finite point";
+    else if (st.triangles + st.segments == 0) why = "no triangle or segment is left once the degenerate are dropped";
+    else if (sf.framed && extent == 0.0) why = "all its points are in one place";
+    else if (sf.framed && !(extent <= 1e15)) why = "its points span more than 1e15, beyond the camera's depth range";
+    const std::string counts = std::to_string(st.triangles) + " triangles and " + std::to_string(st.segments) +
+                               " segments accepted, " + std::to_string(st.rejectedNonFinite) + " rejected as not finite, " +
+                               std::to_string(st.droppedZeroLength) + " of zero length, " + std::to_string(st.clippedAway) +
+                               " outside the view";
+    if (!why.empty()) throw UsageError(inputName + ": nothing could be drawn: " + why + " (" + counts + ")");
+    warn(inputName + ": nothing was drawn (" + counts + "): the image is the background alone");
+  }
   json stats = statsJson(r.stats, ro, o.reference);
   if (o.measureError && !o.reference) {
     progress.say("rendering the brute-force reference for the error measurement");
@@ -247,7 +293,9 @@ int runRender(const RenderCommandOptions& o) {
     wf::Scene clear = sf.scene;
     clear.background = glm::vec4(0.0f);
     const wf::RenderResult ref = wf::renderReference(clear, rr);
-    const wf::RenderResult mine = sf.scene.background.w > 0.0f ? wf::render(clear, ro) : r;
+    std::optional<wf::RenderResult> second;  // (a reference to r otherwise: no copy of its image)
+    if (sf.scene.background.w > 0.0f) second = wf::render(clear, ro);
+    const wf::RenderResult& mine = second ? *second : r;
     const ImageError e = imageError(mine.image, ref.image);
     stats["error_estimate"]["measured_against_reference"] = {{"reference_samples", rr.referenceSamples * rr.referenceSamples},
                                                              {"rgba_rms", e.rms},
@@ -257,7 +305,7 @@ int runRender(const RenderCommandOptions& o) {
                                                              {"reference_seconds", ref.stats.total}};
   }
   const auto tw = std::chrono::steady_clock::now();
-  writePng(r.image, o.output);
+  writePngFile(r.image, png.temporaryPath(), o.output);
   stats["seconds"]["read_input"] = readSeconds;
   stats["seconds"]["generate"] = sf.generateSeconds;  // fur and scales, part of read_input
   stats["generated"] = {{"hairs", sf.hairsGrown}, {"scales", sf.scalesGrown}};
@@ -322,21 +370,23 @@ int runRender(const RenderCommandOptions& o) {
   }
   stats["seconds"]["write_png"] = secondsSince(tw);
   stats["peak_rss_bytes"] = peakRssBytes();
-  if (!o.statsPath.empty()) {
-    // Both files or neither: a stats file that cannot be written takes the PNG back with it.
-    const std::string tmp = o.statsPath + ".tmp";
-    std::error_code ec;
-    bool ok = false;
-    {
-      std::ofstream out(tmp);
-      out << stats.dump(2) << "\n";
-      ok = bool(out);
-    }
-    if (ok) std::filesystem::rename(tmp, o.statsPath, ec);
-    if (!ok || ec) {
-      std::filesystem::remove(tmp, ec);
-      std::filesystem::remove(o.output, ec);
-      throw std::runtime_error(o.statsPath + ": cannot write the stats (the PNG was removed too)");
+  stats["memory"] = {{"estimate_bytes", memoryEstimate},
+                     {"peak_rss_bytes", peakRssBytes()},
+                     {"budget_bytes", ro.memoryBudget}};
+  // Both files or neither: each is written whole under its temporary name, then both are renamed.
+  if (statsFile) {
+    std::ofstream out(statsFile->temporaryPath());
+    out << stats.dump(2) << "\n";
+    out.close();
+    if (!out) throw OutputError(o.statsPath + ": cannot write the stats (nothing was written)");
+  }
+  png.commit();
+  if (statsFile) {
+    try {
+      statsFile->commit();
+    } catch (const OutputError&) {
+      std::remove(o.output.c_str());
+      throw OutputError(o.statsPath + ": cannot write the stats (the PNG was removed too)");
     }
   }
   progress.say("wrote " + o.output + " in " + std::to_string(r.stats.total) + " s (render)");

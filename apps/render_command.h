@@ -64,5 +64,7 @@ ImageError imageError(const wf::ImageRGBA& a, const wf::ImageRGBA& reference);
 
 /// Peak resident memory of this process so far, bytes.
 long peakRssBytes();
+/// Resident memory now (/proc/self/statm), bytes.
+long currentRssBytes();
 
 }  // namespace wfapp

@@ -3,6 +3,7 @@
 #include "cad_input.h"
 
 #include "cli.h"
+#include "safe_files.h"
 #include "built_in_scene.h"
 #include "mesh_io.h"
 #include "scene_growth.h"
@@ -30,8 +31,7 @@ namespace {
 using json = nlohmann::json;
 
 std::string readText(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw UsageError(path + ": is a directory, not a scene file");
+  requireInputFile(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw UsageError(path + ": cannot open");
   std::ostringstream s;
@@ -398,7 +398,7 @@ wf::ObjectDescription readObject(const Reader& r, const json& j, const std::stri
     } else {
       if (j.contains("cad")) r.fail(Reader::at(ptr, "cad"), "only for CAD files (.step .stp .iges .igs .brep .FCStd)");
       try {
-        LoadedGeometry lg = readGeometry(p.string());
+        LoadedGeometry lg = readGeometry(p.string(), overrides.cad.isolate, overrides.cad.timeoutSeconds);
         g->mesh = std::move(lg.mesh);
         g->lines = std::move(lg.lines);
       } catch (const UsageError& e) {
@@ -590,7 +590,7 @@ void buildStyled(SceneFile& sf, const std::string& path, std::shared_ptr<const w
 SceneFile sceneForGeometryFile(const std::string& path, const std::string& style, const SceneOverrides& overrides) {
   wf::Style s;
   if (!wf::parseStyle(style, s)) throw UsageError("--style " + style + ": expected " + wf::styleNames());
-  LoadedGeometry lg = readGeometry(path);
+  LoadedGeometry lg = readGeometry(path, overrides.cad.isolate, overrides.cad.timeoutSeconds);
   auto g = std::make_shared<wf::GeometryData>();
   g->mesh = std::move(lg.mesh);
   g->lines = std::move(lg.lines);

@@ -3,6 +3,7 @@
 #include "x_display.h"
 
 #include "cli.h"
+#include "safe_files.h"
 #include "render_command.h"
 #include "scene_file.h"
 
@@ -44,6 +45,7 @@
 #include <cstdlib>
 #include <functional>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -86,6 +88,10 @@ double median(std::vector<double> v) {
 
 int runView(const ViewOptions& o) {
   if (!o.png.empty() && o.frames == 0) throw UsageError("view: --png needs --frames N");
+  // --png: checked, and its temporary made, before the window opens (apps/safe_files.h).
+  if (!o.png.empty()) requireOutputPath(o.png);
+  std::optional<OutputFile> pngFile;
+  if (!o.png.empty()) pngFile.emplace(o.png);
   if (o.offscreen && o.frames == 0) throw UsageError("view: --offscreen needs --frames N (there is no window to interact with)");
   SceneOverrides overrides;
   overrides.cad = o.cad;
@@ -278,9 +284,10 @@ int runView(const ViewOptions& o) {
       grab->ShouldRerenderOn();
       vtkNew<vtkPNGWriter> writer;
       writer->SetInputConnection(grab->GetOutputPort());
-      writer->SetFileName(o.png.c_str());
+      writer->SetFileName(pngFile->temporaryPath().c_str());
       writer->Write();
-      if (writer->GetErrorCode() != 0) throw std::runtime_error(o.png + ": cannot write PNG");
+      if (writer->GetErrorCode() != 0) throw OutputError(o.png + ": cannot write PNG");
+      pngFile->commit();
     }
     return 0;
   }

@@ -1,5 +1,6 @@
 #include "core/worker_process.h"
 
+#include "core/cleanup_on_signal.h"
 #include "core/sanitizers.h"
 
 #include <fcntl.h>
@@ -12,6 +13,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cerrno>
 #include <charconv>
@@ -23,6 +25,7 @@
 #include <filesystem>
 #include <fstream>
 #include <new>
+#include <random>
 #include <sstream>
 #include <thread>
 
@@ -66,6 +69,11 @@ WorkerExit runWorker(const std::string& executable, const std::vector<std::strin
     return r;
   }
   r.started = true;
+  // Killed by the command's handler if it is stopped meanwhile (core/cleanup_on_signal.h).
+  struct ForgetChild {
+    int slot;
+    ~ForgetChild() { forgetCleanupChild(slot); }
+  } forgetChild{registerCleanupChild(pid)};
   const double limit = std::isfinite(options.timeoutSeconds) && options.timeoutSeconds > 0
                            ? options.timeoutSeconds
                            : HUGE_VAL;
@@ -236,15 +244,38 @@ std::string lastLineOf(const std::string& path, size_t maxChars) {
   return last;
 }
 
+unsigned uniqueishNumber() {
+  // std::random_device may throw where there is no entropy source (it never did for mkdtemp's
+  // callers, ParaView among them): the clock then.
+  try {
+    std::random_device entropy;
+    return entropy();
+  } catch (...) {
+    return unsigned(std::chrono::steady_clock::now().time_since_epoch().count() * 2654435761u);
+  }
+}
+
 TemporaryFolder::TemporaryFolder(const std::string& prefix) {
   std::vector<std::string> bases;
   if (const char* t = std::getenv("TMPDIR"); t && *t) bases.push_back(t);
   bases.push_back("/tmp");
+  // mkdtemp's job by hand, so that the name is registered for removal on a stopping signal
+  // (core/cleanup_on_signal.h) before the folder exists: a signal in between would leave it.
+  static std::atomic<unsigned> counter{0};
   for (const std::string& base : bases) {
-    std::string pattern = base + "/" + prefix + "XXXXXX";
-    if (mkdtemp(pattern.data())) {
-      path_ = pattern;
-      return;
+    for (int attempt = 0; attempt < 100; ++attempt) {
+      char suffix[48];
+      std::snprintf(suffix, sizeof suffix, "%d.%u.%08x", int(getpid()), counter++, uniqueishNumber());
+      const std::string name = base + "/" + prefix + suffix;
+      const int slot = registerCleanup(name, true);
+      if (mkdir(name.c_str(), 0700) == 0) {
+        path_ = name;
+        cleanupSlot_ = slot;
+        return;
+      }
+      const int err = errno;
+      forgetCleanup(slot);
+      if (err != EEXIST) break;
     }
   }
 }
@@ -253,6 +284,7 @@ TemporaryFolder::~TemporaryFolder() {
   if (path_.empty()) return;
   std::error_code ec;
   std::filesystem::remove_all(path_, ec);
+  forgetCleanup(cleanupSlot_);
 }
 
 }  // namespace wf

@@ -90,9 +90,14 @@ std::string signalDescription(int signal);
 /// control characters replaced by spaces; empty when there is none.
 std::string lastLineOf(const std::string& path, size_t maxChars = 240);
 
+/// A number for temporary names: random where the system has entropy, else from the clock (the
+/// names also carry the pid and a counter; O_EXCL / mkdir make sure they are ours).
+unsigned uniqueishNumber();
+
 /// A private folder (mode 0700) under $TMPDIR, or /tmp when TMPDIR is unset or no folder can be
-/// made there; removed with everything in it when this object goes. path() is empty when it
-/// could not be made.
+/// made there; removed with everything in it when this object goes, or on a fatal signal in a
+/// program that handles them (core/cleanup_on_signal.h). path() is empty when it could not be
+/// made.
 class TemporaryFolder {
  public:
   explicit TemporaryFolder(const std::string& prefix);
@@ -103,6 +108,7 @@ class TemporaryFolder {
 
  private:
   std::string path_;
+  int cleanupSlot_ = -1;
 };
 
 }  // namespace wf

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <vtkCellArray.h>
@@ -28,6 +29,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <thread>
 #include <sstream>
 #include <set>
 #include <string>
@@ -538,4 +541,48 @@ TEST(CadCli, BrushedSteelGroovesFollowThePartNotTheMesh) {
     EXPECT_EQ(wf::test::lineCount(r.err), 1) << bad << ": " << r.err;
     EXPECT_FALSE(fs::exists(png)) << bad;
   }
+}
+
+// Stopped with SIGTERM while its worker meshes (the mould at 1e-6 of its size, which takes
+// minutes): the command dies of the signal, and its worker and the worker's folder under TMPDIR
+// go with it at once.
+TEST(CadCli, StoppedWhileReadingLeavesNoWorkerOrFolder) {
+  const fs::path tmp = wf::test::scratchDir("wirefur-cad-stopped");
+  const char* old = std::getenv("TMPDIR");
+  const std::string saved = old ? old : "";
+  setenv("TMPDIR", tmp.c_str(), 1);
+  const pid_t pid = wf::test::spawnWirefur({"render", kCad + "mould.step", "-o", (tmp / "x.png").string(), "--deflection", "0.000001"});
+  if (old) setenv("TMPDIR", saved.c_str(), 1);
+  else unsetenv("TMPDIR");
+  ASSERT_GT(pid, 0);
+  wf::test::ProcessGuard guard{pid};
+  auto folders = [&] {
+    int n = 0;
+    for (const auto& e : fs::directory_iterator(tmp)) n += e.path().filename().string().rfind("wirefur-read-", 0) == 0;
+    return n;
+  };
+  // The worker's folder appears under our TMPDIR (not /tmp); then the worker runs a while.
+  bool seen = false;
+  for (int i = 0; i < 3000 && !seen; ++i) {
+    seen = folders() > 0;
+    if (!seen) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_TRUE(seen) << "no wirefur-read-* folder under TMPDIR";
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  kill(pid, SIGTERM);
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  guard.pid = -1;
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << status;
+  EXPECT_EQ(folders(), 0);
+  // No process is left reading the file (its command line names it).
+  int workers = 0;
+  for (const auto& e : fs::directory_iterator("/proc")) {
+    std::ifstream f(e.path() / "cmdline", std::ios::binary);
+    std::string cmd((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    workers += cmd.find(std::string("cad-worker") + '\0' + kCad + "mould.step") != std::string::npos &&
+               cmd.find(tmp.string()) != std::string::npos;
+  }
+  EXPECT_EQ(workers, 0);
+  EXPECT_FALSE(fs::exists(tmp / "x.png"));
 }

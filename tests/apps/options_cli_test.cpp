@@ -28,11 +28,11 @@ const std::map<std::string, std::vector<std::string>> kOptions = {
     {"render", {"INPUT", "--out", "--size", "--style", "--mask", "--threads", "--stats", "--budget", "--shading",
                 "--reference", "--samples", "--measure-error", "--view-grid", "--memory-budget", "--simplify",
                 "--wire-depth", "--time", "--quiet", "--deflection", "--linear-deflection", "--angular-deflection",
-                "--isos", "--cad-timeout"}},
+                "--isos", "--read-timeout"}},
     {"export", {"INPUT", "--out", "--style", "--time", "--quiet", "--deflection", "--linear-deflection",
-                "--angular-deflection", "--isos", "--cad-timeout"}},
+                "--angular-deflection", "--isos", "--read-timeout"}},
     {"view", {"INPUT", "--style", "--size", "--mask", "--threads", "--frames", "--interactive-reduction", "--offscreen", "--png", "--quiet",
-              "--deflection", "--linear-deflection", "--angular-deflection", "--isos", "--cad-timeout"}},
+              "--deflection", "--linear-deflection", "--angular-deflection", "--isos", "--read-timeout"}},
 };
 
 }  // namespace
@@ -90,6 +90,7 @@ TEST(OptionsCli, ABadSharedOptionIsTheSameOneLineInEveryCommand) {
        "option --angular-deflection: expected a number in [1, 85], got '90'"},
       {"--isos 1001", {"render", "export", "view"}, "option --isos: expected an integer in [0, 1000], got '1001'"},
       {"--cad-timeout 0", {"render", "export", "view"}, "option --cad-timeout: expected a number in [0.1, 1e6], got '0'"},
+      {"--read-timeout 0", {"render", "export", "view"}, "option --read-timeout: expected a number in [0.1, 1e6], got '0'"},
       {"--quiet=no", {"gallery", "accuracy", "render", "export", "view"}, "option --quiet takes no value"},
       {"-o", {"gallery", "render", "export"}, "option -o needs a value"},
       {"--size", {"gallery", "render", "view"}, "option --size needs a value"},

@@ -289,3 +289,32 @@ TEST(RenderCli, UnwritableOutputsAndOutOfRangeNumbersAreBadInput) {
   EXPECT_FALSE(fs::exists(dir() / "x.png"));
   EXPECT_FALSE(fs::exists(dir() / "y.png"));
 }
+
+// The memory estimate the command checks --memory-budget against (stats "memory") bounds the
+// peak resident memory it then measures (getrusage), from 512^2 to 8192^2 and with the second
+// and third images of --measure-error; and it is a bound, not a guess far above: within 1.5 x
+// the peak plus 64 MiB.
+TEST(RenderCli, MemoryEstimateBoundsThePeak) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer's shadow memory and quarantine are not the command's";
+#endif
+  struct Case {
+    int size;
+    std::string extra;
+  };
+  const Case cases[] = {{512, ""}, {1024, ""}, {2048, ""}, {4096, ""}, {8192, ""},
+                        {1024, "--measure-error --samples 2"}, {1024, "--reference --samples 2"}};
+  const double machine = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
+  for (const Case& c : cases) {
+    // 8192^2 holds about 1.3 GiB: within the default budget (half the memory) from 4 GiB up.
+    if (double(c.size) * c.size * 40.0 > 0.4 * machine) continue;
+    const fs::path png = dir() / "memory.png", stats = dir() / "memory.json";
+    const std::string size = std::to_string(c.size) + "x" + std::to_string(c.size);
+    const Result r = run("render -o '" + png.string() + "' --size " + size + " " + c.extra + " --stats '" + stats.string() + "'");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const json m = json::parse(slurp(stats))["memory"];
+    const double estimate = m["estimate_bytes"].get<double>(), peak = m["peak_rss_bytes"].get<double>();
+    EXPECT_GE(estimate, peak) << size << " " << c.extra;
+    EXPECT_LE(estimate, 1.5 * peak + 64.0 * (1 << 20)) << size << " " << c.extra;
+  }
+}

@@ -3,11 +3,12 @@
 //
 // The first byte of the input picks the format (byte % 5: vtp, vtk, stl, obj, ply; the seeds of
 // make_app_seeds carry it); the rest is written to a file of that extension and read by
-// wfapp::readGeometry, exactly as `wirefur render FILE` and scene objects with "file" read it.
+// wfapp::readGeometryInProcess: what the wirefur command's mesh worker runs for `wirefur render
+// FILE` and for scene objects with "file" (in the command a crash there ends the worker only).
 // What it returns is then checked and turned into wires as sceneForGeometryFile does (the mesh's
 // edges when the file has no lines).
 //
-// Expected: readGeometry throws wfapp::UsageError with one line naming the file, or returns.
+// Expected: readGeometryInProcess throws wfapp::UsageError with one line naming the file, or returns.
 // Findings (the program aborts, so libFuzzer keeps the input):
 //  - a crash, a sanitizer report, a hang past -timeout, memory past -rss_limit_mb (libFuzzer);
 //    inside VTK's readers these are VTK's (run_fuzz.sh lists them as [library]), in mesh_io.cpp
@@ -58,7 +59,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   wfapp::LoadedGeometry g;
   try {
-    g = wfapp::readGeometry(path);
+    g = wfapp::readGeometryInProcess(path);
   } catch (const wfapp::UsageError& e) {
     if (g_verbose) std::fprintf(stderr, "WF_FUZZ: %zu bytes: error: %s\n", size, e.what());
     wffuzz::checkMessage(e.what(), path);

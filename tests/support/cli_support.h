@@ -1,6 +1,9 @@
 // Running the wirefur executable from the command-line tests: exit status and stderr.
 #pragma once
 
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -11,6 +14,9 @@
 #include <stdexcept>
 #include <sstream>
 #include <string>
+#include <vector>
+
+extern char** environ;
 
 namespace wf::test {
 
@@ -51,6 +57,35 @@ inline CliResult runCommand(const std::string& command) {
 
 /// Runs `WIREFUR_EXE args` through the shell, stdout discarded.
 inline CliResult runWirefur(const std::string& args) { return runCommand(std::string("'") + WIREFUR_EXE + "' " + args); }
+
+/// Starts `WIREFUR_EXE args` (stdout and stderr to /dev/null, this process's environment) without
+/// waiting: for tests that signal it or run several at once. Returns its pid, -1 on failure.
+inline pid_t spawnWirefur(std::vector<std::string> args) {
+  args.insert(args.begin(), WIREFUR_EXE);
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", O_WRONLY, 0);
+  pid_t pid = -1;
+  if (posix_spawn(&pid, WIREFUR_EXE, &fa, nullptr, argv.data(), environ) != 0) pid = -1;
+  posix_spawn_file_actions_destroy(&fa);
+  return pid;
+}
+
+/// Kills and reaps a spawned process when a test leaves early (a failed ASSERT); set pid to -1
+/// once it has been waited for.
+struct ProcessGuard {
+  pid_t pid = -1;
+  ~ProcessGuard() {
+    if (pid > 0) {
+      kill(pid, SIGKILL);
+      waitpid(pid, nullptr, 0);
+    }
+  }
+};
 
 struct CliOutput {
   int status;       ///< exit status (-1 when killed by a signal)

@@ -1,0 +1,127 @@
+#include "reader_worker.h"
+
+#include "cli.h"
+
+#include "core/worker_process.h"
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+namespace wfapp {
+
+namespace {
+
+std::atomic<bool> workersEnabled{false};
+
+// The worker's last words on stderr, for a worker that left no result.
+std::string failureDetail(const std::string& stderrFile) {
+  const std::string words = stderrFile.empty() ? std::string() : wf::lastLineOf(stderrFile);
+  return words.empty() ? std::string() : ": " + words;
+}
+
+}  // namespace
+
+void enableReaderWorkers() { workersEnabled = true; }
+bool readerWorkersEnabled() { return workersEnabled; }
+
+std::string runReaderWorker(const std::string& path, const ReaderWorkerCall& call) {
+  const wf::TemporaryFolder folder("wirefur-read-");
+  if (folder.path().empty()) throw std::runtime_error("cannot make a temporary folder for the reader worker");
+  const std::string out = folder.path() + "/result";
+  std::vector<std::string> args = {"wirefur", call.mode, path, out, std::to_string(getpid()),
+                                   wf::workerNumber(call.timeoutSeconds)};
+  args.insert(args.end(), call.extra.begin(), call.extra.end());
+  // The worker's stderr carries its progress lines on a terminal; elsewhere it goes to a file,
+  // whose last line explains a worker that could not run or write (std::terminate's words or a
+  // dying loader's), without adding lines of its own to the one line.
+  wf::WorkerOptions run;
+  run.timeoutSeconds = call.timeoutSeconds;
+  run.stderrPath = call.inheritStderr ? std::string() : folder.path() + "/stderr";
+  const wf::WorkerExit e = wf::runWorker("/proc/self/exe", args, run);
+  if (!e.started) throw std::runtime_error("cannot start the " + call.workerName + ": " + e.startError);
+  if (e.timedOut || (e.signalled && e.signal == SIGALRM))  // (SIGALRM: the worker's own limit)
+    throw UsageError(path + ": " + call.what + " did not finish within " + wf::workerNumber(call.timeoutSeconds) +
+                     " s (" + call.library + " may loop on a corrupt file; " + call.timeoutHint + ")");
+  if (!e.signalled && e.status == wf::kWorkerExitOutOfMemory) {
+    char cap[32];
+    std::snprintf(cap, sizeof cap, "%.1f", wf::workerMemoryCap() / double(1 << 30));
+    throw UsageError(path + ": out of memory in the " + call.workerName + " (its cap is " + cap +
+                     " GiB: half the memory this machine or its cgroup allows)");
+  }
+  // Stopped from outside (a hang-up reaching the process group under nohup, kill): not the
+  // file's fault.
+  if (e.signalled && (e.signal == SIGHUP || e.signal == SIGINT || e.signal == SIGTERM || e.signal == SIGQUIT))
+    throw OutputError(path + ": the " + call.workerName + " was stopped by " + wf::signalDescription(e.signal) +
+                      " before it finished reading");
+  if (e.signalled)
+    throw UsageError(path + ": " + call.library + " crashed reading this file (" + wf::signalDescription(e.signal) +
+                     (e.signal == SIGKILL || e.signal == SIGABRT ? ", out of memory?" : "") + "): " + call.cannotRead);
+  std::string bytes;
+  {
+    std::ifstream in(out, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    bytes = ss.str();
+  }
+  // No result at all: the worker died inside the reader without a signal reaching us (a
+  // sanitizer's handler, for one, turns the crash into an exit status), or could not run or
+  // write. (Whether the status is known or not: the result is written last.)
+  if (bytes.size() < call.magic.size() + 1 || bytes.compare(0, call.magic.size(), call.magic) != 0) {
+    if (!e.signalled && !e.statusUnknown && e.status != 0 && e.status != 1 && e.status != 2 &&
+        e.status != wf::kWorkerExitOutOfMemory && e.status < 128)
+      throw std::runtime_error("the " + call.workerName + " failed (status " + std::to_string(e.status) + ")" +
+                               failureDetail(run.stderrPath));
+    throw UsageError(path + ": " + call.library + " crashed reading this file (the worker stopped with " +
+                     (e.statusUnknown ? std::string("an unknown status") : "status " + std::to_string(e.status)) +
+                     " and no result" + failureDetail(run.stderrPath) + "): " + call.cannotRead);
+  }
+  const char kind = bytes[call.magic.size()];
+  std::string body = bytes.substr(call.magic.size() + 1);
+  if (kind == 0) return body;
+  BlobReader r(body);
+  const std::string message = r.str();
+  if (kind == 2) throw UsageError(message);
+  throw std::runtime_error(message);
+}
+
+void finishReaderWorker(const std::string& out, const std::string& magic, const std::function<void(BlobWriter&)>& read) {
+  // The result is made in memory and written at the end: a worker that dies on the way leaves
+  // no file, which the parent reads as a crash.
+  std::ostringstream body(std::ios::binary);
+  BlobWriter w(body);
+  char kind = 0;
+  int status = 0;
+  try {
+    read(w);
+  } catch (const UsageError& e) {
+    body.str(std::string());
+    w.str(e.what());
+    kind = 2, status = 2;
+  } catch (const std::exception& e) {
+    body.str(std::string());
+    w.str(e.what());
+    kind = 1, status = 1;
+  }
+  const std::string part = out + ".part";
+  {
+    std::ofstream f(part, std::ios::binary | std::ios::trunc);
+    f.write(magic.data(), std::streamsize(magic.size()));
+    f.put(kind);
+    const std::string bytes = body.str();
+    f.write(bytes.data(), std::streamsize(bytes.size()));
+    f.close();
+    if (!f || std::rename(part.c_str(), out.c_str()) != 0) {
+      std::fprintf(stderr, "cannot write the result to %s: %s\n", out.c_str(), std::strerror(errno));
+      wf::endWorker(wf::kWorkerExitWriteFailed);
+    }
+  }
+  wf::endWorker(status);
+}
+
+}  // namespace wfapp
