@@ -361,6 +361,7 @@ void TileABuffer::pruneHidden(Pixel& p, float depth) {
       *link = n.next;
       freeNode(dead);
       --p.length;
+      p.far = -1;
       ++local_.culled;
     } else {
       link = &n.next;
@@ -373,9 +374,10 @@ TileABuffer::Placement TileABuffer::pushList(Pixel& p, const Fragment& f) {
   if (p.length >= budget_ && occ < INFINITY) pruneHidden(p, occ);
   if (p.length >= budget_) {
     // Keep the nearest `budget` exactly: the farthest of list + f goes to the tail.
-    std::int32_t far = -1;
-    for (std::int32_t i = p.head; i >= 0; i = nodes_[size_t(i)].next)
-      if (far < 0 || nodes_[size_t(i)].f.zkey >= nodes_[size_t(far)].f.zkey) far = i;
+    if (p.far < 0)
+      for (std::int32_t i = p.head; i >= 0; i = nodes_[size_t(i)].next)
+        if (p.far < 0 || nodes_[size_t(i)].f.zkey >= nodes_[size_t(p.far)].f.zkey) p.far = i;
+    const std::int32_t far = p.far;
     if (f.zkey >= nodes_[size_t(far)].f.zkey) {
       toTail(p, f, false);
       return Placement::Tailed;
@@ -383,11 +385,15 @@ TileABuffer::Placement TileABuffer::pushList(Pixel& p, const Fragment& f) {
     toTail(p, nodes_[size_t(far)].f, true);
     nodes_[size_t(far)].f = f;
     nodes_[size_t(far)].seq = p.seq++;
+    p.far = -1;  // the next farthest is found again when needed
     return Placement::Evicted;
   }
   const size_t pixelIndex = size_t(&p - pixels_.data());
   const std::int32_t n = allocNode(pixelIndex);
   nodes_[size_t(n)] = Node{f, p.seq++, p.head, std::uint32_t(pixelIndex)};
+  // (Of equal keys the scan keeps the earliest entry: a new one replaces it only when farther.)
+  if (p.length == 0) p.far = n;
+  else if (p.far >= 0 && f.zkey > nodes_[size_t(p.far)].f.zkey) p.far = n;
   p.head = n;
   ++p.length;
   local_.maxListLength = std::max<std::uint32_t>(local_.maxListLength, p.length);
@@ -455,6 +461,7 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
       const float hideBefore = hideOf(n.f);
       const MaskBits newlySampled = f.mask & ~f.standInBits;  // disjoint from n's sampled bits
       mergeInto(n.f, f);
+      p.far = -1;  // its depth may have moved
       ++local_.merged;
       // Occlusion counted the piece already here at its hide; the merged fragment never hides
       // less (Fragment::hideFloor), and the new piece's sampled subpixels count at its hide.

@@ -311,18 +311,23 @@ class TileABuffer {
   struct Pixel {
     std::int32_t head = -1;
     std::uint16_t length = 0;
+    std::uint8_t open = 64;       ///< subpixels not yet settled (see occlude)
+    bool noOcclusion = false;     ///< has a tail: only the solid fragment occludes (see toTail)
     std::uint32_t seq = 0;
     std::int32_t tail = -1;       ///< index into tails_, or -1
     std::int32_t solid = -1;      ///< index into solids_ (kept out of Pixel: most have none), or -1
     bool hasSolid() const { return solid >= 0; }
     bool hasTail() const { return tail >= 0; }
     std::int32_t depths = -1;     ///< this pixel's record (2N floats) in subpixelDepth_, once it has an occluder
-    std::uint8_t open = 64;       ///< subpixels not yet settled (see occlude)
-    bool noOcclusion = false;     ///< has a tail: only the solid fragment occludes (see toTail)
     std::uint32_t solidSeq = 0;   ///< arrival of the solid fragment, for the resolve's order
     /// The list holds nothing wholly behind this depth (pruneHidden ran at it; every fragment
     /// inserted since lies in front of what hid then), so pruning at a depth not nearer is idle.
     float prunedAt = INFINITY;
+    /// The list's farthest entry (largest zkey; of equal ones the earliest), or -1: not known,
+    /// found by a scan when next needed. Kept through appends and through fragments sent to the
+    /// tail, so that a full list costs O(1) per fragment that is not nearer than all it holds
+    /// (thousands of coincident layers); forgotten when an entry is evicted, merged or pruned.
+    std::int32_t far = -1;
   };
   /// The resolve's scratch space (one buffer per thread: no thread_local lookups per pixel).
   struct ResolveScratch {
