@@ -38,8 +38,20 @@
 #   WF_FUZZ_JOBS=2              build parallelism
 #   WF_FUZZ_TIMEOUT=10          libFuzzer's -timeout (seconds per input)
 #   WF_FUZZ_STOP_AT_FIRST=0     1: stop each target at its first failing input
-#   WF_FUZZ_KEEP_CORPUS=0       1: keep BUILD_DIR/corpus/<target> between runs (grows coverage;
-#                               the initial pass over a large corpus is not bounded by the time)
+#   WF_FUZZ_KEEP_CORPUS=0       1: keep the working corpus between runs (grows coverage; the
+#                               initial pass over a large corpus is not bounded by the time)
+#   WF_FUZZ_CORPUS_DIR=BUILD_DIR/corpus
+#                               where the working corpus lives (<dir>/<target>); scripts/fuzz.sh
+#                               keeps its own, apart from the ctest runs'. The committed corpus,
+#                               tests/fuzz/corpus/<target> (small inputs that reached something
+#                               new: hand-written legacy .vtk variants, kept finds), joins the
+#                               seeds of every run
+#   WF_FUZZ_RSS_MB=2048         libFuzzer's -rss_limit_mb (and, in fork mode, -malloc_limit_mb is
+#                               a quarter of it: a reader asked for gigabytes fails at the ask)
+#   WF_FUZZ_FORK=0              1: libFuzzer's fork mode with -ignore_crashes / _timeouts / _ooms:
+#                               one run for the whole time that keeps going past failing inputs
+#                               (for long runs: the failures of VTK's legacy reader come every few
+#                               seconds); each failing input is run again afterwards for its report
 #   WF_FUZZ_FAIL_ON=all         ours: findings whose faulting frame is inside a library are
 #                               listed but do not fail the run
 #
@@ -74,6 +86,9 @@ STOP_AT_FIRST=${WF_FUZZ_STOP_AT_FIRST:-0}
 FUZZER_FAILED=0
 KEEP_CORPUS=${WF_FUZZ_KEEP_CORPUS:-0}
 FAIL_ON=${WF_FUZZ_FAIL_ON:-all}
+CORPUS_DIR=${WF_FUZZ_CORPUS_DIR:-$BUILD/corpus}
+FORK=${WF_FUZZ_FORK:-0}
+RSS_MB=${WF_FUZZ_RSS_MB:-2048}
 
 skip() {
   echo "$NAME: SKIPPED: $*"
@@ -156,6 +171,12 @@ if [[ $need_app_seeds == 1 ]]; then
   fi
   cp "$ROOT"/data/scenes/*.json "$BUILD/seeds/scene/"
 fi
+for t in $TARGETS; do
+  if [[ -d "$HERE/corpus/$t" ]]; then
+    mkdir -p "$BUILD/seeds/$t"
+    cp "$HERE/corpus/$t"/* "$BUILD/seeds/$t"/ 2> /dev/null
+  fi
+done
 
 export ASAN_OPTIONS="detect_leaks=0:handle_abort=1:symbolize=1:${WF_FUZZ_ASAN_OPTIONS:-}"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:${WF_FUZZ_UBSAN_OPTIONS:-}"
@@ -208,9 +229,9 @@ signature_of() {  # log -> "owner|signature"
 # --- fuzz ------------------------------------------------------------------------------------
 # libFuzzer stops at the first crash; it is started again on the grown corpus with the time
 # left, so that every target gets its full time and every crash is kept with its own report.
-declare -A EXECS RATE KEPT RUNS GROUP_COUNT GROUP_EXAMPLE GROUP_OWNER GROUP_TARGET GROUP_LOG
+declare -A EXECS RATE KEPT RUNS COVERAGE GROUP_COUNT GROUP_EXAMPLE GROUP_OWNER GROUP_TARGET GROUP_LOG
 for t in $TARGETS; do
-  corpus="$BUILD/corpus/$t"
+  corpus="$CORPUS_DIR/$t"
   art="$BUILD/artifacts/$t"
   logs="$BUILD/logs/$t"
   [[ "$KEEP_CORPUS" == 1 ]] || rm -rf "$corpus"
@@ -224,13 +245,53 @@ for t in $TARGETS; do
   deadline=$(($(date +%s) + SECONDS_PER_TARGET))
   n=0
   k=0
-  while :; do
+  if [[ "$FORK" == 1 ]]; then
+    k=1
+    log="$logs/run-1.log"
+    timeout --signal=KILL $((SECONDS_PER_TARGET * 2 + 120)) "$BUILD/$(exe_of "$t")" -fork=1 -ignore_crashes=1 -ignore_timeouts=1 \
+      -ignore_ooms=1 -max_total_time="$SECONDS_PER_TARGET" -rss_limit_mb="$RSS_MB" -malloc_limit_mb=$((RSS_MB / 4)) \
+      -timeout="$TIMEOUT" -close_fd_mask=1 \
+      -detect_leaks=0 "${dict[@]}" -artifact_prefix="$art/" "$corpus" > "$log" 2>&1
+    # Fork mode's progress lines: "#N: cov: C ft: F corp: K exec/s R oom/timeout/crash: ..."
+    rc=$?
+    n=$(grep -E '^#[0-9]+: cov:' "$log" | tail -n 1 | sed -E 's/^#([0-9]+):.*/\1/')
+    if [[ -z "$n" || $rc -eq 124 || $rc -eq 137 ]]; then
+      echo "$NAME: $t: libFuzzer's fork mode exited with $rc without finishing (log $log):"
+      tail -n 20 "$log"
+      FUZZER_FAILED=1
+    fi
+    n=${n:-0}
+    sed -nE 's/^#[0-9]+: cov: ([0-9]+) ft: ([0-9]+) .*/#0 DONE cov: \1 ft: \2 corp: 0/p' "$log" > "$logs/run-1-coverage.log"
+    # Each failing input run once more for its report (bounded: at most WF_FUZZ_RERUNS=200 of
+    # them, each within the per-input limit; the rest are kept, counted, not grouped).
+    reruns=0
+    for unit in $(find "$art" -maxdepth 1 -type f ! -name '*.log' ! -name 'slow-unit-*' | sort); do
+      reruns=$((reruns + 1))
+      if [[ $reruns -gt ${WF_FUZZ_RERUNS:-200} ]]; then
+        echo "$NAME: $t: more than ${WF_FUZZ_RERUNS:-200} failing inputs; the rest are kept in $art, not grouped"
+        break
+      fi
+      timeout --signal=KILL $((TIMEOUT * 3 + 30)) "$BUILD/$(exe_of "$t")" -rss_limit_mb="$RSS_MB" -timeout="$TIMEOUT" \
+        -detect_leaks=0 "$unit" > "$unit.log" 2>&1
+      r=$(signature_of "$unit.log")
+      owner=${r%%|*}
+      sig="$t: ${r#*|}"
+      if [[ -z "${GROUP_COUNT[$sig]:-}" ]]; then
+        GROUP_COUNT[$sig]=0
+        GROUP_EXAMPLE[$sig]=$unit
+        GROUP_OWNER[$sig]=$owner
+        GROUP_TARGET[$sig]=$t
+      fi
+      GROUP_COUNT[$sig]=$((GROUP_COUNT[$sig] + 1))
+    done
+  fi
+  while [[ "$FORK" != 1 ]]; do
     left=$((deadline - $(date +%s)))
     [[ $left -ge 1 ]] || break
     k=$((k + 1))
     log="$logs/run-$k.log"
     # A hard stop well past the time asked for: the initial pass over the corpus is not bounded.
-    timeout --signal=KILL $((left * 2 + 60)) "$BUILD/$(exe_of "$t")" -max_total_time="$left" -rss_limit_mb=2048 -timeout="$TIMEOUT" \
+    timeout --signal=KILL $((left * 2 + 60)) "$BUILD/$(exe_of "$t")" -max_total_time="$left" -rss_limit_mb="$RSS_MB" -timeout="$TIMEOUT" \
       -close_fd_mask=1 -detect_leaks=0 -print_final_stats=1 "${dict[@]}" -artifact_prefix="$art/" "$corpus" > "$log" 2>&1
     rc=$?
     e=$(grep -E '^stat::number_of_executed_units:' "$log" | tail -n 1 | awk '{print $2}')
@@ -261,8 +322,11 @@ for t in $TARGETS; do
   EXECS[$t]=$n
   RUNS[$t]=$k
   RATE[$t]=$(awk -v n="$n" -v s="$elapsed" 'BEGIN { printf "%.1f", (s > 0 ? n / s : 0) }')
+  # Coverage reached: the most edges ("cov") and features ("ft") any of its libFuzzer runs saw.
+  COVERAGE[$t]=$(grep -hE '^#[0-9]+[[:space:]]+(DONE|INITED|NEW|REDUCE|pulse)' "$logs"/run-*.log 2> /dev/null |
+    sed -nE 's/.* cov: ([0-9]+) ft: ([0-9]+) .*/\1 \2/p' | sort -n -k1,1 -k2,2 | tail -n 1 | awk '{print $1 " edges, " $2 " features"}')
   KEPT[$t]=$(find "$art" -maxdepth 1 -type f ! -name '*.log' ! -name 'slow-unit-*' | wc -l)
-  echo "$NAME: $t: ${EXECS[$t]} executions in ${elapsed} s (${RATE[$t]}/s), ${RUNS[$t]} libFuzzer runs, $(ls "$corpus" | wc -l) corpus inputs, ${KEPT[$t]} failing inputs kept"
+  echo "$NAME: $t: ${EXECS[$t]} executions in ${elapsed} s (${RATE[$t]}/s), ${RUNS[$t]} libFuzzer runs, coverage ${COVERAGE[$t]:-unknown}, $(ls "$corpus" | wc -l) corpus inputs, ${KEPT[$t]} failing inputs kept"
 done
 
 findings="$BUILD/findings-$NAME.txt"
@@ -286,7 +350,7 @@ done
 echo
 echo "$NAME: summary (${SECONDS_PER_TARGET} s per target, -timeout=${TIMEOUT})"
 for t in $TARGETS; do
-  echo "  $t: ${EXECS[$t]} executions, ${RATE[$t]}/s, ${RUNS[$t]} libFuzzer runs, ${KEPT[$t]} failing inputs (logs $BUILD/logs/$t)"
+  echo "  $t: ${EXECS[$t]} executions, ${RATE[$t]}/s, ${RUNS[$t]} libFuzzer runs, coverage ${COVERAGE[$t]:-unknown}, ${KEPT[$t]} failing inputs (logs $BUILD/logs/$t)"
 done
 if [[ -s "$findings" ]]; then
   echo
