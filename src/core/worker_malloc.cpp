@@ -26,6 +26,11 @@
 
 namespace {
 int gFatalStatus = 0;  // 0: failures are returned, as glibc does
+// A single request past this (the worker's whole memory cap) is no exhaustion but a corrupt count
+// asking for the impossible (OpenCASCADE's mesher, asked for 1e14 bytes by one wrong digit):
+// it fails as glibc's would, and the library handles it (OpenCASCADE skips the face, VTK reports
+// a short array) instead of the whole file failing.
+std::size_t gSingleLimit = ~std::size_t(0);
 
 [[noreturn]] void outOfMemory() {
   static const char m[] = "out of memory under the worker's cap (an allocation failed)\n";
@@ -33,13 +38,19 @@ int gFatalStatus = 0;  // 0: failures are returned, as glibc does
   _exit(gFatalStatus);
 }
 
-void* checked(void* p, bool asked) {
-  if (!p && asked && gFatalStatus) outOfMemory();
+// `asked`: the bytes asked for (0: none, a failure is no failure).
+void* checked(void* p, std::size_t asked) {
+  if (!p && asked != 0 && asked <= gSingleLimit && gFatalStatus) outOfMemory();
   return p;
+}
+std::size_t product(std::size_t a, std::size_t b) {
+  std::size_t r = 0;
+  return __builtin_mul_overflow(a, b, &r) ? ~std::size_t(0) : r;
 }
 }  // namespace
 
 extern "C" void wirefur_worker_allocation_failures_are_fatal(int exitStatus) { gFatalStatus = exitStatus; }
+extern "C" void wirefur_worker_single_allocation_limit(std::size_t bytes) { gSingleLimit = bytes; }
 
 #if !defined(WF_UNDER_ASAN)
 extern "C" {
@@ -51,27 +62,27 @@ void* __libc_memalign(std::size_t, std::size_t);
 void* __libc_valloc(std::size_t);
 void* __libc_pvalloc(std::size_t);
 
-void* malloc(std::size_t size) noexcept { return checked(__libc_malloc(size), size != 0); }
+void* malloc(std::size_t size) noexcept { return checked(__libc_malloc(size), size); }
 void* calloc(std::size_t count, std::size_t size) noexcept {
-  return checked(__libc_calloc(count, size), count != 0 && size != 0);
+  return checked(__libc_calloc(count, size), product(count, size));
 }
-void* realloc(void* old, std::size_t size) noexcept { return checked(__libc_realloc(old, size), size != 0); }
+void* realloc(void* old, std::size_t size) noexcept { return checked(__libc_realloc(old, size), size); }
 void free(void* p) noexcept { __libc_free(p); }
 void* memalign(std::size_t alignment, std::size_t size) noexcept {
-  return checked(__libc_memalign(alignment, size), size != 0);
+  return checked(__libc_memalign(alignment, size), size);
 }
 void* aligned_alloc(std::size_t alignment, std::size_t size) noexcept {
-  return checked(__libc_memalign(alignment, size), size != 0);
+  return checked(__libc_memalign(alignment, size), size);
 }
 int posix_memalign(void** out, std::size_t alignment, std::size_t size) noexcept {
   if (alignment == 0 || (alignment & (alignment - 1)) != 0 || alignment % sizeof(void*) != 0) return EINVAL;
-  void* p = checked(__libc_memalign(alignment, size), size != 0);
+  void* p = checked(__libc_memalign(alignment, size), size);
   if (!p && size != 0) return ENOMEM;
   *out = p;
   return 0;
 }
-void* valloc(std::size_t size) noexcept { return checked(__libc_valloc(size), size != 0); }
-void* pvalloc(std::size_t size) noexcept { return checked(__libc_pvalloc(size), size != 0); }
+void* valloc(std::size_t size) noexcept { return checked(__libc_valloc(size), size); }
+void* pvalloc(std::size_t size) noexcept { return checked(__libc_pvalloc(size), size); }
 // glibc's own, looked up in libc itself (a preloaded allocator's would read glibc's blocks).
 std::size_t malloc_usable_size(void* p) noexcept {
   using Size = std::size_t (*)(void*);
@@ -90,6 +101,7 @@ void* allocate(std::size_t size, std::size_t alignment) {
   while (true) {
     void* p = alignment > alignof(std::max_align_t) ? __libc_memalign(alignment, size) : __libc_malloc(size);
     if (p) return p;
+    if (size > gSingleLimit) throw std::bad_alloc();  // a corrupt count: the caller's to handle
     if (gFatalStatus) outOfMemory();
     std::new_handler handler = std::get_new_handler();
     if (!handler) throw std::bad_alloc();

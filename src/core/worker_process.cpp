@@ -174,6 +174,7 @@ double capWorkerMemory() {
 
 // Defined by worker_malloc.cpp in the programs that link it (weak: absent elsewhere).
 extern "C" void wirefur_worker_allocation_failures_are_fatal(int exitStatus) __attribute__((weak));
+extern "C" void wirefur_worker_single_allocation_limit(std::size_t bytes) __attribute__((weak));
 
 namespace wf {
 
@@ -186,7 +187,10 @@ void becomeWorker(const std::string& parentPid, const std::string& timeoutSecond
     alarm(unsigned(std::min(std::ceil(timeout) + 10.0, 4.0e9)));
   const rlimit noCore{0, 0};
   setrlimit(RLIMIT_CORE, &noCore);
-  capWorkerMemory();
+  const double cap = capWorkerMemory();
+  // One request past the whole cap is a corrupt count, not exhaustion: it fails back to the
+  // library (worker_malloc.cpp) instead of ending the worker.
+  if (cap > 0 && wirefur_worker_single_allocation_limit) wirefur_worker_single_allocation_limit(std::size_t(cap));
   std::set_new_handler([] {
     static const char m[] = "out of memory under the worker's cap\n";
     [[maybe_unused]] const ssize_t n = write(STDERR_FILENO, m, sizeof m - 1);
