@@ -69,12 +69,18 @@ Factory cadFactory() {
     const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
     const std::filesystem::path installed = exe.parent_path().parent_path() / WIREFUR_INSTALL_LIBDIR / name;
     void* h = nullptr;
-    if (!ec && std::filesystem::is_regular_file(installed, ec)) h = dlopen(installed.c_str(), RTLD_NOW | RTLD_LOCAL);
-    if (!h) h = dlopen(WIREFUR_CAD_LIBRARY, RTLD_NOW | RTLD_LOCAL);
-    if (!h) h = dlopen(name.c_str(), RTLD_NOW | RTLD_LOCAL);
+    // The first failure is the one that explains (the installed module missing a library);
+    // the fallbacks' would hide it.
+    std::string first;
+    auto open = [&](const char* path) {
+      if (!h) h = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+      if (const char* e = h ? nullptr : dlerror(); e && first.empty()) first = e;
+    };
+    if (!ec && std::filesystem::is_regular_file(installed, ec)) open(installed.c_str());
+    open(WIREFUR_CAD_LIBRARY);
+    open(name.c_str());
     if (!h) {
-      const char* e = dlerror();
-      problem = e ? e : "dlopen failed";
+      problem = first.empty() ? "dlopen failed" : first;
       return;
     }
     factory = reinterpret_cast<Factory>(dlsym(h, "wirefur_cad_new_reader"));

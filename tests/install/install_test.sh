@@ -28,6 +28,18 @@ echo "installed: $(find "$stage" -type f | wc -l) files"
   || fail "installed wirefur render"
 [ -s "$work/ghost.png" ] || fail "installed wirefur wrote no PNG"
 echo "bin/wirefur rendered product_ghost.json from share/wirefur"
+# The CAD module it opened (in its worker and in itself): the installed one, not the build's,
+# which it would fall back to by its build path.
+cad_loaded=$(LD_DEBUG=files "$stage/bin/wirefur" render "$stage/share/wirefur/scenes/product_ghost.json" \
+  -o "$work/ghost2.png" --quiet 2>&1 | sed -nE 's/.*file=([^ ]*libWireFurCAD[^ ]*) .*/\1/p' | sort -u)
+[ -n "$cad_loaded" ] || fail "the installed wirefur opened no CAD module"
+for m in $cad_loaded; do
+  case "$(readlink -f "$m")" in
+    "$(readlink -f "$stage")"/*) ;;
+    *) fail "the installed wirefur opened the CAD module $m, outside the prefix" ;;
+  esac
+done
+echo "bin/wirefur opened the installed CAD module: $cad_loaded"
 
 # 2. The downstream C++17 project, against the prefix and against the build tree.
 for where in prefix build; do
