@@ -26,17 +26,14 @@ wf::ImageRGBA readPng(const std::string& path, size_t maxPixels) {
   // libpng's simplified API: it checks every chunk, reports a bad file as a message instead of
   // longjmp-ing through our stack (VTK's PNG reader crashes on a corrupt file), and converts to
   // 16-bit linear light itself (sRGB or the file's gAMA decoded). Alpha is composited over black.
-  requireInputFile(path);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw UsageError(path + ": cannot open the image");
-  unsigned char sig[8] = {0};
-  in.read(reinterpret_cast<char*>(sig), 8);
-  if (in.gcount() != 8 || png_sig_cmp(sig, 0, 8) != 0) throw UsageError(path + ": not a PNG image");
-  in.close();
+  // Read once through the checked descriptor (apps/safe_files.h), then decoded from memory.
+  const std::string bytes = readInputFile(path, "the image");
+  if (bytes.size() < 8 || png_sig_cmp(reinterpret_cast<png_const_bytep>(bytes.data()), 0, 8) != 0)
+    throw UsageError(path + ": not a PNG image");
   png_image image;
   std::memset(&image, 0, sizeof image);
   image.version = PNG_IMAGE_VERSION;
-  if (!png_image_begin_read_from_file(&image, path.c_str()))
+  if (!png_image_begin_read_from_memory(&image, bytes.data(), bytes.size()))
     throw UsageError(path + ": bad PNG (" + std::string(image.message) + ")");
   const size_t w = image.width, h = image.height;
   if (w == 0 || h == 0 || w * h > maxPixels) {

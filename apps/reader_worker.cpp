@@ -82,44 +82,44 @@ std::string runReaderWorker(const std::string& path, const ReaderWorkerCall& cal
                      " and no result" + failureDetail(run.stderrPath) + "): " + call.cannotRead);
   }
   const char kind = bytes[call.magic.size()];
-  std::string body = bytes.substr(call.magic.size() + 1);
-  if (kind == 0) return body;
-  BlobReader r(body);
+  bytes.erase(0, call.magic.size() + 1);  // in place: no second copy of a large result
+  if (kind == 0) return bytes;
+  BlobReader r(bytes);
   const std::string message = r.str();
   if (kind == 2) throw UsageError(message);
   throw std::runtime_error(message);
 }
 
 void finishReaderWorker(const std::string& out, const std::string& magic, const std::function<void(BlobWriter&)>& read) {
-  // The result is made in memory and written at the end: a worker that dies on the way leaves
-  // no file, which the parent reads as a crash.
-  std::ostringstream body(std::ios::binary);
-  BlobWriter w(body);
-  char kind = 0;
+  // Written straight to OUT.part (no second copy in memory under the cap), then renamed: the
+  // parent reads no file (a crash) or a whole one. A failure on the way starts the file again
+  // with its message.
+  const std::string part = out + ".part";
+  std::ofstream f(part, std::ios::binary | std::ios::trunc);
+  auto restart = [&](char kind) {
+    f.close();
+    f.open(part, std::ios::binary | std::ios::trunc);
+    f.write(magic.data(), std::streamsize(magic.size()));
+    f.put(kind);
+  };
   int status = 0;
+  restart(0);
+  BlobWriter w(f);
   try {
     read(w);
   } catch (const UsageError& e) {
-    body.str(std::string());
+    restart(2);
     w.str(e.what());
-    kind = 2, status = 2;
+    status = 2;
   } catch (const std::exception& e) {
-    body.str(std::string());
+    restart(1);
     w.str(e.what());
-    kind = 1, status = 1;
+    status = 1;
   }
-  const std::string part = out + ".part";
-  {
-    std::ofstream f(part, std::ios::binary | std::ios::trunc);
-    f.write(magic.data(), std::streamsize(magic.size()));
-    f.put(kind);
-    const std::string bytes = body.str();
-    f.write(bytes.data(), std::streamsize(bytes.size()));
-    f.close();
-    if (!f || std::rename(part.c_str(), out.c_str()) != 0) {
-      std::fprintf(stderr, "cannot write the result to %s: %s\n", out.c_str(), std::strerror(errno));
-      wf::endWorker(wf::kWorkerExitWriteFailed);
-    }
+  f.close();
+  if (!f || std::rename(part.c_str(), out.c_str()) != 0) {
+    std::fprintf(stderr, "cannot write the result to %s: %s\n", out.c_str(), std::strerror(errno));
+    wf::endWorker(wf::kWorkerExitWriteFailed);
   }
   wf::endWorker(status);
 }

@@ -42,6 +42,35 @@ void requireInputFile(const std::string& path) {
   if (!S_ISREG(st.st_mode)) throw UsageError(path + ": is " + kindOf(st.st_mode) + ", not a regular file: refused");
 }
 
+std::string readInputFile(const std::string& path, const char* what) {
+  requireInputFile(path);
+  // O_NONBLOCK: were it a FIFO by now, the open itself would not wait for a writer.
+  const int fd = open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) throw UsageError(path + ": cannot open " + what + " (" + std::strerror(errno) + ")");
+  struct stat st;
+  if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    const std::string kind = kindOf(st.st_mode);
+    close(fd);
+    throw UsageError(path + ": is " + kind + ", not a regular file: refused");
+  }
+  fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+  std::string bytes;
+  bytes.reserve(size_t(st.st_size));
+  char buffer[1 << 16];
+  for (;;) {
+    const ssize_t n = read(fd, buffer, sizeof buffer);
+    if (n > 0) bytes.append(buffer, size_t(n));
+    else if (n == 0) break;
+    else if (errno != EINTR) {
+      const int err = errno;
+      close(fd);
+      throw UsageError(path + ": cannot read " + what + " (" + std::strerror(err) + ")");
+    }
+  }
+  close(fd);
+  return bytes;
+}
+
 void requireOutputPath(const std::string& path) {
   const std::filesystem::path target(path), parent = target.parent_path();
   std::error_code ec;

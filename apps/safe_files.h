@@ -17,6 +17,11 @@ namespace wfapp {
 /// `path` (links followed) is a regular file.
 void requireInputFile(const std::string& path);
 
+/// The whole of a regular file, opened once and checked on the open descriptor (a name swapped
+/// for a FIFO after requireInputFile cannot block the read). `what` names it in messages ("a
+/// scene file", "a PNG image"). Throws UsageError.
+std::string readInputFile(const std::string& path, const char* what);
+
 /// Throws UsageError unless `path` can be an output: its folder exists, and the path is nothing
 /// yet or a regular file (links followed), not a folder, device, FIFO or socket.
 void requireOutputPath(const std::string& path);

@@ -30,14 +30,7 @@ namespace {
 
 using json = nlohmann::json;
 
-std::string readText(const std::string& path) {
-  requireInputFile(path);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw UsageError(path + ": cannot open");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+std::string readText(const std::string& path) { return readInputFile(path, "the scene file"); }
 
 json parse(const std::string& path, const std::string& text) {
   // Byte offset to "line:column" for the one-line message.
