@@ -1,6 +1,7 @@
 #include "accuracy.h"
 
 #include "cli.h"
+#include "safe_files.h"
 #include "plot.h"
 #include "accuracy_abuffer.h"
 #include "accuracy_cad.h"
@@ -491,13 +492,7 @@ int runAccuracy(const AccuracyOptions& opt) {
   }
   if (!opt.jsonPath.empty()) {
     doc["seconds_total"] = secondsSince(tStart);
-    const std::string tmp = opt.jsonPath + ".tmp";
-    {
-      std::ofstream f(tmp);
-      f << doc.dump(2) << "\n";
-      if (!f) throw std::runtime_error(opt.jsonPath + ": cannot write");
-    }
-    std::filesystem::rename(tmp, opt.jsonPath);
+    writeOutputText(opt.jsonPath, doc.dump(2) + "\n");
   }
   std::printf("\naccuracy study took %.1f s\n", secondsSince(tStart));
   return 0;

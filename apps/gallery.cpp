@@ -1,6 +1,7 @@
 #include "gallery.h"
 
 #include "cli.h"
+#include "safe_files.h"
 #include "image_io.h"
 #include "render_command.h"
 #include "scene_file.h"
@@ -70,7 +71,7 @@ std::string escapeHtml(const std::string& text) {
 }
 
 void writeIndex(const std::string& dir, const std::vector<Entry>& entries, double total) {
-  std::ofstream html(dir + "/index.html.tmp");
+  std::ostringstream html;
   html << "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>WireFur gallery</title>\n"
           "<style>body{font-family:sans-serif;background:#222;color:#ddd;max-width:1100px;margin:auto}"
           "figure{display:inline-block;vertical-align:top;width:520px;margin:12px}"
@@ -83,8 +84,7 @@ void writeIndex(const std::string& dir, const std::vector<Entry>& entries, doubl
          << "</b><br>" << escapeHtml(e.caption) << "<br><span class=\"m\">time " << sci(e.seconds) << " s; error: " << escapeHtml(e.error)
          << "</span></figcaption></figure>\n";
   html << "<p class=\"m\">total " << sci(total) << " s</p></body></html>\n";
-  html.close();
-  std::rename((dir + "/index.html.tmp").c_str(), (dir + "/index.html").c_str());
+  writeOutputText(dir + "/index.html", html.str());
 }
 
 }  // namespace
@@ -287,10 +287,7 @@ int runGallery(const GalleryOptions& options) {
     if (sceneStats.contains(stem)) j["stats"] = sceneStats[stem];
     doc.push_back(j);
   }
-  {
-    std::ofstream(dir + "/gallery.json.tmp") << doc.dump(2) << "\n";
-    std::filesystem::rename(dir + "/gallery.json.tmp", dir + "/gallery.json");
-  }
+  writeOutputText(dir + "/gallery.json", doc.dump(2) + "\n");
   for (const Entry& e : entries)
     std::printf("%-24s %8.3f s  %s\n", e.file.c_str(), e.seconds, e.error.c_str());
   std::printf("gallery: %zu pictures in %s/index.html, %.2f s (reading and growing %.2f s, rendering %.2f s, writing %.2f s)\n",

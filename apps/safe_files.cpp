@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <stdexcept>
 
 namespace wfapp {
@@ -132,6 +133,18 @@ void OutputFile::commit() {
   done_ = true;
   wf::forgetCleanup(slot_);
   slot_ = -1;
+}
+
+void writeOutputText(const std::string& path, const std::string& text) {
+  requireOutputPath(path);
+  OutputFile out(path);
+  {
+    std::ofstream f(out.temporaryPath(), std::ios::binary | std::ios::trunc);
+    f << text;
+    f.close();
+    if (!f) throw OutputError(path + ": cannot write");
+  }
+  out.commit();
 }
 
 }  // namespace wfapp

@@ -26,6 +26,10 @@ std::string readInputFile(const std::string& path, const char* what);
 /// yet or a regular file (links followed), not a folder, device, FIFO or socket.
 void requireOutputPath(const std::string& path);
 
+/// Writes `text` to `path` as OutputFile does (checked with requireOutputPath, a unique
+/// temporary renamed onto it). Throws UsageError for a bad path, OutputError when a write fails.
+void writeOutputText(const std::string& path, const std::string& text);
+
 /// A temporary ".NAME.PID.N.RANDOM.tmp.EXT" beside `target` (EXT its extension), made with O_EXCL (no other process's),
 /// removed on a stopping signal and when this object goes without commit().
 class OutputFile {
