@@ -73,6 +73,14 @@ class ErrorCatcher : public vtkCommand {
   std::string message;
 };
 
+// The pre-checks below (checkPly, checkStl, checkVtp, checkObj) run before VTK's readers, inside
+// the mesh worker (apps/reader_worker.h) when the command reads. The worker already contains what
+// they guard against (a crash, a hang, an allocation without end becomes one line); they stay
+// because their words are better than the worker's: "FILE:13: face 0: index 5 out of range 0..2"
+// or "NumberOfPoints 9e14 is not a count" at once, against "VTK's reader crashed reading this
+// file" or an out-of-memory after seconds of allocating. A file they do not foresee is the
+// worker's (tests/apps/mesh_regressions/vtk_field_without_name.vtk).
+//
 // A file read front to back through one buffer, as lines or as bytes: the pre-checks below walk
 // files of hundreds of MB in one pass and bounded memory (a line is kept only up to a cap).
 class FileCursor {

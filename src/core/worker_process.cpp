@@ -57,6 +57,10 @@ WorkerExit runWorker(const std::string& executable, const std::vector<std::strin
   sigset_t none, all;
   sigemptyset(&none);
   sigfillset(&all);
+  // ... but for a hang-up ignored by the user's choice (nohup): the worker outlives the
+  // terminal as its parent does, instead of dying as a "stopped" read.
+  struct sigaction hup;
+  if (sigaction(SIGHUP, nullptr, &hup) == 0 && hup.sa_handler == SIG_IGN) sigdelset(&all, SIGHUP);
   posix_spawnattr_setsigmask(&attr, &none);
   posix_spawnattr_setsigdefault(&attr, &all);
   posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
