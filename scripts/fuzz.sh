@@ -50,6 +50,10 @@ WF_FUZZ_NAME=fuzz WF_FUZZ_SECONDS=$seconds WF_FUZZ_TARGETS="$TARGETS" WF_FUZZ_KE
 rc=${PIPESTATUS[0]}
 total=$(sed -nE 's/^fuzz: [a-z]+: ([0-9]+) executions in .*/\1/p' "$log" | awk '{ s += $1 } END { print s + 0 }')
 echo "fuzz.sh: $total executions in all (log $log)"
+# Every run's report stays in build/fuzz-build: the executions of all of them, by target.
+sed -nE 's/^fuzz: ([a-z]+): ([0-9]+) executions in .*/\1 \2/p' "$BUILD"/fuzz-*.log 2> /dev/null |
+  awk '{ n[$1] += $2; s += $2 } END { printf "fuzz.sh: all runs kept in build/fuzz-build so far: %d executions (", s;
+        first = 1; for (t in n) { printf "%s%s %d", (first ? "" : ", "), t, n[t]; first = 0 } print ")" }'
 if [[ $UPDATE == 1 && ( $rc == 0 || $rc == 1 ) ]]; then
   for t in $TARGETS; do
     exe=$BUILD/fuzz_$t
