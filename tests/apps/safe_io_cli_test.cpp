@@ -202,3 +202,33 @@ TEST(SafeIo, ARenderThatDrawsNothingSaysSo) {
   EXPECT_NE(r.err.find("warning: " + (dir / "away.json").string() + ": nothing was drawn"), std::string::npos) << r.err;
   EXPECT_TRUE(wholePng(png));
 }
+
+// A .vtp whose array claims 2e9 components ran 150 s up to 15.7 GB before its exit 2, and one
+// claiming -3 ended as "internal error" (exit 1): both are bad input, refused at once (exit 2,
+// one line) once VTK's reader asks for what no array can hold.
+TEST(SafeIo, AbsurdComponentCountsAreBadInputAtOnce) {
+  const fs::path dir = wf::test::scratchDir("wirefur-safe-components");
+  const fs::path vtp = dir / "scene.vtp";
+  const auto e = runWirefur("export '" + std::string(WIREFUR_SOURCE_DIR) + "/data/scenes/cage_shaded.json' -o '" + vtp.string() + "' --quiet");
+  ASSERT_EQ(e.status, 0) << e.err;
+  const std::string bytes = wf::test::readFile(vtp);
+  const std::string three = "NumberOfComponents=\"3\"";
+  const size_t at = bytes.find(three);
+  ASSERT_NE(at, std::string::npos);
+  for (const std::string count : {"2000000000", "-3"}) {
+    const std::string name = "components" + count + ".vtp";
+    std::string changed = bytes;
+    changed.replace(at, three.size(), "NumberOfComponents=\"" + count + "\"");
+    wf::test::writeFile(dir, name, changed);
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto r = runWirefur("render '" + (dir / name).string() + "' -o '" + (dir / "out.png").string() + "'");
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_EQ(r.status, 2) << name << ": " << r.err;
+    EXPECT_EQ(lineCount(r.err), 1) << r.err;
+#if !defined(__SANITIZE_ADDRESS__)  // (AddressSanitizer aborts on the allocation instead: "crashed")
+    EXPECT_NE(r.err.find(name + ": the file's counts"), std::string::npos) << r.err;
+#endif
+    EXPECT_LT(s, 20.0) << name;
+    EXPECT_FALSE(fs::exists(dir / "out.png"));
+  }
+}
