@@ -307,7 +307,7 @@ int runCadWorker(const std::vector<std::string>& a) {
   o.isos = std::atoi(a[7].c_str());
   o.threads = std::atoi(a[8].c_str());
   o.showProgress = a[9] == "1";
-  finishReaderWorker(a[1], kCadMagic, [&](BlobWriter& w) { writeGeometry(w, readCadInProcess(a[0], o, false)); });
+  finishReaderWorker(a[0], a[1], kCadMagic, [&](BlobWriter& w) { writeGeometry(w, readCadInProcess(a[0], o, false)); });
 }
 
 std::shared_ptr<wf::GeometryData> cadGeometryData(CadGeometry&& cad) {

@@ -203,10 +203,7 @@ int runExport(const ExportOptions& o) {
   if (ext != ".vtp" && ext != ".vtk" && ext != ".obj" && ext != ".ply")
     throw UsageError(output + ": the output must be .vtp, .vtk, .obj or .ply");
   requireOutputPath(output);  // its folder exists; not a folder, device or FIFO (apps/safe_files.h)
-  // Written under a unique temporary name beside the target (made now: the folder can be
-  // written) and renamed: nothing half-written, nothing left behind when stopped.
-  OutputFile out(output);
-  const std::string tmp = out.temporaryPath();
+  OutputFile::probe(output);  // the folder can be written: known now, not after the scene is built
 
   SceneOverrides overrides = o.overrides;
   // Visibility needs the faces even where the style draws none: as hold-outs (hidden-line
@@ -256,6 +253,10 @@ int runExport(const ExportOptions& o) {
     warn(output + ": PLY holds no lines: " + std::to_string(pd->GetNumberOfLines()) +
          " wire and hair polylines are left out (use .vtp, .vtk or .obj)");
 
+  // Written under a unique temporary name beside the target and renamed: nothing half-written,
+  // nothing left behind when stopped.
+  OutputFile out(output);
+  const std::string tmp = out.temporaryPath();
   int error = 0;
   if (ext == ".vtp") {
     vtkNew<vtkXMLPolyDataWriter> w;

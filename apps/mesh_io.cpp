@@ -956,7 +956,7 @@ int runMeshWorker(const std::vector<std::string>& a) {
   }
   wf::becomeWorker(a[2], a[3]);
   vtkObject::GlobalWarningDisplayOff();
-  finishReaderWorker(a[1], kMeshMagic, [&](BlobWriter& w) { writeLoaded(w, readGeometryInProcess(a[0])); });
+  finishReaderWorker(a[0], a[1], kMeshMagic, [&](BlobWriter& w) { writeLoaded(w, readGeometryInProcess(a[0])); });
 }
 
 void writePolylinesVtp(const wf::PolylineSet& lines, const std::string& path) {

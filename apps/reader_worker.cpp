@@ -10,6 +10,7 @@
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
+#include <new>
 #include <fstream>
 #include <sstream>
 
@@ -90,7 +91,8 @@ std::string runReaderWorker(const std::string& path, const ReaderWorkerCall& cal
   throw std::runtime_error(message);
 }
 
-void finishReaderWorker(const std::string& out, const std::string& magic, const std::function<void(BlobWriter&)>& read) {
+void finishReaderWorker(const std::string& file, const std::string& out, const std::string& magic,
+                        const std::function<void(BlobWriter&)>& read) {
   // Written straight to OUT.part (no second copy in memory under the cap), then renamed: the
   // parent reads no file (a crash) or a whole one. A failure on the way starts the file again
   // with its message.
@@ -107,6 +109,10 @@ void finishReaderWorker(const std::string& out, const std::string& magic, const 
   BlobWriter w(f);
   try {
     read(w);
+  } catch (const std::bad_alloc&) {  // one request past the cap and 64 GiB (worker_malloc.cpp)
+    restart(2);
+    w.str(file + ": the file asks for more memory than the reader may ever use (a corrupt count)");
+    status = 2;
   } catch (const UsageError& e) {
     restart(2);
     w.str(e.what());

@@ -116,11 +116,12 @@ struct ReaderWorkerCall {
 /// std::runtime_error when the worker could not run or write.
 std::string runReaderWorker(const std::string& path, const ReaderWorkerCall& call);
 
-/// The worker's side, after becomeWorker: runs `read`, which writes the body of a result (kind
-/// 0); a UsageError it throws becomes kind 2, another exception kind 1. The result is written
+/// The worker's side, after becomeWorker: runs `read` on `file`, which writes the body of a
+/// result (kind 0); a UsageError it throws becomes kind 2, so does std::bad_alloc (a request
+/// past the cap and 64 GiB: a corrupt count), another exception kind 1. The result is written
 /// whole beside `out` and renamed onto it (the parent never reads half a result), then the
 /// worker ends (endWorker) with status 0, 2 or 1.
-[[noreturn]] void finishReaderWorker(const std::string& out, const std::string& magic,
+[[noreturn]] void finishReaderWorker(const std::string& file, const std::string& out, const std::string& magic,
                                      const std::function<void(BlobWriter&)>& read);
 
 }  // namespace wfapp

@@ -9,6 +9,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
@@ -48,15 +49,15 @@ std::string readInputFile(const std::string& path, const char* what) {
   // O_NONBLOCK: were it a FIFO by now, the open itself would not wait for a writer.
   const int fd = open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) throw UsageError(path + ": cannot open " + what + " (" + std::strerror(errno) + ")");
-  struct stat st;
+  struct stat st {};
   if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-    const std::string kind = kindOf(st.st_mode);
+    const std::string kind = S_ISREG(st.st_mode) || st.st_mode == 0 ? std::string("unreadable") : kindOf(st.st_mode);
     close(fd);
     throw UsageError(path + ": is " + kind + ", not a regular file: refused");
   }
   fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) & ~O_NONBLOCK);
   std::string bytes;
-  bytes.reserve(size_t(st.st_size));
+  bytes.reserve(size_t(std::min<off_t>(st.st_size, off_t(1) << 28)));  // (a size is a claim)
   char buffer[1 << 16];
   for (;;) {
     const ssize_t n = read(fd, buffer, sizeof buffer);

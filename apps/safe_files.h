@@ -39,6 +39,9 @@ class OutputFile {
   OutputFile(const OutputFile&) = delete;
   OutputFile& operator=(const OutputFile&) = delete;
   const std::string& temporaryPath() const { return tmp_; }
+  /// Makes and removes a temporary beside `target`: throws UsageError now, before a long
+  /// render, when the folder cannot be written; leaves nothing behind a later crash.
+  static void probe(const std::string& target) { const OutputFile made{target}; }
   /// Renames the temporary onto the target (checked again: still not a device). Throws
   /// std::runtime_error("TARGET: cannot write (why)") and removes the temporary on failure.
   void commit();

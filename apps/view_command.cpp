@@ -88,10 +88,8 @@ double median(std::vector<double> v) {
 
 int runView(const ViewOptions& o) {
   if (!o.png.empty() && o.frames == 0) throw UsageError("view: --png needs --frames N");
-  // --png: checked, and its temporary made, before the window opens (apps/safe_files.h).
-  if (!o.png.empty()) requireOutputPath(o.png);
-  std::optional<OutputFile> pngFile;
-  if (!o.png.empty()) pngFile.emplace(o.png);
+  // --png: checked, and its folder shown writable, before the window opens (apps/safe_files.h).
+  if (!o.png.empty()) requireOutputPath(o.png), OutputFile::probe(o.png);
   if (o.offscreen && o.frames == 0) throw UsageError("view: --offscreen needs --frames N (there is no window to interact with)");
   SceneOverrides overrides;
   overrides.cad = o.cad;
@@ -282,6 +280,7 @@ int runView(const ViewOptions& o) {
       grab->SetInput(window);
       grab->ReadFrontBufferOff();
       grab->ShouldRerenderOn();
+      std::optional<OutputFile> pngFile(o.png);
       vtkNew<vtkPNGWriter> writer;
       writer->SetInputConnection(grab->GetOutputPort());
       writer->SetFileName(pngFile->temporaryPath().c_str());

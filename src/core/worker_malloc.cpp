@@ -26,7 +26,7 @@
 
 namespace {
 int gFatalStatus = 0;  // 0: failures are returned, as glibc does
-// A single request past this (the worker's whole memory cap) is no exhaustion but a corrupt count
+// A single request past this (the worker's whole memory cap, and 64 GiB) is no exhaustion but a corrupt count
 // asking for the impossible (OpenCASCADE's mesher, asked for 1e14 bytes by one wrong digit):
 // it fails as glibc's would, and the library handles it (OpenCASCADE skips the face, VTK reports
 // a short array) instead of the whole file failing.

@@ -194,7 +194,10 @@ void becomeWorker(const std::string& parentPid, const std::string& timeoutSecond
   const double cap = capWorkerMemory();
   // One request past the whole cap is a corrupt count, not exhaustion: it fails back to the
   // library (worker_malloc.cpp) instead of ending the worker.
-  if (cap > 0 && wirefur_worker_single_allocation_limit) wirefur_worker_single_allocation_limit(std::size_t(cap));
+  // (Past 64 GiB at least, whatever the cap: on a small machine a large real request below
+  // that still ends the worker as out of memory, not as a face quietly dropped.)
+  if (cap > 0 && wirefur_worker_single_allocation_limit)
+    wirefur_worker_single_allocation_limit(std::size_t(std::max(cap, 68719476736.0)));
   std::set_new_handler([] {
     static const char m[] = "out of memory under the worker's cap\n";
     [[maybe_unused]] const ssize_t n = write(STDERR_FILENO, m, sizeof m - 1);
@@ -259,7 +262,7 @@ unsigned uniqueishNumber() {
     std::random_device entropy;
     return entropy();
   } catch (...) {
-    return unsigned(std::chrono::steady_clock::now().time_since_epoch().count() * 2654435761u);
+    return unsigned(std::uint64_t(std::chrono::steady_clock::now().time_since_epoch().count()) * 2654435761u);
   }
 }
 

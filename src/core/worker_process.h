@@ -58,8 +58,8 @@ WorkerExit runWorker(const std::string& executable, const std::vector<std::strin
 /// is capped (capWorkerMemory) and a failed allocation ends it with kWorkerExitOutOfMemory: C++
 /// new, and malloc / calloc / realloc too in a program that links worker_malloc.cpp (the two
 /// CAD workers: OpenCASCADE and VTK allocate with them, and catch their own failures). A single
-/// request larger than the whole cap (a corrupt count) fails back to its caller instead: NULL
-/// from malloc, std::bad_alloc from new.
+/// request larger than the whole cap and than 64 GiB (a corrupt count) fails back to its caller
+/// instead: NULL from malloc, std::bad_alloc from new.
 void becomeWorker(const std::string& parentPid, const std::string& timeoutSeconds);
 
 /// A worker's end once its result is written: stderr flushed, then _exit(status), so that no

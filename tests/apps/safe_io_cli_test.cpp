@@ -70,6 +70,7 @@ TEST(SafeIo, FifosAreRefusedAtOnce) {
     EXPECT_LT(s, 10.0) << input;
     EXPECT_FALSE(fs::exists(png)) << input;
   }
+  EXPECT_TRUE(leftovers(dir, ".tmp").empty());  // nor a temporary of the output
 }
 
 // A device behind an input's name (a link to /dev/zero would be read without end).
@@ -194,6 +195,7 @@ TEST(SafeIo, ARenderThatDrawsNothingSaysSo) {
     EXPECT_NE(r.err.find(input + ": nothing could be drawn"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(png)) << input;
   }
+  EXPECT_TRUE(leftovers(dir, ".tmp").empty());
   wf::test::writeFile(dir, "away.json", R"({"camera": {"eye": [0, 0, 5], "target": [0, 0, 10], "up": [0, 1, 0]},
     "objects": [{"source": {"type": "sphere"}}]})");
   const auto r = runWirefur("render '" + (dir / "away.json").string() + "' -o '" + png.string() + "'");
@@ -226,7 +228,11 @@ TEST(SafeIo, AbsurdComponentCountsAreBadInputAtOnce) {
     EXPECT_EQ(r.status, 2) << name << ": " << r.err;
     EXPECT_EQ(lineCount(r.err), 1) << r.err;
 #if !defined(__SANITIZE_ADDRESS__)  // (AddressSanitizer aborts on the allocation instead: "crashed")
-    EXPECT_NE(r.err.find(name + ": the file's counts"), std::string::npos) << r.err;
+    // VTK's reader refuses the count, or asks for more than the worker's cap (2e9 x 4 bytes for
+    // each point: past the cap of a machine with less than about 50 GiB, within 64 GiB).
+    EXPECT_TRUE(r.err.find(name + ": the file's counts") != std::string::npos ||
+                r.err.find(name + ": out of memory in the mesh worker") != std::string::npos)
+        << r.err;
 #endif
     EXPECT_LT(s, 20.0) << name;
     EXPECT_FALSE(fs::exists(dir / "out.png"));

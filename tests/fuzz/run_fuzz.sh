@@ -88,6 +88,7 @@ KEEP_CORPUS=${WF_FUZZ_KEEP_CORPUS:-0}
 FAIL_ON=${WF_FUZZ_FAIL_ON:-all}
 CORPUS_DIR=${WF_FUZZ_CORPUS_DIR:-$BUILD/corpus}
 FORK=${WF_FUZZ_FORK:-0}
+NOT_REPRODUCED=0
 RSS_MB=${WF_FUZZ_RSS_MB:-2048}
 
 skip() {
@@ -265,14 +266,21 @@ for t in $TARGETS; do
     # Each failing input run once more for its report (bounded: at most WF_FUZZ_RERUNS=200 of
     # them, each within the per-input limit; the rest are kept, counted, not grouped).
     reruns=0
-    for unit in $(find "$art" -maxdepth 1 -type f ! -name '*.log' ! -name 'slow-unit-*' | sort); do
+    for unit in $(find "$art" -maxdepth 1 -type f ! -name '*.log' ! -name 'slow-unit-*' ! -name 'unreproduced-*' | sort); do
       reruns=$((reruns + 1))
       if [[ $reruns -gt ${WF_FUZZ_RERUNS:-200} ]]; then
         echo "$NAME: $t: more than ${WF_FUZZ_RERUNS:-200} failing inputs; the rest are kept in $art, not grouped"
         break
       fi
-      timeout --signal=KILL $((TIMEOUT * 3 + 30)) "$BUILD/$(exe_of "$t")" -rss_limit_mb="$RSS_MB" -timeout="$TIMEOUT" \
-        -detect_leaks=0 "$unit" > "$unit.log" 2>&1
+      # (The fork run's limits: an input that failed there on -malloc_limit_mb fails here too.)
+      if timeout --signal=KILL $((TIMEOUT * 3 + 30)) "$BUILD/$(exe_of "$t")" -rss_limit_mb="$RSS_MB" \
+        -malloc_limit_mb=$((RSS_MB / 4)) -timeout="$TIMEOUT" -detect_leaks=0 "$unit" > "$unit.log" 2>&1; then
+        # Not failing again (a timeout or OOM of a loaded machine): kept and counted, not a finding.
+        NOT_REPRODUCED=$((NOT_REPRODUCED + 1))
+        mv "$unit" "$art/unreproduced-$(basename "$unit")" 2> /dev/null
+        rm -f "$unit.log"
+        continue
+      fi
       r=$(signature_of "$unit.log")
       owner=${r%%|*}
       sig="$t: ${r#*|}"
@@ -325,7 +333,7 @@ for t in $TARGETS; do
   # Coverage reached: the most edges ("cov") and features ("ft") any of its libFuzzer runs saw.
   COVERAGE[$t]=$(grep -hE '^#[0-9]+[[:space:]]+(DONE|INITED|NEW|REDUCE|pulse)' "$logs"/run-*.log 2> /dev/null |
     sed -nE 's/.* cov: ([0-9]+) ft: ([0-9]+) .*/\1 \2/p' | sort -n -k1,1 -k2,2 | tail -n 1 | awk '{print $1 " edges, " $2 " features"}')
-  KEPT[$t]=$(find "$art" -maxdepth 1 -type f ! -name '*.log' ! -name 'slow-unit-*' | wc -l)
+  KEPT[$t]=$(find "$art" -maxdepth 1 -type f ! -name '*.log' ! -name 'slow-unit-*' ! -name 'unreproduced-*' | wc -l)
   echo "$NAME: $t: ${EXECS[$t]} executions in ${elapsed} s (${RATE[$t]}/s), ${RUNS[$t]} libFuzzer runs, coverage ${COVERAGE[$t]:-unknown}, $(ls "$corpus" | wc -l) corpus inputs, ${KEPT[$t]} failing inputs kept"
 done
 
@@ -358,6 +366,7 @@ if [[ -s "$findings" ]]; then
   echo
   cat "$findings"
 fi
+[[ $NOT_REPRODUCED -gt 0 ]] && echo "$NAME: note: $NOT_REPRODUCED failing input(s) of the fork run did not fail again alone (kept as unreproduced-*)"
 [[ $seed_problems -gt 0 ]] && echo "$NAME: note: $seed_problems seed(s) did not read (see the seed lines above)"
 if [[ $ours_total -gt 0 || $FUZZER_FAILED -ne 0 ]]; then exit 1; fi
 if [[ $libs_total -gt 0 && "$FAIL_ON" != ours ]]; then exit 1; fi
