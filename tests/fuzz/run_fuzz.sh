@@ -231,6 +231,20 @@ signature_of() {  # log -> "owner|signature"
 # libFuzzer stops at the first crash; it is started again on the grown corpus with the time
 # left, so that every target gets its full time and every crash is kept with its own report.
 declare -A EXECS RATE KEPT RUNS COVERAGE GROUP_COUNT GROUP_EXAMPLE GROUP_OWNER GROUP_TARGET GROUP_LOG
+# One failing input of target $1 ($2, its report $3) into the group of its signature.
+add_finding() {
+  local r owner sig
+  r=$(signature_of "$3")
+  owner=${r%%|*}
+  sig="$1: ${r#*|}"
+  if [[ -z "${GROUP_COUNT[$sig]:-}" ]]; then
+    GROUP_COUNT[$sig]=0
+    GROUP_EXAMPLE[$sig]=$2
+    GROUP_OWNER[$sig]=$owner
+    GROUP_TARGET[$sig]=$1
+  fi
+  GROUP_COUNT[$sig]=$((GROUP_COUNT[$sig] + 1))
+}
 for t in $TARGETS; do
   corpus="$CORPUS_DIR/$t"
   art="$BUILD/artifacts/$t"
@@ -281,16 +295,7 @@ for t in $TARGETS; do
         rm -f "$unit.log"
         continue
       fi
-      r=$(signature_of "$unit.log")
-      owner=${r%%|*}
-      sig="$t: ${r#*|}"
-      if [[ -z "${GROUP_COUNT[$sig]:-}" ]]; then
-        GROUP_COUNT[$sig]=0
-        GROUP_EXAMPLE[$sig]=$unit
-        GROUP_OWNER[$sig]=$owner
-        GROUP_TARGET[$sig]=$t
-      fi
-      GROUP_COUNT[$sig]=$((GROUP_COUNT[$sig] + 1))
+      add_finding "$t" "$unit" "$unit.log"
     done
   fi
   while [[ "$FORK" != 1 ]]; do
@@ -308,16 +313,7 @@ for t in $TARGETS; do
     unit=$(grep -oE 'Test unit written to [^ ]+' "$log" | grep -v '/slow-unit-' | head -n 1 | sed 's/Test unit written to //')
     if [[ -n "$unit" && -f "$unit" ]]; then
       cp "$log" "$unit.log"
-      r=$(signature_of "$log")
-      owner=${r%%|*}
-      sig="$t: ${r#*|}"
-      if [[ -z "${GROUP_COUNT[$sig]:-}" ]]; then
-        GROUP_COUNT[$sig]=0
-        GROUP_EXAMPLE[$sig]=$unit
-        GROUP_OWNER[$sig]=$owner
-        GROUP_TARGET[$sig]=$t
-      fi
-      GROUP_COUNT[$sig]=$((GROUP_COUNT[$sig] + 1))
+      add_finding "$t" "$unit" "$log"
       [[ "$STOP_AT_FIRST" == 1 ]] && break
     elif [[ $rc -ne 0 ]]; then
       echo "$NAME: $t: libFuzzer exited with $rc and kept no input (log $log):"
