@@ -32,6 +32,7 @@ int gFatalStatus = 0;  // 0: failures are returned, as glibc does
 // a short array) instead of the whole file failing.
 std::size_t gSingleLimit = ~std::size_t(0);
 
+#if !defined(WF_UNDER_ASAN)  // (ASan's allocator stays: runWorker gives it the cap as options)
 [[noreturn]] void outOfMemory() {
   static const char m[] = "out of memory under the worker's cap (an allocation failed)\n";
   [[maybe_unused]] const ssize_t n = write(STDERR_FILENO, m, sizeof m - 1);
@@ -47,6 +48,7 @@ std::size_t product(std::size_t a, std::size_t b) {
   std::size_t r = 0;
   return __builtin_mul_overflow(a, b, &r) ? ~std::size_t(0) : r;
 }
+#endif
 }  // namespace
 
 extern "C" void wirefur_worker_allocation_failures_are_fatal(int exitStatus) { gFatalStatus = exitStatus; }

@@ -65,7 +65,36 @@ WorkerExit runWorker(const std::string& executable, const std::vector<std::strin
   posix_spawnattr_setsigdefault(&attr, &all);
   posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
   pid_t pid = 0;
-  const int spawned = posix_spawn(&pid, executable.c_str(), &actions, &attr, argv.data(), environ);
+#if defined(WF_UNDER_ASAN)
+  // AddressSanitizer's shadow memory leaves no room for RLIMIT_DATA (capWorkerMemory) and it
+  // replaces malloc (worker_malloc.cpp): its own options set the cap instead. A single request
+  // past the cap ends the worker at once with ASan's report, as RLIMIT_DATA's failed allocation
+  // ends it in other builds (so no library is handed NULL and goes on with less: the output
+  // never depends on the memory), instead of being mapped and then filled: VTK's XML reader,
+  // told of 2e9 components, value-initialises a std::vector of 16 GB, which swapped for ten
+  // minutes. A resident size past the cap, plus room for ASan's shadow (an eighth) and its
+  // quarantine (256 MiB by default), ends the worker too (ASan polls it every 100 ms).
+  // Later options override earlier ones in ASAN_OPTIONS. The parent reads either report as
+  // out of memory (asanReportedOutOfMemory).
+  std::vector<std::string> envCopy;
+  std::vector<char*> envp;
+  {
+    const double mib = 1024.0 * 1024.0, cap = std::clamp(workerMemoryCap(), 64 * mib, 1e15);
+    std::string asan = "ASAN_OPTIONS=";
+    if (const char* set = std::getenv("ASAN_OPTIONS"); set && *set) asan += std::string(set) + ":";
+    asan += "allocator_may_return_null=0:max_allocation_size_mb=" + std::to_string((long long)(cap / mib)) +
+            ":hard_rss_limit_mb=" + std::to_string((long long)((cap + cap / 8 + 512 * mib) / mib));
+    for (char** e = environ; e && *e; ++e)
+      if (std::strncmp(*e, "ASAN_OPTIONS=", 13) != 0) envCopy.emplace_back(*e);
+    envCopy.push_back(asan);
+    for (std::string& e : envCopy) envp.push_back(e.data());
+    envp.push_back(nullptr);
+  }
+  char** const workerEnvironment = envp.data();
+#else
+  char** const workerEnvironment = environ;
+#endif
+  const int spawned = posix_spawn(&pid, executable.c_str(), &actions, &attr, argv.data(), workerEnvironment);
   posix_spawnattr_destroy(&attr);
   posix_spawn_file_actions_destroy(&actions);
   if (spawned != 0) {
@@ -152,9 +181,6 @@ double usableMemory() {
 }  // namespace
 
 double workerMemoryCap() {
-#if defined(WF_UNDER_ASAN)
-  return 0.0;
-#else
   double cap = 0;
   if (const char* set = std::getenv("WIREFUR_WORKER_MEMORY_CAP"); set && parseWorkerNumber(set, cap) && cap > 0)
     return cap;
@@ -162,11 +188,30 @@ double workerMemoryCap() {
   rlimit now{};
   if (getrlimit(RLIMIT_DATA, &now) == 0 && now.rlim_max != RLIM_INFINITY) cap = std::min(cap, double(now.rlim_max));
   return cap;
+}
+
+bool asanReportedOutOfMemory(const std::string& stderrPath) {
+#if defined(WF_UNDER_ASAN)
+  if (stderrPath.empty()) return false;
+  std::ifstream in(stderrPath);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.find("AddressSanitizer: requested allocation size") != std::string::npos ||
+        line.find("AddressSanitizer: allocator is out of memory") != std::string::npos ||
+        line.find("AddressSanitizer: out of memory") != std::string::npos ||
+        line.find("hard rss limit exhausted") != std::string::npos)
+      return true;
+#else
+  (void)stderrPath;
 #endif
+  return false;
 }
 
 double capWorkerMemory() {
   const double cap = workerMemoryCap();
+#if defined(WF_UNDER_ASAN)
+  return cap;  // (set by runWorker's ASAN_OPTIONS instead)
+#endif
   if (cap > 0) {
     const rlimit lim{rlim_t(cap), rlim_t(cap)};
     if (setrlimit(RLIMIT_DATA, &lim) != 0) return 0.0;

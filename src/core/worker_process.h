@@ -72,11 +72,17 @@ void becomeWorker(const std::string& parentPid, const std::string& timeoutSecond
 /// above a hard limit already in force. So a parser talked into allocating without end
 /// (OpenCASCADE's mesher, by one wrong digit: a parameter range of 1e14, found by fuzzing)
 /// fails instead of the machine swapping. WIREFUR_WORKER_MEMORY_CAP (bytes) sets the cap
-/// instead (tests). Nothing under AddressSanitizer, whose shadow memory needs the room. Returns
+/// instead (tests). Under AddressSanitizer, whose shadow memory needs the room, runWorker sets
+/// the cap through ASan's options instead (hard_rss_limit_mb, max_allocation_size_mb). Returns
 /// the cap in force, in bytes (0: none).
 double capWorkerMemory();
 
-/// The cap capWorkerMemory sets (bytes; 0 under AddressSanitizer), for messages.
+/// Under AddressSanitizer, whether the worker's stderr (written to stderrPath) holds ASan's
+/// report of a request or a resident size past the cap runWorker gave it (an exit status of 1,
+/// where other builds end with kWorkerExitOutOfMemory). False in other builds.
+bool asanReportedOutOfMemory(const std::string& stderrPath);
+
+/// The cap capWorkerMemory sets (bytes), for messages.
 double workerMemoryCap();
 
 /// A double on the command line: shortest round-trip form, the same in every locale (a Qt or

@@ -2,6 +2,7 @@
 // one-line errors naming the file and the JSON pointer with exit status 2 and nothing written,
 // determinism across thread counts, and the reference path.
 #include "cli_support.h"
+#include "core/sanitizers.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -295,7 +296,7 @@ TEST(RenderCli, UnwritableOutputsAndOutOfRangeNumbersAreBadInput) {
 // and third images of --measure-error; and it is a bound, not a guess far above: within 1.5 x
 // the peak plus 64 MiB.
 TEST(RenderCli, MemoryEstimateBoundsThePeak) {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(WF_UNDER_ASAN)
   GTEST_SKIP() << "AddressSanitizer's shadow memory and quarantine are not the command's";
 #endif
   struct Case {

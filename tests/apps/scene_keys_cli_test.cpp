@@ -6,6 +6,7 @@
 // the same input gives the same image bit for bit for any --threads. Positive cases check the
 // numbers the stats must show (segments per hair, triangles per scale, maps and spheres built).
 #include "cli_support.h"
+#include "core/sanitizers.h"
 #include "core/timer.h"
 
 #include <gtest/gtest.h>
@@ -53,7 +54,7 @@ Result run(const std::string& args) { return wf::test::runWirefur(args); }
 // killed by `timeout` has status 124.
 // Under AddressSanitizer (WIREFUR_SANITIZE builds every target with it) the shadow memory needs
 // terabytes of address space, so only the time limit applies there.
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(WF_UNDER_ASAN)
 constexpr bool kCapAddressSpace = false;
 #else
 constexpr bool kCapAddressSpace = true;

@@ -5,6 +5,7 @@
 #include "vtkWireFurScalesGenerator.h"
 #include "vtkWireFurTangentShading.h"
 
+#include "core/sanitizers.h"
 #include "render/renderer.h"
 #include "render/shading_cache.h"
 
@@ -321,7 +322,7 @@ void growHugeGridAndExit()
 
 TEST(ReviewFur, HugeGridIsRefusedBeforeAllocating)
 {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(WF_UNDER_ASAN)
   GTEST_SKIP() << "the child's address-space limit leaves AddressSanitizer no room for its shadow";
 #endif
   GTEST_FLAG_SET(death_test_style, "threadsafe");
