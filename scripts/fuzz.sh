@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # Fuzzes WireFur's input readers for longer than CI does, with a corpus kept between runs.
 #
-#   scripts/fuzz.sh --minutes N [--targets "mesh scene step iges brep fcstd"] [--update-corpus]
+#   scripts/fuzz.sh --minutes N [--targets "mesh scene step iges brep fcstd"] [--jobs J] [--update-corpus]
 #
 # Runs each target for N minutes (tests/fuzz/run_fuzz.sh: clang, libFuzzer, AddressSanitizer and
-# UndefinedBehaviorSanitizer; one core per target, one target after another; libFuzzer's fork
-# mode, which goes on past failing inputs and keeps them) in build/fuzz-build,
+# UndefinedBehaviorSanitizer; J cores per target, --jobs, default 1; one target after another;
+# libFuzzer's fork mode, which goes on past failing inputs and keeps them) in build/fuzz-build,
 # the ctest fuzz tests' build folder (-rss_limit_mb 1024, -malloc_limit_mb 256: VTK's readers
 # asked for gigabytes by a corrupt count fail fast), on a working corpus kept in build/fuzz-corpus/<target>: each
 # run starts where the last one stopped. The seeds are those CI uses plus the committed corpus
@@ -23,14 +23,19 @@ ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 MINUTES=""
 TARGETS="mesh scene step iges brep fcstd"
 UPDATE=0
+JOBS=1
 while [[ $# -gt 0 ]]; do
   case "$1" in
-    --minutes | --targets)
+    --minutes | --targets | --jobs)
       if [[ $# -lt 2 ]]; then echo "fuzz.sh: $1 needs a value" >&2; exit 2; fi
-      if [[ $1 == --minutes ]]; then MINUTES=$2; else TARGETS=$2; fi
+      case "$1" in
+        --minutes) MINUTES=$2 ;;
+        --targets) TARGETS=$2 ;;
+        --jobs) JOBS=$2 ;;
+      esac
       shift 2 ;;
     --update-corpus) UPDATE=1; shift ;;
-    -h | --help) sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h | --help) sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "fuzz.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -42,10 +47,14 @@ BUILD=$ROOT/build/fuzz-build
 CORPUS=$ROOT/build/fuzz-corpus
 mkdir -p "$BUILD" "$CORPUS"
 CXX=$(command -v clang++ || command -v clang++-14 || true)
+if ! [[ "$JOBS" =~ ^[1-9][0-9]*$ ]]; then
+  echo "fuzz.sh: --jobs J (a whole number, at least 1) was '$JOBS'" >&2
+  exit 2
+fi
 seconds=$(awk -v m="$MINUTES" 'BEGIN { s = int(m * 60); printf "%d", (s < 1 ? 1 : s) }')
 log=$BUILD/fuzz-$(date +%Y%m%d-%H%M%S).log
 echo "fuzz.sh: $TARGETS, $MINUTES min each; the whole report in $log"
-WF_FUZZ_NAME=fuzz WF_FUZZ_SECONDS=$seconds WF_FUZZ_TARGETS="$TARGETS" WF_FUZZ_KEEP_CORPUS=1 WF_FUZZ_FORK=1 WF_FUZZ_RSS_MB=${WF_FUZZ_RSS_MB:-1024} WF_FUZZ_CORPUS_DIR=$CORPUS \
+WF_FUZZ_NAME=fuzz WF_FUZZ_SECONDS=$seconds WF_FUZZ_TARGETS="$TARGETS" WF_FUZZ_KEEP_CORPUS=1 WF_FUZZ_FORK=$JOBS WF_FUZZ_RSS_MB=${WF_FUZZ_RSS_MB:-1024} WF_FUZZ_CORPUS_DIR=$CORPUS \
   bash "$ROOT/tests/fuzz/run_fuzz.sh" "$BUILD" "$CXX" 2>&1 | tee "$log"
 rc=${PIPESTATUS[0]}
 total=$(sed -nE 's/^fuzz: [a-z]+: ([0-9]+) executions in .*/\1/p' "$log" | awk '{ s += $1 } END { print s + 0 }')

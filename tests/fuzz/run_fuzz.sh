@@ -48,7 +48,8 @@
 #                               seeds of every run
 #   WF_FUZZ_RSS_MB=2048         libFuzzer's -rss_limit_mb (and, in fork mode, -malloc_limit_mb is
 #                               a quarter of it: a reader asked for gigabytes fails at the ask)
-#   WF_FUZZ_FORK=0              1: libFuzzer's fork mode with -ignore_crashes / _timeouts / _ooms:
+#   WF_FUZZ_FORK=0              N >= 1: libFuzzer's fork mode, N jobs at a time (cores), with
+#                               -ignore_crashes / _timeouts / _ooms:
 #                               one run for the whole time that keeps going past failing inputs
 #                               (for long runs: the failures of VTK's legacy reader come every few
 #                               seconds); each failing input is run again afterwards for its report
@@ -88,6 +89,10 @@ KEEP_CORPUS=${WF_FUZZ_KEEP_CORPUS:-0}
 FAIL_ON=${WF_FUZZ_FAIL_ON:-all}
 CORPUS_DIR=${WF_FUZZ_CORPUS_DIR:-$BUILD/corpus}
 FORK=${WF_FUZZ_FORK:-0}
+if ! [[ "$FORK" =~ ^[0-9]+$ ]]; then
+  echo "run_fuzz.sh: WF_FUZZ_FORK must be a whole number (got '$FORK')" >&2
+  exit 2
+fi
 NOT_REPRODUCED=0
 RSS_MB=${WF_FUZZ_RSS_MB:-2048}
 
@@ -187,12 +192,15 @@ export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:${WF_FUZZ_UBSAN_OPTIONS
 # own, as the binary BREP was).
 seed_problems=0
 for t in $TARGETS; do
+  # (Its own artifact folder: libFuzzer writes a seed slower than 10 s as slow-unit-* there, by
+  # default into the folder the script was started from.)
+  mkdir -p "$BUILD/seed-check/$t"
   while IFS= read -r line; do
     echo "$NAME: seed $t: $line"
     case "$line" in
       *error:*) seed_problems=$((seed_problems + 1)) ;;
     esac
-  done < <(WF_FUZZ_VERBOSE=1 "$BUILD/$(exe_of "$t")" -runs=0 "$BUILD/seeds/$t" 2>&1 | grep '^WF_FUZZ: [1-9]' | sort -u | sed 's/^WF_FUZZ: //')
+  done < <(WF_FUZZ_VERBOSE=1 "$BUILD/$(exe_of "$t")" -runs=0 -artifact_prefix="$BUILD/seed-check/$t/" "$BUILD/seeds/$t" 2>&1 | grep '^WF_FUZZ: [1-9]' | sort -u | sed 's/^WF_FUZZ: //')
 done
 
 # --- findings --------------------------------------------------------------------------------
@@ -260,10 +268,10 @@ for t in $TARGETS; do
   deadline=$(($(date +%s) + SECONDS_PER_TARGET))
   n=0
   k=0
-  if [[ "$FORK" == 1 ]]; then
+  if ((FORK >= 1)); then
     k=1
     log="$logs/run-1.log"
-    timeout --signal=KILL $((SECONDS_PER_TARGET * 2 + 120)) "$BUILD/$(exe_of "$t")" -fork=1 -ignore_crashes=1 -ignore_timeouts=1 \
+    timeout --signal=KILL $((SECONDS_PER_TARGET * 2 + 120)) "$BUILD/$(exe_of "$t")" -fork="$FORK" -ignore_crashes=1 -ignore_timeouts=1 \
       -ignore_ooms=1 -max_total_time="$SECONDS_PER_TARGET" -rss_limit_mb="$RSS_MB" -malloc_limit_mb=$((RSS_MB / 4)) \
       -timeout="$TIMEOUT" -close_fd_mask=1 \
       -detect_leaks=0 "${dict[@]}" -artifact_prefix="$art/" "$corpus" > "$log" 2>&1
@@ -298,7 +306,7 @@ for t in $TARGETS; do
       add_finding "$t" "$unit" "$unit.log"
     done
   fi
-  while [[ "$FORK" != 1 ]]; do
+  while ((FORK == 0)); do
     left=$((deadline - $(date +%s)))
     [[ $left -ge 1 ]] || break
     k=$((k + 1))
