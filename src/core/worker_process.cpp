@@ -103,8 +103,14 @@ WorkerExit runWorker(const std::string& executable, const std::vector<std::strin
   }
   r.started = true;
   // Killed by the command's handler if it is stopped meanwhile (core/cleanup_on_signal.h).
+  // The slot is forgotten while the child is still a zombie, before it is reaped: a signal
+  // arriving after that cannot kill another process that got the pid.
   struct ForgetChild {
     int slot;
+    void now() {
+      forgetCleanupChild(slot);
+      slot = -1;
+    }
     ~ForgetChild() { forgetCleanupChild(slot); }
   } forgetChild{registerCleanupChild(pid)};
   const double limit = std::isfinite(options.timeoutSeconds) && options.timeoutSeconds > 0
@@ -112,17 +118,34 @@ WorkerExit runWorker(const std::string& executable, const std::vector<std::strin
                            : HUGE_VAL;
   const auto t0 = std::chrono::steady_clock::now();
   int status = 0;
+  // Reaps a child known to have ended (or ending): forgotten first, then waited for.
+  // False when the host reaped it first (its own SIGCHLD handler).
+  auto reap = [&] {
+    forgetChild.now();
+    // (Blocks only while the child is in uninterruptible sleep, a hung network file system.)
+    pid_t w = -1;
+    while ((w = waitpid(pid, &status, 0)) < 0 && errno == EINTR) {
+    }
+    return w == pid;
+  };
   auto killAndReap = [&] {
     kill(pid, SIGKILL);
-    // (Blocks only while the child is in uninterruptible sleep, a hung network file system.)
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    siginfo_t info{};
+    while (waitid(P_PID, id_t(pid), &info, WEXITED | WNOWAIT) < 0 && errno == EINTR) {
     }
+    reap();
   };
   // Polled rather than waited on with a signal or a timer: nothing here may disturb the host's
   // own signal handling (ParaView, MPI). 2 ms of latency against reads of tens of milliseconds.
+  // WNOWAIT: seen ended but left a zombie until reap() has forgotten its slot.
   while (true) {
-    const pid_t w = waitpid(pid, &status, WNOHANG);
-    if (w == pid) break;
+    siginfo_t info{};
+    const int w = waitid(P_PID, id_t(pid), &info, WEXITED | WNOHANG | WNOWAIT);
+    if (w == 0 && info.si_pid == pid) {
+      if (reap()) break;
+      r.statusUnknown = true;
+      return r;
+    }
     if (w < 0 && errno != EINTR) {  // not our child any more: the host reaped it
       r.statusUnknown = true;
       return r;
