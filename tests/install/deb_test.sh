@@ -25,7 +25,8 @@ done
 contents=$(dpkg-deb -c "$deb")
 for f in ./usr/bin/wirefur ./usr/lib/libWireFurFilters.so ./usr/lib/libWireFurCAD.so ./usr/lib/wirefur-cad-worker \
          ./usr/lib/python3/dist-packages/wirefur/__init__.py ./usr/lib/cmake/WireFur/WireFurConfig.cmake \
-         ./usr/include/wirefur/vtkWireFurRenderPass.h ./usr/share/wirefur/scenes/cage_shaded.json; do
+         ./usr/include/wirefur/vtkWireFurRenderPass.h ./usr/share/wirefur/scenes/cage_shaded.json ./usr/share/doc/wirefur/README.md \
+         ./usr/share/doc/wirefur/docs/install.md; do
   grep -q " $f\$" <<<"$contents" || fail "the package lacks $f"
 done
 echo "contents: $(grep -c '^-' <<<"$contents") files"

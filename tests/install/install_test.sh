@@ -18,7 +18,8 @@ cmake --install "$build" --prefix "$stage" >"$work/install.log" || { cat "$work/
 for f in bin/wirefur lib/libwirefur_core.a lib/libWireFurFilters.so lib/libWireFurCAD.so lib/wirefur-cad-worker \
          lib/cmake/WireFur/WireFurConfig.cmake lib/cmake/WireFur/WireFurConfigVersion.cmake \
          include/wirefur/vtkWireFurRenderPass.h include/wirefur/render/renderer.h \
-         lib/python3/dist-packages/wirefur/__init__.py share/wirefur/scenes/cage_shaded.json share/wirefur/cad/product.step; do
+         lib/python3/dist-packages/wirefur/__init__.py share/wirefur/scenes/cage_shaded.json share/wirefur/cad/product.step \
+         share/doc/wirefur/README.md share/doc/wirefur/docs/install.md share/doc/wirefur/docs/examples/cpp/CMakeLists.txt; do
   [ -e "$stage/$f" ] || fail "not installed: $f"
 done
 echo "installed: $(find "$stage" -type f | wc -l) files"
