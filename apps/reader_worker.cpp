@@ -49,7 +49,7 @@ std::string runReaderWorker(const std::string& path, const ReaderWorkerCall& cal
   if (e.timedOut || (e.signalled && e.signal == SIGALRM))  // (SIGALRM: the worker's own limit)
     throw UsageError(path + ": " + call.what + " did not finish within " + wf::workerNumber(call.timeoutSeconds) +
                      " s (" + call.library + " may loop on a corrupt file; " + call.timeoutHint + ")");
-  if (!e.signalled && (e.status == wf::kWorkerExitOutOfMemory || wf::asanReportedOutOfMemory(run.stderrPath))) {
+  if (!e.signalled && e.status == wf::kWorkerExitOutOfMemory) {
     char cap[32];
     std::snprintf(cap, sizeof cap, "%.1f", wf::workerMemoryCap() / double(1 << 30));
     throw UsageError(path + ": out of memory in the " + call.workerName + " (its cap is " + cap +

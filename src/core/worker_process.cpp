@@ -34,6 +34,29 @@ extern char** environ;
 
 namespace wf {
 
+namespace {
+
+// Under AddressSanitizer, whether the worker's stderr holds ASan's report of a request or a
+// resident size past the cap runWorker gave it. False in other builds.
+bool asanReportedOutOfMemory(const std::string& stderrPath) {
+#if defined(WF_UNDER_ASAN)
+  if (stderrPath.empty()) return false;
+  std::ifstream in(stderrPath);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.find("AddressSanitizer: requested allocation size") != std::string::npos ||
+        line.find("AddressSanitizer: allocator is out of memory") != std::string::npos ||
+        line.find("AddressSanitizer: out of memory") != std::string::npos ||
+        line.find("hard rss limit exhausted") != std::string::npos)
+      return true;
+#else
+  (void)stderrPath;
+#endif
+  return false;
+}
+
+}  // namespace
+
 WorkerExit runWorker(const std::string& executable, const std::vector<std::string>& args,
                      const WorkerOptions& options) {
   WorkerExit r;
@@ -74,8 +97,8 @@ WorkerExit runWorker(const std::string& executable, const std::vector<std::strin
   // told of 2e9 components, value-initialises a std::vector of 16 GB, which swapped for ten
   // minutes. A resident size past the cap, plus room for ASan's shadow (an eighth) and its
   // quarantine (256 MiB by default), ends the worker too (ASan polls it every 100 ms).
-  // Later options override earlier ones in ASAN_OPTIONS. The parent reads either report as
-  // out of memory (asanReportedOutOfMemory).
+  // Later options override earlier ones in ASAN_OPTIONS. Either report reads as
+  // kWorkerExitOutOfMemory (asanReportedOutOfMemory, below).
   std::vector<std::string> envCopy;
   std::vector<char*> envp;
   {
@@ -174,6 +197,9 @@ WorkerExit runWorker(const std::string& executable, const std::vector<std::strin
     r.signal = WTERMSIG(status);
   } else if (WIFEXITED(status)) {
     r.status = WEXITSTATUS(status);
+    // Under AddressSanitizer the cap is its options' (above), and exhausting it ends the worker
+    // with ASan's report and status 1: the same out of memory as in other builds.
+    if (r.status != 0 && asanReportedOutOfMemory(options.stderrPath)) r.status = kWorkerExitOutOfMemory;
   }
   return r;
 }
@@ -211,23 +237,6 @@ double workerMemoryCap() {
   rlimit now{};
   if (getrlimit(RLIMIT_DATA, &now) == 0 && now.rlim_max != RLIM_INFINITY) cap = std::min(cap, double(now.rlim_max));
   return cap;
-}
-
-bool asanReportedOutOfMemory(const std::string& stderrPath) {
-#if defined(WF_UNDER_ASAN)
-  if (stderrPath.empty()) return false;
-  std::ifstream in(stderrPath);
-  std::string line;
-  while (std::getline(in, line))
-    if (line.find("AddressSanitizer: requested allocation size") != std::string::npos ||
-        line.find("AddressSanitizer: allocator is out of memory") != std::string::npos ||
-        line.find("AddressSanitizer: out of memory") != std::string::npos ||
-        line.find("hard rss limit exhausted") != std::string::npos)
-      return true;
-#else
-  (void)stderrPath;
-#endif
-  return false;
 }
 
 double capWorkerMemory() {

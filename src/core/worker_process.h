@@ -77,11 +77,6 @@ void becomeWorker(const std::string& parentPid, const std::string& timeoutSecond
 /// the cap in force, in bytes (0: none).
 double capWorkerMemory();
 
-/// Under AddressSanitizer, whether the worker's stderr (written to stderrPath) holds ASan's
-/// report of a request or a resident size past the cap runWorker gave it (an exit status of 1,
-/// where other builds end with kWorkerExitOutOfMemory). False in other builds.
-bool asanReportedOutOfMemory(const std::string& stderrPath);
-
 /// The cap capWorkerMemory sets (bytes), for messages.
 double workerMemoryCap();
 

@@ -1098,7 +1098,7 @@ int vtkWireFurCADReader::RequestDataInWorker(const std::string& path, vtkPolyDat
   }
   const int status = e.statusUnknown ? done : e.status;
   const std::string words = wf::lastLineOf(run.stderrPath);
-  if (status == wf::kWorkerExitOutOfMemory || wf::asanReportedOutOfMemory(run.stderrPath))
+  if (status == wf::kWorkerExitOutOfMemory)
   {
     char cap[32];
     std::snprintf(cap, sizeof cap, "%.1f", wf::workerMemoryCap() / double(1 << 30));
