@@ -368,7 +368,7 @@ class TileABuffer {
   void loseOcclusion(Pixel& p, size_t pixelIndex);
   void pruneHidden(Pixel& p, float depth);
   void updateBlock(size_t pixelIndex);
-  std::int32_t allocNode(size_t pixelIndex);
+  std::int32_t allocNode(const Node& node);  ///< a free slot (or a new one) holding `node`
   void freeNode(std::int32_t i);
 
   MaskLayout layout_;
