@@ -6,6 +6,8 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
+#include <string>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -64,7 +66,7 @@ constexpr NibbleLanes kNibbles{};
 inline __m128 nibbleLanes(unsigned nibble) {
   return _mm_castsi128_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(kNibbles.lanes[nibble])));
 }
-inline __m128 select(__m128 m, __m128 a, __m128 b) { return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b)); }
+inline __m128 blendLanes(__m128 m, __m128 a, __m128 b) { return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b)); }
 #endif
 }  // namespace
 
@@ -147,6 +149,8 @@ void SurfaceDepth::atSamples(const float* sx, const float* sy, int n, float* out
 TileABuffer::TileABuffer(const MaskLayout& layout, int budget, float occlusionEpsilon)
     : layout_(layout), budget_(std::clamp(budget, 1, kMaxListBudget)),
       epsilon_(std::isfinite(occlusionEpsilon) ? std::clamp(occlusionEpsilon, 0.0f, 0.5f) : 0.0f) {
+  // 4x4, 8x4 or 8x8 only: the subpixel records are visited four samples at a time.
+  if (!layout_.valid()) throw std::invalid_argument("TileABuffer: mask layout " + layout_.name() + " (4x4, 8x4 or 8x8)");
   for (int k = 0; k < layout_.samples(); ++k) {
     sampleX_[k] = float(layout_.sampleX(k % layout_.w));
     sampleY_[k] = float(layout_.sampleY(k / layout_.w));
@@ -369,7 +373,7 @@ void TileABuffer::occlude(Pixel& p, size_t pixelIndex, MaskBits mask, float hide
       newlySettled += kNibbles.count[_mm_movemask_ps(fresh)];
       if (_mm_movemask_ps(moved)) {
         changed = true;
-        _mm_storeu_ps(D + 4 * v, select(moved, z, Dv));
+        _mm_storeu_ps(D + 4 * v, blendLanes(moved, z, Dv));
       }
       _mm_storeu_ps(T + 4 * v, _mm_andnot_ps(m, Tv));
     }
@@ -381,9 +385,9 @@ void TileABuffer::occlude(Pixel& p, size_t pixelIndex, MaskBits mask, float hide
       const __m128 Tv = _mm_loadu_ps(T + 4 * v), Dv = _mm_loadu_ps(D + 4 * v);
       const __m128 open = _mm_andnot_ps(_mm_cmple_ps(Tv, eps), nibbleLanes(bits));
       if (!_mm_movemask_ps(open)) continue;
-      const __m128 Tn = select(open, _mm_mul_ps(Tv, keep), Tv);
+      const __m128 Tn = blendLanes(open, _mm_mul_ps(Tv, keep), Tv);
       _mm_storeu_ps(T + 4 * v, Tn);
-      _mm_storeu_ps(D + 4 * v, select(open, _mm_max_ps(z, Dv), Dv));  // max(D, zmax), D where unordered, as std::max
+      _mm_storeu_ps(D + 4 * v, blendLanes(open, _mm_max_ps(z, Dv), Dv));  // max(D, zmax), D where unordered, as std::max
       const int now = _mm_movemask_ps(_mm_and_ps(open, _mm_cmple_ps(Tn, eps)));
       if (now) newlySettled += kNibbles.count[now], changed = true;
     }

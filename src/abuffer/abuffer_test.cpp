@@ -13,6 +13,7 @@
 #include <cmath>
 #include <numeric>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 namespace wf {
@@ -343,6 +344,100 @@ TEST(TileABuffer, ResetClearsEverything) {
   buf.finish(c);
   EXPECT_EQ(c.fragments, 1u);  // the counters of the previous tile went to `junk`
   EXPECT_EQ(c.tail, 0u);
+}
+
+// The occlusion bookkeeping (abuffer.h: per subpixel, the transmittance T that what lies in front
+// leaves and the depth D behind which it all lies; settled once T <= epsilon) against the same
+// rule written out here one subpixel at a time, for fragments alone in their pixel (no merges,
+// solids or tails), in every layout, at epsilon 0 and 0.05: after every insertion, the pixel's
+// occlusion depth and maskHidden's answer for random masks and depths. The buffer visits its
+// subpixels four at a time (SSE2); masks reach every group of four, hides are exactly 1 or
+// less, depths repeat, and some are +inf or NaN.
+TEST(TileABuffer, OcclusionBookkeepingFollowsTheRuleSubpixelBySubpixel) {
+  auto sameFloat = [](float a, float b) { return (std::isnan(a) && std::isnan(b)) || a == b; };
+  int checks = 0, hiddenYes = 0;
+  for (const MaskLayout L : {MaskLayout{4, 4}, MaskLayout{8, 4}, MaskLayout{8, 8}}) {
+    for (const float eps : {0.0f, 0.05f}) {
+      std::mt19937_64 rng(17);
+      const int N = L.samples();
+      auto randomMask = [&] {
+        MaskBits m = 0;
+        switch (rng() % 3) {
+          case 0: m = rng() & L.full(); break;                        // about half the subpixels
+          case 1: m = (rng() & rng() & rng()) & L.full(); break;      // a few
+          default: m = MaskBits(0xF) << (4 * int(rng() % unsigned(N / 4)));  // one group of four
+        }
+        return m ? m : MaskBits(1) << (rng() % unsigned(N));
+      };
+      const float depths[] = {1.0f, 2.0f, 2.0f, 3.0f, 2.5f, INFINITY, NAN};
+      for (int trial = 0; trial < 60; ++trial) {
+        TileABuffer buf(L, 64, eps);
+        buf.reset(1, 1);
+        std::vector<float> D(size_t(N), 0.0f), T(size_t(N), 1.0f);
+        bool tracked = false;
+        int open = N;
+        float occ = INFINITY;
+        for (int step = 0; step < 40; ++step) {
+          const MaskBits mask = randomMask();
+          const int k = maskCount(mask);
+          const float opacity = rng() % 2 ? 1.0f : 0.1f + 0.9f * float(rng() % 1000) / 1000.0f;
+          // area k / N hides exactly `opacity`; the others less or (clamped) the same
+          const float area = rng() % 2 ? float(k) / float(N) * 0.95f + 0.0f : 0.01f + 0.94f * float(rng() % 1000) / 1000.0f;
+          const float z = depths[rng() % 7];
+          Fragment f = frag(z, area, opacity, kRed, mask, 1, false);
+          // The rule (abuffer.h; TileABuffer::occlude), subpixel by subpixel.
+          const float hide = opacity * std::min(1.0f, area * float(N) / float(k));
+          const bool culled = z >= occ;
+          if (!culled && hide > 0.0f && !(tracked && open == 0 && (hide < 1.0f || !(z < occ)))) {
+            tracked = true;
+            bool changed = false;
+            for (int s = 0; s < N; ++s) {
+              if (!((mask >> s) & 1)) continue;
+              const bool settled = T[size_t(s)] <= eps;
+              if (hide >= 1.0f) {
+                if (!settled) --open, D[size_t(s)] = z, changed = true;
+                else if (z < D[size_t(s)]) D[size_t(s)] = z, changed = true;
+                T[size_t(s)] = 0.0f;
+              } else if (!settled) {
+                T[size_t(s)] *= 1.0f - hide;
+                D[size_t(s)] = std::max(D[size_t(s)], z);
+                if (T[size_t(s)] <= eps) --open, changed = true;
+              }
+            }
+            if (changed && open == 0) {
+              float m = 0.0f;
+              for (int s = 0; s < N; ++s) m = std::max(m, D[size_t(s)]);
+              if (m < occ) occ = m;
+            }
+          }
+          buf.insert(0, 0, f, 0);
+          ASSERT_TRUE(sameFloat(buf.occlusionDepth(0, 0), occ))
+              << L.name() << " eps " << eps << " trial " << trial << " step " << step << ": " << buf.occlusionDepth(0, 0)
+              << " against " << occ;
+          for (int q = 0; q < 4; ++q) {
+            const MaskBits qm = randomMask();
+            const float qz = depths[rng() % 7];
+            bool want = tracked;
+            for (int s = 0; s < N && want; ++s)
+              if ((qm >> s) & 1) want = T[size_t(s)] <= eps && D[size_t(s)] <= qz;
+            ASSERT_EQ(buf.maskHidden(0, 0, qm, 0, qz), want)
+                << L.name() << " eps " << eps << " trial " << trial << " step " << step << " query mask " << std::hex << qm;
+            ++checks;
+            hiddenYes += want;
+          }
+        }
+      }
+    }
+  }
+  // The rule was exercised both ways, not only answered "no".
+  EXPECT_GT(hiddenYes, checks / 20) << hiddenYes << " of " << checks;
+  EXPECT_LT(hiddenYes, checks - checks / 20) << hiddenYes << " of " << checks;
+}
+
+TEST(TileABuffer, RefusesALayoutItCannotVisitFourSubpixelsAtATime) {
+  EXPECT_THROW(TileABuffer(MaskLayout{4, 8}, 64), std::invalid_argument);
+  EXPECT_THROW(TileABuffer(MaskLayout{3, 3}, 64), std::invalid_argument);
+  EXPECT_NO_THROW(TileABuffer(MaskLayout{8, 8}, 64));
 }
 
 }  // namespace
