@@ -88,6 +88,12 @@ void ABufferCounters::add(const ABufferCounters& o) {
 }
 
 namespace {
+// (Inlined into each of atSamples' clones, below, so that each is compiled for its target.)
+#if defined(__GNUC__)
+#define WF_ALWAYS_INLINE inline __attribute__((always_inline))
+#else
+#define WF_ALWAYS_INLINE inline
+#endif
 // The depth of a SurfaceDepth at samples, one loop per case (no branch inside, so that it
 // vectorises: the subpixel depths are the resolve's inner loop on dense hair).
 template <bool Perspective>
@@ -100,12 +106,12 @@ inline float depthOfKey(float key) {
   }
 }
 template <bool Perspective>
-void planeDepths(const SurfaceDepth& m, const float* sx, const float* sy, int n, float* out) {
+WF_ALWAYS_INLINE void planeDepths(const SurfaceDepth& m, const float* sx, const float* sy, int n, float* out) {
   const float lo = std::max(m.nearPlane, m.lo), hi = m.hi, k0 = m.k0, kx = m.kx, ky = m.ky;
   for (int k = 0; k < n; ++k) out[k] = std::min(hi, std::max(lo, depthOfKey<Perspective>(k0 + kx * sx[k] + ky * sy[k])));
 }
 template <bool Perspective, bool Round>
-void wireDepths(const SurfaceDepth& m, const float* sx, const float* sy, int n, float* out) {
+WF_ALWAYS_INLINE void wireDepths(const SurfaceDepth& m, const float* sx, const float* sy, int n, float* out) {
   const float lo = std::max(m.nearPlane, m.lo), hi = m.hi;
   const float t0 = m.t0, tx = m.tx, ty = m.ty, l0 = m.l0, lx = m.lx, ly = m.ly, len = m.length;
   const float w0 = m.w0, dw = m.dw, r0 = m.r0, dr = m.dr, k0 = m.k0, kx = m.kx, tmax = m.tmax;
@@ -133,6 +139,12 @@ void wireDepths(const SurfaceDepth& m, const float* sx, const float* sy, int n, 
 }
 }  // namespace
 
+// Built twice where the compiler can choose at load time (GCC on x86-64): for AVX2, eight
+// samples per instruction, and for the baseline, four. Without FMA (the build contracts nothing
+// and this clone enables none), so both give the same depths to the bit.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__SSE2__)
+__attribute__((target_clones("avx2", "default")))
+#endif
 void SurfaceDepth::atSamples(const float* sx, const float* sy, int n, float* out) const {
   if (kind == Kind::Plane) {
     if (perspective) planeDepths<true>(*this, sx, sy, n, out);
