@@ -2,11 +2,14 @@
 // exact cylinder integral, plain and depth-cued wires; surfaces by interpolating their triangle
 // (perspective-correct) and shadeSurfaceFragment (surface_shading.cpp).
 #include "render/pipeline.h"
+#include "render/rasterize.h"
 
 #include "shading/cylinder_lobe.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <vector>
 
 namespace wf {
 
@@ -188,6 +191,66 @@ glm::vec3 shadeFragment(const PreparedScene& ps, std::uint32_t i, double x, doub
       return glm::vec3(cylinderRadianceClosedSanitized(T, ps.view.viewVector(P), slot.phong, ps.eyeLights, slot.lobe.get())) * c;
     }
   }
+}
+
+// ---- the A-buffer's subpixel depths of a wire (PreparedFragmentSource) ------------------------
+
+std::uint64_t PreparedFragmentSource::nextSerial() {
+  static std::atomic<std::uint64_t> serial{0};
+  return ++serial;
+}
+
+void PreparedFragmentSource::fillWireDepthBasis(std::uint32_t prim, WireDepthBasis& b) const {
+  const ViewTransform& v = ps_.view;
+  const SegmentPrim& s = ps_.segmentOf(prim);
+  const SegmentFrame fr(s);
+  SurfaceDepth& d = b.depth;
+  d = SurfaceDepth{};
+  d.perspective = v.perspective;
+  d.nearPlane = float(v.nearPlane);
+  d.kind = SurfaceDepth::Kind::Wire;
+  d.round = ps_.wireDepth == WireDepth::Round;
+  const SegmentEndKeys keys(v, s);
+  const double k0 = d.round ? keys.axis(0.0) : keys.front(0.0);
+  const double k1 = d.round ? keys.axis(1.0) : keys.front(1.0);
+  d.k0 = float(k0), d.kx = float(k1 - k0);
+  b.ax = fr.ax, b.ay = fr.ay;
+  b.hasLength = fr.length > 0;
+  if (b.hasLength) {
+    b.ux = fr.ux, b.uy = fr.uy, b.nx = fr.nx, b.ny = fr.ny;
+    d.tx = float(fr.ux), d.ty = float(fr.uy);
+    d.lx = float(fr.nx), d.ly = float(fr.ny);
+    d.length = float(fr.length);
+    d.tmax = 1.0f;
+  } else {  // seen exactly end-on: t is the x offset from its end point, held at 0
+    d.tx = 1.0f, d.ty = 0.0f;
+    d.lx = 0.0f, d.ly = 1.0f;
+    d.length = 1.0f;
+    d.tmax = 0.0f;
+  }
+  d.w0 = s.w0, d.dw = s.w1 - s.w0, d.r0 = s.r0, d.dr = s.r1 - s.r0;
+  const SegmentTilt tilt(v, s, fr);
+  d.tl = float(tilt.lateral), d.ta = float(tilt.along0), d.tt = float(tilt.alongT);
+  d.s0 = float(tilt.shift0), d.st = float(tilt.shiftT);
+  d.lo = 0.0f, d.hi = INFINITY;
+  d.onSurface = ps_.shaderOf(prim).restsOnSurface;
+}
+
+const PreparedFragmentSource::WireDepthBasis& PreparedFragmentSource::wireDepthBasis(std::uint32_t prim) const {
+  // Direct-mapped, per thread (a resolving thread asks of the segments near the pixels it
+  // resolves, and the same segment again in the next pixels), on the heap: 256 entries of about
+  // 190 bytes. An entry holds the source's serial, so a later render never reads an earlier
+  // render's segment of the same number.
+  constexpr std::size_t kEntries = 256;
+  thread_local std::vector<WireDepthBasis> cache;
+  if (cache.empty()) cache.resize(kEntries);
+  WireDepthBasis& b = cache[(prim * 2654435761u) >> 24];
+  if (b.serial != serial_ || b.prim != prim) {
+    fillWireDepthBasis(prim, b);
+    b.serial = serial_;
+    b.prim = prim;
+  }
+  return b;
 }
 
 }  // namespace wf

@@ -441,7 +441,7 @@ void rasterizePolygon(const ScreenPolygon& poly, const Depth& depth, int rx0, in
 /// scene: shading at the fragment's shading point and depth, depths at the subpixel samples.
 class PreparedFragmentSource final : public FragmentSource {
  public:
-  explicit PreparedFragmentSource(const PreparedScene& ps) : ps_(ps) {}
+  explicit PreparedFragmentSource(const PreparedScene& ps) : ps_(ps), serial_(nextSerial()) {}
   glm::vec3 shade(const Fragment& f, int x, int y) const override {
     if (f.prim == Fragment::kNoPrimitive) return f.colour;
     return shadeFragment(ps_, f.prim, x + f.pointX(), y + f.pointY(), f.zkey);
@@ -451,46 +451,45 @@ class PreparedFragmentSource final : public FragmentSource {
   }
   bool surfaceDepth(std::uint32_t prim, int x, int y, SurfaceDepth& d) const override {
     if (prim >= ps_.primitiveCount()) return false;
-    const ViewTransform& v = ps_.view;
-    d.perspective = v.perspective;
-    d.nearPlane = float(v.nearPlane);
     if (ps_.isSegment(prim)) {
-      const SegmentPrim& s = ps_.segmentOf(prim);
-      const SegmentFrame fr(s);
-      d.kind = SurfaceDepth::Kind::Wire;
-      d.round = ps_.wireDepth == WireDepth::Round;
-      const SegmentEndKeys keys(v, s);
-      const double k0 = d.round ? keys.axis(0.0) : keys.front(0.0);
-      const double k1 = d.round ? keys.axis(1.0) : keys.front(1.0);
-      d.k0 = float(k0), d.kx = float(k1 - k0);
-      if (fr.length > 0) {
-        d.t0 = float(fr.t(x, y)), d.tx = float(fr.ux), d.ty = float(fr.uy);
-        d.l0 = float((x - fr.ax) * fr.nx + (y - fr.ay) * fr.ny), d.lx = float(fr.nx), d.ly = float(fr.ny);
-        d.length = float(fr.length);
-        d.tmax = 1.0f;
+      // What depends on the segment alone (its frame, end keys and tilt: a square root and a
+      // dozen divisions) comes from a small per-thread cache, the pixel's offsets from it with
+      // the same arithmetic as ever, so the same floats.
+      const WireDepthBasis& b = wireDepthBasis(prim);
+      d = b.depth;
+      if (b.hasLength) {
+        d.t0 = float((x - b.ax) * b.ux + (y - b.ay) * b.uy);
+        d.l0 = float((x - b.ax) * b.nx + (y - b.ay) * b.ny);
       } else {  // seen exactly end-on: its end point, radially (t is the x offset, held at 0)
-        d.t0 = float(x - fr.ax), d.tx = 1.0f, d.ty = 0.0f;
-        d.l0 = float(y - fr.ay), d.lx = 0.0f, d.ly = 1.0f;
-        d.length = 1.0f;
-        d.tmax = 0.0f;
+        d.t0 = float(x - b.ax);
+        d.l0 = float(y - b.ay);
       }
-      d.w0 = s.w0, d.dw = s.w1 - s.w0, d.r0 = s.r0, d.dr = s.r1 - s.r0;
-      const SegmentTilt tilt(v, s, fr);
-      d.tl = float(tilt.lateral), d.ta = float(tilt.along0), d.tt = float(tilt.alongT);
-      d.s0 = float(tilt.shift0), d.st = float(tilt.shiftT);
-      d.lo = 0.0f, d.hi = INFINITY;
-      d.onSurface = ps_.shaderOf(prim).restsOnSurface;
       return true;
     }
     const TrianglePrim& t = ps_.triangles[prim];
+    d.perspective = ps_.view.perspective;
+    d.nearPlane = float(ps_.view.nearPlane);
     d.kind = SurfaceDepth::Kind::Plane;
     d.k0 = float(t.depthKeyAt(x, y)), d.kx = float(t.qa), d.ky = float(t.qb);
     d.lo = t.zlo, d.hi = t.zhi;
     return true;
   }
+  /// A segment's SurfaceDepth less its pixel's offsets t0 and l0, and its frame for them.
+  struct WireDepthBasis {
+    std::uint64_t serial = 0;  ///< the source that filled it (0: empty)
+    std::uint32_t prim = 0;
+    bool hasLength = false;
+    double ax = 0, ay = 0, ux = 0, uy = 0, nx = 0, ny = 0;
+    SurfaceDepth depth;
+  };
+  /// Fills `b` for segment `prim` (the cache's miss path).
+  void fillWireDepthBasis(std::uint32_t prim, WireDepthBasis& b) const;
 
  private:
+  const WireDepthBasis& wireDepthBasis(std::uint32_t prim) const;
+  static std::uint64_t nextSerial();
   const PreparedScene& ps_;
+  const std::uint64_t serial_;  ///< tells this render's cache entries from an earlier one's
 };
 
 }  // namespace wf
