@@ -15,6 +15,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -209,6 +211,43 @@ TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& st, s
   for (size_t t = 0; t < tiles; ++t) st.tilesEmpty += bins.offsets[t] == bins.offsets[t + 1];
   st.binning = secondsSince(t0);
   return bins;
+}
+
+void sortTileItems(std::vector<TileBins::Item>& items, std::vector<TileBins::Item>& scratch) {
+  const size_t n = items.size();
+  if (n < 64) {  // (a comparison sort wins on few)
+    std::sort(items.begin(), items.end());
+    return;
+  }
+  // The float's bits made unsigned-monotonic: negative ones reversed, positive ones above them.
+  auto key = [](float z) {
+    const float c = z + 0.0f;  // -0 -> +0
+    std::uint32_t u;
+    std::memcpy(&u, &c, sizeof u);
+    return (u & 0x80000000u) ? ~u : (u | 0x80000000u);
+  };
+  std::uint32_t count[4][256] = {};
+  for (const TileBins::Item& it : items) {
+    if (std::isnan(it.zlo)) {  // unordered: the comparison's own order, whatever it makes of it
+      std::sort(items.begin(), items.end());
+      return;
+    }
+    const std::uint32_t k = key(it.zlo);
+    for (int b = 0; b < 4; ++b) ++count[b][(k >> (8 * b)) & 0xFFu];
+  }
+  scratch.resize(n);
+  TileBins::Item* src = items.data();
+  TileBins::Item* dst = scratch.data();
+  const std::uint32_t first = key(items[0].zlo);
+  for (int b = 0; b < 4; ++b) {
+    if (count[b][(first >> (8 * b)) & 0xFFu] == n) continue;  // every key has this byte: nothing to move
+    std::uint32_t at[256];
+    std::uint32_t sum = 0;
+    for (int d = 0; d < 256; ++d) at[d] = sum, sum += count[b][d];
+    for (size_t i = 0; i < n; ++i) dst[at[(key(src[i].zlo) >> (8 * b)) & 0xFFu]++] = src[i];
+    std::swap(src, dst);
+  }
+  if (src != items.data()) std::copy(src, src + n, items.data());
 }
 
 }  // namespace wf

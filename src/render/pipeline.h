@@ -487,6 +487,11 @@ void screenPolygonOf(const PreparedScene& ps, std::uint32_t i, ScreenPolygon& po
 /// Stage "bins". Throws std::length_error when the items would exceed `memoryBudget` bytes
 /// (0: unlimited): many large primitives over small tiles multiply.
 TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& stats, size_t memoryBudget = 0);
+/// Sorts one tile's items into TileBins::Item's order (zlo, then index) when they arrive in
+/// primitive order, as binPrimitives leaves them: a stable radix sort on zlo (-0 taken as +0,
+/// equal, as the comparison has them), so that ties keep that order; std::sort for short lists
+/// and where a depth is NaN. `scratch`: a buffer the sort may use.
+void sortTileItems(std::vector<TileBins::Item>& items, std::vector<TileBins::Item>& scratch);
 /// What a surface fragment interpolates (perspective-correct): eye-space unit normal (turned to
 /// the viewer), eye-space unit tangent (zero when the mesh has none), (u, v), colour.
 struct SurfaceSample {

@@ -195,9 +195,9 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
       // Front to back by each primitive's nearest depth in this tile (ties by primitive order: a
       // strict order, so the same whatever the thread count), so that the occlusion tests
       // discard most of what lies behind before it is rasterised.
-      thread_local std::vector<TileBins::Item> order;
+      thread_local std::vector<TileBins::Item> order, sortScratch;
       order.assign(bins.items.begin() + b0, bins.items.begin() + b1);
-      std::sort(order.begin(), order.end());
+      sortTileItems(order, sortScratch);
       const std::uint32_t n = std::uint32_t(order.size());
       const std::uint32_t triangleCount = std::uint32_t(ps.triangles.size());
       RenderStats::RasterWork& wk = work.local();
