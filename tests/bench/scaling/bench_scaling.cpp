@@ -113,6 +113,10 @@ wf::Scene hairScene(const std::vector<wfbench::HairSegment>& segs, float opacity
   wire.thickness = wfbench::kHairWidthPixels;
   wire.thicknessInPixels = true;
   wire.opacity = opacity;
+  // Hairs: the polyline is the cylinder's axis. (Left at the default, edges resting on a surface,
+  // they were culled only where their axis is hidden, and the 4M-segment render had grown from
+  // 28.5M to 303M fragments considered, 3.9 -> 8.9 s.)
+  wire.restsOnSurface = false;
   wire.lines = wfbench::polylines(segs);
   scene.wires.push_back(std::move(wire));
   return scene;
