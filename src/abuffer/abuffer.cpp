@@ -140,8 +140,10 @@ WF_ALWAYS_INLINE void wireDepths(const SurfaceDepth& m, const float* sx, const f
 }  // namespace
 
 // Built twice where the compiler can choose at load time (GCC on x86-64): for AVX2, eight
-// samples per instruction, and for the baseline, four. Without FMA (the build contracts nothing
-// and this clone enables none), so both give the same depths to the bit.
+// samples per instruction, and for the baseline, four. Without fused multiply-adds: the avx2
+// target does not enable FMA (GNU C++ would contract a * b + c where FMA is available: a build
+// for a target with FMA in its baseline, -march=native or x86-64-v3, would change these floats,
+// in both clones alike), so both give the same depths to the bit.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__SSE2__)
 __attribute__((target_clones("avx2", "default")))
 #endif

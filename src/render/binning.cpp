@@ -219,11 +219,13 @@ void sortTileItems(std::vector<TileBins::Item>& items, std::vector<TileBins::Ite
     std::sort(items.begin(), items.end());
     return;
   }
-  // The float's bits made unsigned-monotonic: negative ones reversed, positive ones above them.
+  // The float's bits made unsigned-monotonic: negative ones reversed, positive ones above them;
+  // -0 taken as +0 by its bits (not by adding 0, which flush-to-zero would make a subnormal's 0
+  // too, where the comparison still orders it).
   auto key = [](float z) {
-    const float c = z + 0.0f;  // -0 -> +0
     std::uint32_t u;
-    std::memcpy(&u, &c, sizeof u);
+    std::memcpy(&u, &z, sizeof u);
+    if (u == 0x80000000u) u = 0;
     return (u & 0x80000000u) ? ~u : (u | 0x80000000u);
   };
   std::uint32_t count[4][256] = {};

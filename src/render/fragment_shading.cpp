@@ -238,8 +238,8 @@ void PreparedFragmentSource::fillWireDepthBasis(std::uint32_t prim, WireDepthBas
 
 const PreparedFragmentSource::WireDepthBasis& PreparedFragmentSource::wireDepthBasis(std::uint32_t prim) const {
   // Direct-mapped, per thread (a resolving thread asks of the segments near the pixels it
-  // resolves, and the same segment again in the next pixels), on the heap: 256 entries of about
-  // 190 bytes. An entry holds the source's serial, so a later render never reads an earlier
+  // resolves, and the same segment again in the next pixels), on the heap: 256 entries of 168
+  // bytes. An entry holds the source's serial, so a later render never reads an earlier
   // render's segment of the same number.
   constexpr std::size_t kEntries = 256;
   thread_local std::vector<WireDepthBasis> cache;

@@ -490,7 +490,10 @@ TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& stats
 /// Sorts one tile's items into TileBins::Item's order (zlo, then index) when they arrive in
 /// primitive order, as binPrimitives leaves them: a stable radix sort on zlo (-0 taken as +0,
 /// equal, as the comparison has them), so that ties keep that order; std::sort for short lists
-/// and where a depth is NaN. `scratch`: a buffer the sort may use.
+/// and where a depth is NaN. Needs the items in increasing index (else ties may differ from the
+/// comparison) and fewer than 2^32 of them (TileBins' offsets are 32-bit too). `scratch`: a
+/// buffer the sort may use (the renderer keeps one per thread, as large as its largest tile's
+/// items).
 void sortTileItems(std::vector<TileBins::Item>& items, std::vector<TileBins::Item>& scratch);
 /// What a surface fragment interpolates (perspective-correct): eye-space unit normal (turned to
 /// the viewer), eye-space unit tangent (zero when the mesh has none), (u, v), colour.

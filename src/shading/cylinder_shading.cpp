@@ -173,7 +173,10 @@ glm::dvec3 cylinderRadianceExact(const glm::dvec3& T, const glm::dvec3& V, const
 // R.V = 2 (c_k a + s_k b) c_k v - q. Written as whole-window passes (R.V for every sample, then
 // binary powering applied to the whole window) so the compiler vectorises them; the final sum
 // stays in order, so every build of the same map is bit-identical.
-__attribute__((target_clones("avx2", "default"))) double windowLobeSum(
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+double windowLobeSum(
     const double* s, const double* c, int kl, int kr, double a, double b, double v, double q, double n) {
   constexpr int kChunk = 256;
   double x[kChunk], r[kChunk];
