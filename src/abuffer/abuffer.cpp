@@ -55,11 +55,10 @@ void mergeInto(Fragment& g, const Fragment& f) {
 // fused operations), so the same results to the bit.
 struct NibbleLanes {
   alignas(16) std::uint32_t lanes[16][4];
-  std::uint8_t count[16];
-  constexpr NibbleLanes() : lanes{}, count{} {
+  constexpr NibbleLanes() : lanes{} {
     for (int b = 0; b < 16; ++b)
       for (int i = 0; i < 4; ++i)
-        if ((b >> i) & 1) lanes[b][i] = 0xFFFFFFFFu, ++count[b];
+        if ((b >> i) & 1) lanes[b][i] = 0xFFFFFFFFu;
   }
 };
 constexpr NibbleLanes kNibbles{};
@@ -373,7 +372,7 @@ void TileABuffer::occlude(Pixel& p, size_t pixelIndex, MaskBits mask, float hide
 #if defined(__SSE2__)
   // Four subpixels at a time (NibbleLanes): the loop below, lane by lane.
   const __m128 eps = _mm_set1_ps(epsilon_), z = _mm_set1_ps(zmax);
-  int newlySettled = 0;
+  MaskBits newlySettled = 0;  // the subpixels this fragment settles
   if (hide >= 1.0f) {
     for (int v = 0; v < n / 4; ++v) {
       const unsigned bits = unsigned(mask >> (4 * v)) & 0xFu;
@@ -384,7 +383,7 @@ void TileABuffer::occlude(Pixel& p, size_t pixelIndex, MaskBits mask, float hide
       const __m128 fresh = _mm_andnot_ps(settled, m);                                   // settled now, at zmax
       const __m128 nearer = _mm_and_ps(_mm_and_ps(settled, m), _mm_cmplt_ps(z, Dv));   // settled, brought nearer
       const __m128 moved = _mm_or_ps(fresh, nearer);
-      newlySettled += kNibbles.count[_mm_movemask_ps(fresh)];
+      newlySettled |= MaskBits(unsigned(_mm_movemask_ps(fresh))) << (4 * v);
       if (_mm_movemask_ps(moved)) {
         changed = true;
         _mm_storeu_ps(D + 4 * v, blendLanes(moved, z, Dv));
@@ -403,10 +402,10 @@ void TileABuffer::occlude(Pixel& p, size_t pixelIndex, MaskBits mask, float hide
       _mm_storeu_ps(T + 4 * v, Tn);
       _mm_storeu_ps(D + 4 * v, blendLanes(open, _mm_max_ps(z, Dv), Dv));  // max(D, zmax), D where unordered, as std::max
       const int now = _mm_movemask_ps(_mm_and_ps(open, _mm_cmple_ps(Tn, eps)));
-      if (now) newlySettled += kNibbles.count[now], changed = true;
+      if (now) newlySettled |= MaskBits(unsigned(now)) << (4 * v), changed = true;
     }
   }
-  p.open = std::uint8_t(p.open - newlySettled);
+  p.open = std::uint8_t(p.open - maskCount(newlySettled));
 #else
   for (MaskBits m = mask; m; m &= m - 1) {
     const int s = std::countr_zero(m);

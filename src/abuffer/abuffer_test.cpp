@@ -382,7 +382,7 @@ TEST(TileABuffer, OcclusionBookkeepingFollowsTheRuleSubpixelBySubpixel) {
           const int k = maskCount(mask);
           const float opacity = rng() % 2 ? 1.0f : 0.1f + 0.9f * float(rng() % 1000) / 1000.0f;
           // area k / N hides exactly `opacity`; the others less or (clamped) the same
-          const float area = rng() % 2 ? float(k) / float(N) * 0.95f + 0.0f : 0.01f + 0.94f * float(rng() % 1000) / 1000.0f;
+          const float area = rng() % 2 ? float(k) / float(N) * 0.95f : 0.01f + 0.94f * float(rng() % 1000) / 1000.0f;
           const float z = depths[rng() % 7];
           Fragment f = frag(z, area, opacity, kRed, mask, 1, false);
           // The rule (abuffer.h; TileABuffer::occlude), subpixel by subpixel.

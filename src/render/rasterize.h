@@ -474,6 +474,8 @@ class PreparedFragmentSource final : public FragmentSource {
     d.lo = t.zlo, d.hi = t.zhi;
     return true;
   }
+
+ private:
   /// A segment's SurfaceDepth less its pixel's offsets t0 and l0, and its frame for them.
   struct WireDepthBasis {
     std::uint64_t serial = 0;  ///< the source that filled it (0: empty)
@@ -482,11 +484,10 @@ class PreparedFragmentSource final : public FragmentSource {
     double ax = 0, ay = 0, ux = 0, uy = 0, nx = 0, ny = 0;
     SurfaceDepth depth;
   };
+  /// Segment `prim`'s basis, from the per-thread cache (fragment_shading.cpp).
+  const WireDepthBasis& wireDepthBasis(std::uint32_t prim) const;
   /// Fills `b` for segment `prim` (the cache's miss path).
   void fillWireDepthBasis(std::uint32_t prim, WireDepthBasis& b) const;
-
- private:
-  const WireDepthBasis& wireDepthBasis(std::uint32_t prim) const;
   static std::uint64_t nextSerial();
   const PreparedScene& ps_;
   const std::uint64_t serial_;  ///< tells this render's cache entries from an earlier one's
