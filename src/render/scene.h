@@ -164,11 +164,6 @@ struct Scene {
   /// A sphere holding all finite geometry (centre of the bounds, radius to the farthest point);
   /// false when there is none.
   bool boundingSphere(glm::dvec3& centre, double& radius) const;
-
- private:
-  /// Calls f on every vertex a triangle or polyline uses.
-  template <class F>
-  void forEachPoint(F&& f) const;
 };
 
 /// `camera` with its near and far planes, where it leaves them open (0), from the scene's bounding

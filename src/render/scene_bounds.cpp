@@ -1,44 +1,112 @@
 // Bounds of a scene's geometry (what the camera frames and the near / far planes enclose).
+//
+// A million hairs are two million points, visited twice (the box, then the radius about its
+// centre): in parallel over chunks of the points and of the triangles. Minimum and maximum are
+// exact whatever the order they are taken in, so the result is the same for any thread count;
+// the one order-dependent case, -0 against +0, is settled by adding +0 at the end.
 #include "render/scene.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace wf {
 
+namespace {
+
+// A run of the scene's points: polyline points [begin, end) of one wire, or the vertices of
+// triangles [begin, end) of one surface (a vertex once per triangle that uses it; indices past
+// the positions skipped).
+struct PointRun {
+  const SceneSurface* surface;  // null: a wire's points
+  const glm::dvec3* points;
+  size_t begin, end;
+};
+
 template <class F>
-void Scene::forEachPoint(F&& f) const {
-  for (const SceneSurface& s : surfaces)
-    for (const glm::uvec3& t : s.mesh.triangles)
-      for (int k = 0; k < 3; ++k)
-        if (t[k] < s.mesh.positions.size()) f(s.mesh.positions[t[k]]);
-  for (const SceneWire& w : wires)
-    for (const glm::dvec3& p : w.lines.points) f(p);
+void visitRun(const PointRun& r, F&& f) {
+  if (!r.surface) {
+    for (size_t k = r.begin; k < r.end; ++k) f(r.points[k]);
+    return;
+  }
+  const TriangleMesh& m = r.surface->mesh;
+  const size_t n = m.positions.size();
+  for (size_t t = r.begin; t < r.end; ++t)
+    for (int k = 0; k < 3; ++k)
+      if (m.triangles[t][k] < n) f(m.positions[m.triangles[t][k]]);
 }
 
-bool Scene::bounds(glm::dvec3& lo, glm::dvec3& hi) const {
-  lo = glm::dvec3(1e300);
-  hi = glm::dvec3(-1e300);
+// The scene's points in runs of at most kRun items, in scene order.
+std::vector<PointRun> pointRuns(const Scene& scene) {
+  constexpr size_t kRun = 1 << 15;
+  std::vector<PointRun> runs;
+  for (const SceneSurface& s : scene.surfaces)
+    for (size_t b = 0; b < s.mesh.triangles.size(); b += kRun)
+      runs.push_back({&s, nullptr, b, std::min(b + kRun, s.mesh.triangles.size())});
+  for (const SceneWire& w : scene.wires)
+    for (size_t b = 0; b < w.lines.points.size(); b += kRun)
+      runs.push_back({nullptr, w.lines.points.data(), b, std::min(b + kRun, w.lines.points.size())});
+  return runs;
+}
+
+// reduce(identity, visit each point of a run into the value, join two values) over all runs.
+template <class T, class Visit, class Join>
+T reduceRuns(const std::vector<PointRun>& runs, T identity, Visit&& visit, Join&& join) {
+  return tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, runs.size()), identity,
+      [&](const tbb::blocked_range<size_t>& r, T v) {
+        for (size_t i = r.begin(); i != r.end(); ++i) visitRun(runs[i], [&](const glm::dvec3& p) { visit(v, p); });
+        return v;
+      },
+      join);
+}
+
+struct Box {
+  glm::dvec3 lo{1e300}, hi{-1e300};
   bool any = false;
-  forEachPoint([&](const glm::dvec3& p) {
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return;
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-    any = true;
-  });
-  return any;
+};
+
+Box boundsOf(const std::vector<PointRun>& runs) {
+  Box b = reduceRuns(
+      runs, Box{},
+      [](Box& v, const glm::dvec3& p) {
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return;
+        v.lo = glm::min(v.lo, p);
+        v.hi = glm::max(v.hi, p);
+        v.any = true;
+      },
+      [](const Box& a, const Box& c) { return Box{glm::min(a.lo, c.lo), glm::max(a.hi, c.hi), a.any || c.any}; });
+  b.lo += glm::dvec3(0.0);  // -0 and +0 compare equal: which one a minimum keeps depends on the order
+  b.hi += glm::dvec3(0.0);
+  return b;
+}
+
+}  // namespace
+
+bool Scene::bounds(glm::dvec3& lo, glm::dvec3& hi) const {
+  const Box b = boundsOf(pointRuns(*this));
+  lo = b.lo;
+  hi = b.hi;
+  return b.any;
 }
 
 bool Scene::boundingSphere(glm::dvec3& centre, double& radius) const {
-  glm::dvec3 lo, hi;
-  if (!bounds(lo, hi)) return false;
-  centre = 0.5 * lo + 0.5 * hi;
-  double r2 = 0;
-  forEachPoint([&](const glm::dvec3& p) {
-    const glm::dvec3 d = p - centre;
-    const double q = glm::dot(d, d);
-    if (std::isfinite(q)) r2 = std::max(r2, q);
-  });
+  const std::vector<PointRun> runs = pointRuns(*this);
+  const Box b = boundsOf(runs);
+  if (!b.any) return false;
+  centre = 0.5 * b.lo + 0.5 * b.hi;
+  const glm::dvec3 c = centre;
+  const double r2 = reduceRuns(
+      runs, 0.0,
+      [&](double& v, const glm::dvec3& p) {
+        const glm::dvec3 d = p - c;
+        const double q = glm::dot(d, d);
+        if (std::isfinite(q)) v = std::max(v, q);
+      },
+      [](double a, double e) { return std::max(a, e); });
   radius = std::sqrt(r2);
   return true;
 }

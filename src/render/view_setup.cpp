@@ -6,12 +6,32 @@
 
 namespace wf {
 
-Camera withDepthRange(Camera c, const Scene& scene) {
+namespace {
+
+// The scene's bounding sphere, found on first use only (two passes over every point: a camera
+// with its planes set needs none of it) and then kept.
+class SceneSphere {
+ public:
+  explicit SceneSphere(const Scene& s) : scene_(s) {}
+  bool get(glm::dvec3& centre, double& radius) {
+    if (!done_) has_ = scene_.boundingSphere(centre_, radius_), done_ = true;
+    centre = centre_, radius = radius_;
+    return has_;
+  }
+
+ private:
+  const Scene& scene_;
+  bool done_ = false, has_ = false;
+  glm::dvec3 centre_{0.0};
+  double radius_ = 0;
+};
+
+Camera withDepthRange(Camera c, SceneSphere& sphere) {
   if (c.nearPlane > 0 && c.farPlane > 0) return c;
   // Near and far from the bounding sphere, as tight as the scene allows.
   glm::dvec3 centre;
   double sphereRadius = 0;
-  const bool hasBounds = scene.boundingSphere(centre, sphereRadius);
+  const bool hasBounds = sphere.get(centre, sphereRadius);
   const glm::dvec3 dir = glm::normalize(c.target - c.eye);
   double dmin = 1e-3, dmax = 1e3;
   if (hasBounds) {
@@ -26,10 +46,15 @@ Camera withDepthRange(Camera c, const Scene& scene) {
   return c;
 }
 
+}  // namespace
+
+Camera withDepthRange(Camera c, const Scene& scene) {
+  SceneSphere sphere(scene);
+  return withDepthRange(c, sphere);
+}
+
 Camera chooseCamera(const Scene& scene, const RenderOptions& o, RenderStats& st) {
-  glm::dvec3 centre;
-  double sphereRadius = 0;
-  const bool hasBounds = scene.boundingSphere(centre, sphereRadius);
+  SceneSphere sphere(scene);
   bool useScenes = scene.camera.has_value();
   if (useScenes) {
     const std::string problem = scene.camera->problem();
@@ -38,10 +63,14 @@ Camera chooseCamera(const Scene& scene, const RenderOptions& o, RenderStats& st)
       useScenes = false;
     }
   }
-  Camera c = useScenes ? *scene.camera
-                       : (hasBounds ? frameSphere(centre, sphereRadius, double(o.width) / o.height)
-                                    : Camera{});
-  return withDepthRange(c, scene);
+  Camera c{};
+  glm::dvec3 centre;
+  double sphereRadius = 0;
+  if (useScenes)
+    c = *scene.camera;
+  else if (sphere.get(centre, sphereRadius))
+    c = frameSphere(centre, sphereRadius, double(o.width) / o.height);
+  return withDepthRange(c, sphere);
 }
 
 }  // namespace wf
