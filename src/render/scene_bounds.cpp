@@ -1,9 +1,11 @@
 // Bounds of a scene's geometry (what the camera frames and the near / far planes enclose).
 //
-// A million hairs are two million points, visited twice (the box, then the radius about its
-// centre): in parallel over chunks of the points and of the triangles. Minimum and maximum are
-// exact whatever the order they are taken in, so the result is the same for any thread count;
-// the one order-dependent case, -0 against +0, is settled by adding +0 at the end.
+// Dense fur is millions of points, visited twice (the box, then the radius about its centre):
+// in parallel over runs of the points and of the triangles. The result is the serial pass's to
+// the bit for any thread count: minimum and maximum round nothing, and the one case where the
+// order could show, -0 against +0 (equal: glm::min and max keep the first), keeps the serial
+// order, since tbb::parallel_reduce joins each left part with the part to its right (it asks for
+// associativity, not commutativity).
 #include "render/scene.h"
 
 #include <tbb/blocked_range.h>
@@ -17,11 +19,11 @@ namespace wf {
 
 namespace {
 
-// A run of the scene's points: polyline points [begin, end) of one wire, or the vertices of
-// triangles [begin, end) of one surface (a vertex once per triangle that uses it; indices past
-// the positions skipped).
+// A run of the scene's points: polyline points [begin, end) of one wire (`points`), or the
+// vertices of triangles [begin, end) of one surface (`surface`; a vertex once per triangle that
+// uses it, indices past the positions skipped). The other pointer is null.
 struct PointRun {
-  const SceneSurface* surface;  // null: a wire's points
+  const SceneSurface* surface;
   const glm::dvec3* points;
   size_t begin, end;
 };
@@ -70,7 +72,7 @@ struct Box {
 };
 
 Box boundsOf(const std::vector<PointRun>& runs) {
-  Box b = reduceRuns(
+  return reduceRuns(
       runs, Box{},
       [](Box& v, const glm::dvec3& p) {
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return;
@@ -79,9 +81,6 @@ Box boundsOf(const std::vector<PointRun>& runs) {
         v.any = true;
       },
       [](const Box& a, const Box& c) { return Box{glm::min(a.lo, c.lo), glm::max(a.hi, c.hi), a.any || c.any}; });
-  b.lo += glm::dvec3(0.0);  // -0 and +0 compare equal: which one a minimum keeps depends on the order
-  b.hi += glm::dvec3(0.0);
-  return b;
 }
 
 }  // namespace
