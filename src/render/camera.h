@@ -55,6 +55,12 @@ struct ViewTransform {
     }
     return {cx + orthoScale * p.x, cy - orthoScale * p.y};
   }
+  /// project(p), and pixelsPerWorld at p's depth in `scale`: one division for both (wire set-up).
+  /// The point may differ from project()'s in its last bit.
+  glm::dvec2 projectScaled(const glm::dvec3& p, double& scale) const {
+    scale = perspective ? focal / -p.z : orthoScale;
+    return {cx + scale * p.x, cy - scale * p.y};
+  }
   /// The depth key (1/d or d), linear in screen space.
   double depthKey(double d) const { return perspective ? 1.0 / d : d; }
   /// Inverse of depthKey. Under perspective a key <= 0 (extrapolated beyond the vanishing

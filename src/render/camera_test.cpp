@@ -28,6 +28,12 @@ TEST(Camera, ScreenAndEyeSpaceRoundTrip) {
           EXPECT_NEAR(s.y, y, 1e-9);
           EXPECT_NEAR(-p.z, d, 1e-12);
           EXPECT_NEAR(v.depthFromKey(v.depthKey(d)), d, 1e-12 * d);
+          // The wire set-up's projection: the same point, and pixelsPerWorld at its depth.
+          double scale = 0;
+          const glm::dvec2 q = v.projectScaled(p, scale);
+          EXPECT_NEAR(q.x, x, 1e-9);
+          EXPECT_NEAR(q.y, y, 1e-9);
+          EXPECT_NEAR(scale, v.pixelsPerWorld(d), 1e-12 * v.pixelsPerWorld(d));
         }
     // The target projects to the image centre; the eye-from-world rotation is orthonormal.
     const glm::dvec2 t = v.project(v.toEye(c.target));

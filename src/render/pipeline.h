@@ -339,13 +339,17 @@ double segmentTiltBound(const ViewTransform& v, const SegmentPrim& s);
 /// a wire off the view axis and across the radial direction is wider (1 / cos of the ray's
 /// angle at the image's edge). 1 where the axis passes through the eye or the view is
 /// orthographic (every ray parallel: r times the scale, exactly).
-inline double wireWidthFactor(const ViewTransform& v, const glm::dvec3& e0, const glm::dvec3& e1) {
+/// l0, l1: |e0|, |e1| (set-up forms them once for this and wireDepthScale).
+inline double wireWidthFactor(const ViewTransform& v, const glm::dvec3& e0, const glm::dvec3& e1, double l0, double l1) {
   if (!v.perspective) return 1.0;
   const glm::dvec3 n = glm::cross(e0, e1);
   const double nl = glm::length(n);
-  if (!(nl > 1e-12 * glm::length(e0) * glm::length(e1)) || !std::isfinite(nl)) return 1.0;
+  if (!(nl > 1e-12 * l0 * l1) || !std::isfinite(nl)) return 1.0;
   const double nz = n.z / nl;
   return 1.0 / std::sqrt(std::max(1e-4, 1.0 - nz * nz));  // at most 100: rays within 89.4 degrees of the axis
+}
+inline double wireWidthFactor(const ViewTransform& v, const glm::dvec3& e0, const glm::dvec3& e1) {
+  return wireWidthFactor(v, e0, e1, glm::length(e0), glm::length(e1));
 }
 
 /// The most a wire's round surface is taken to stand in front of its axis, in radii along the
@@ -360,13 +364,23 @@ inline constexpr double kMaxWireDepthScale = 5.0;
 /// depth; its entry lies half the chord nearer along the ray, cos(theta) of that in view depth.
 /// 1 for a wire across the view on the view axis (the paper's picture); bounded by
 /// kMaxWireDepthScale towards end-on, where the end caps, not the body, are what is seen.
-inline double wireDepthScale(const ViewTransform& v, const glm::dvec3& e, const glm::dvec3& axis) {
-  const glm::dvec3 view = v.viewVector(e);
-  const double al = glm::length(axis);
-  if (!(al > 0) || !std::isfinite(al)) return 1.0;
-  const double sinBeta = glm::length(glm::cross(view, axis / al));
+/// `unitAxis`: the axis over its length, or 0 where it has none (then 1); `le`: |e| (set-up
+/// forms both once per segment, for both ends). The view vector is -e / |e| (perspective) or +z.
+inline double wireDepthScale(const ViewTransform& v, const glm::dvec3& e, double le, const glm::dvec3& unitAxis) {
+  if (unitAxis == glm::dvec3(0.0)) return 1.0;
+  glm::dvec3 view(0.0, 0.0, 1.0);
+  if (v.perspective && le > 0) view = e * (-1.0 / le);
+  const double sinBeta = glm::length(glm::cross(view, unitAxis));
   const double cosTheta = std::clamp(view.z, 0.0, 1.0);
   return cosTheta / std::max(sinBeta, 1.0 / kMaxWireDepthScale);
+}
+/// `axis` / |axis|, or 0 for an axis of no (or no finite) length: wireDepthScale's unit axis.
+inline glm::dvec3 wireUnitAxis(const glm::dvec3& axis) {
+  const double al = glm::length(axis);
+  return al > 0 && std::isfinite(al) ? axis * (1.0 / al) : glm::dvec3(0.0);
+}
+inline double wireDepthScale(const ViewTransform& v, const glm::dvec3& e, const glm::dvec3& axis) {
+  return wireDepthScale(v, e, glm::length(e), wireUnitAxis(axis));
 }
 
 /// The nearest depth of a segment's visible surface (for either WireDepth): no nearer than its

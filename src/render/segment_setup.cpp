@@ -24,6 +24,10 @@ struct SegScreen {
   glm::dvec3 e0{0}, e1{0};  // eye-space ends (after clipping)
   glm::dvec2 nrm{0};
   glm::dvec3 tangent{0};  // eye-space unit direction (unclipped)
+  double k0 = 0, k1 = 0;  // pixels per world unit at the ends' depths
+  double l0 = 0, l1 = 0;  // |e0|, |e1|: the ends' distances from the eye
+  glm::dvec3 unitAxis{0};  // (e1 - e0) / |e1 - e0| after clipping (wireUnitAxis)
+  double length = 0;       // |p1 - p0|, pixels
 };
 
 // Half discs of n = 2 ... kMaxCapSides edges: fan about the centre, 2 triangles with one vertex
@@ -283,16 +287,21 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       clipEnd(e1, d1, o0, -o0.z, s.clipped1);
       s.d0 = d0;
       s.d1 = d1;
-      s.p0 = view.project(e0);
-      s.p1 = view.project(e1);
+      // (What several of the quantities below share is formed once: the ends' scales and
+      // distances, the unit axis; one reciprocal where three divisions by it would do.)
+      s.p0 = view.projectScaled(e0, s.k0);
+      s.p1 = view.projectScaled(e1, s.k1);
+      s.l0 = glm::length(e0), s.l1 = glm::length(e1);
+      s.unitAxis = wireUnitAxis(e1 - e0);
       // A width in pixels is the user's; a world thickness is the cylinder's outline in the
       // perspective image (wireWidthFactor: off the view axis it is wider than r f / d).
-      const double widen = wire.thicknessInPixels ? 1.0 : wireWidthFactor(view, e0, e1);
-      s.w0 = wire.thicknessInPixels ? halfT * ps.pixelScale : halfT * view.pixelsPerWorld(d0) * widen;
-      s.w1 = wire.thicknessInPixels ? halfT * ps.pixelScale : halfT * view.pixelsPerWorld(d1) * widen;
+      const double widen = wire.thicknessInPixels ? 1.0 : wireWidthFactor(view, e0, e1, s.l0, s.l1);
+      s.w0 = wire.thicknessInPixels ? halfT * ps.pixelScale : halfT * s.k0 * widen;
+      s.w1 = wire.thicknessInPixels ? halfT * ps.pixelScale : halfT * s.k1 * widen;
       s.e0 = e0, s.e1 = e1;
       const glm::dvec2 dv = s.p1 - s.p0;
       const double length = glm::length(dv);
+      s.length = length;
       // Widths are stored as floats: one that rounds to 0 or overflows draws nothing.
       if (!std::isfinite(length) || !(float(s.w0) > 0) || !(float(s.w1) > 0) || !std::isfinite(float(s.w0)) ||
           !std::isfinite(float(s.w1)) || !std::isfinite(float(s.d1)) || !std::isfinite(float(s.d0))) {
@@ -300,7 +309,7 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
         continue;
       }
       s.endOn = length < std::max(s.w0, s.w1);
-      if (!s.endOn) s.nrm = glm::dvec2(-dv.y, dv.x) / length;
+      if (!s.endOn) s.nrm = glm::dvec2(-dv.y, dv.x) * (1.0 / length);
       s.valid = true;
     }
     // Joint offsets: vertex j joins segment j-1 and j.
@@ -332,8 +341,7 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       if (!s.valid) continue;
       const double arcHere = arc;
       if (out.dashPhase) {
-        const double len = glm::length(s.p1 - s.p0);
-        if (std::isfinite(len)) arc = std::fmod(arc + len, dashPeriod);
+        if (std::isfinite(s.length)) arc = std::fmod(arc + s.length, dashPeriod);
       }
       SegmentPrim sp;
       sp.p0 = s.p0;
@@ -342,8 +350,8 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       sp.w1 = float(s.w1);
       // The world radius at each end (a pixel thickness turned into world units at its depth),
       // and the axis: the polyline, or one radius nearer when the wire rests on a surface.
-      const double r0 = wire.thicknessInPixels ? s.w0 / view.pixelsPerWorld(s.d0) : halfT;
-      const double r1 = wire.thicknessInPixels ? s.w1 / view.pixelsPerWorld(s.d1) : halfT;
+      const double r0 = wire.thicknessInPixels ? s.w0 / s.k0 : halfT;
+      const double r1 = wire.thicknessInPixels ? s.w1 / s.k1 : halfT;
       // Depth across the wire: how far its round surface stands in front of the axis along
       // the view axis (wireDepthScale: more than a radius where the wire slants towards the
       // eye). Seen end-on, what shows is its end's sphere: one radius. (Near a free end that
@@ -353,9 +361,9 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       // The scale ramps to 1 as the segment nears end-on (screen length from two half widths
       // down to one), so that its depth does not jump by up to (kMaxWireDepthScale - 1) r as it
       // turns end-on while the camera moves.
-      const double towardEndOn = s.endOn ? 0.0 : std::clamp(glm::length(s.p1 - s.p0) / std::max(s.w0, s.w1) - 1.0, 0.0, 1.0);
-      sp.r0 = float(r0 * (1.0 + (wireDepthScale(view, s.e0, s.e1 - s.e0) - 1.0) * towardEndOn));
-      sp.r1 = float(r1 * (1.0 + (wireDepthScale(view, s.e1, s.e1 - s.e0) - 1.0) * towardEndOn));
+      const double towardEndOn = s.endOn ? 0.0 : std::clamp(s.length / std::max(s.w0, s.w1) - 1.0, 0.0, 1.0);
+      sp.r0 = float(r0 * (1.0 + (wireDepthScale(view, s.e0, s.l0, s.unitAxis) - 1.0) * towardEndOn));
+      sp.r1 = float(r1 * (1.0 + (wireDepthScale(view, s.e1, s.l1, s.unitAxis) - 1.0) * towardEndOn));
       sp.d0 = float(wire.restsOnSurface ? std::max(nearP, s.d0 - r0) : s.d0);
       sp.d1 = float(wire.restsOnSurface ? std::max(nearP, s.d1 - r1) : s.d1);
       sp.tag = tag;
