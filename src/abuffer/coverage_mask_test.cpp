@@ -419,5 +419,35 @@ TEST(ScreenPolygonClip, KnownPieces) {
   EXPECT_NEAR(cy, 1.0 / 3.0, 1e-14);
 }
 
+// isConvex against its definition written out (the turn at every vertex, indices modulo the
+// count), on regular polygons (convex), the same with one vertex pulled inwards past its
+// neighbours' chord (not convex), and the small counts whose indices wrap more than once.
+TEST(ScreenPolygonConvex, MatchesTheTurnAtEveryVertex) {
+  auto turnsOneWay = [](const ScreenPolygon& p) {
+    int sign = 0;
+    for (int i = 0; i < p.count; ++i) {
+      const int j = (i + 1) % p.count, k = (i + 2) % p.count;
+      const double cr = (p.x[j] - p.x[i]) * (p.y[k] - p.y[j]) - (p.y[j] - p.y[i]) * (p.x[k] - p.x[j]);
+      const int s = cr > 0 ? 1 : (cr < 0 ? -1 : 0);
+      if (s != 0 && sign != 0 && s != sign) return false;
+      if (s != 0) sign = s;
+    }
+    return true;
+  };
+  for (int n = 1; n <= 12; ++n)
+    for (int dent = -1; dent < n; ++dent) {
+      std::vector<P2> v;
+      for (int i = 0; i < n; ++i) {
+        const double a = 2.0 * 3.141592653589793 * i / n, r = i == dent ? 0.2 : 1.0;
+        v.push_back({r * std::cos(a), r * std::sin(a)});
+      }
+      const ScreenPolygon p = makePolygon(v);
+      EXPECT_EQ(isConvex(p), turnsOneWay(p)) << n << " vertices, vertex " << dent << " pulled in";
+      if (n >= 5) {
+        EXPECT_EQ(isConvex(p), dent < 0) << n << " vertices, vertex " << dent << " pulled in";
+      }
+    }
+}
+
 }  // namespace
 }  // namespace wf

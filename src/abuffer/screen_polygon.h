@@ -123,7 +123,12 @@ inline int polygonEdges(const ScreenPolygon& p, EdgeFunction* edges) {
 inline bool isConvex(const ScreenPolygon& p) {
   int sign = 0;
   for (int i = 0; i < p.count; ++i) {
-    const int j = (i + 1) % p.count, k = (i + 2) % p.count;
+    // i + 1 and i + 2 modulo the count without dividing (set-up asks this of every mitred
+    // segment's polygon)
+    int j = i + 1;
+    if (j == p.count) j = 0;
+    int k = j + 1;
+    if (k == p.count) k = 0;
     const double cr = (p.x[j] - p.x[i]) * (p.y[k] - p.y[j]) - (p.y[j] - p.y[i]) * (p.x[k] - p.x[j]);
     const int s = cr > 0 ? 1 : (cr < 0 ? -1 : 0);
     if (s == 0) continue;
