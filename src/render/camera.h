@@ -56,7 +56,8 @@ struct ViewTransform {
     return {cx + orthoScale * p.x, cy - orthoScale * p.y};
   }
   /// project(p), and pixelsPerWorld at p's depth in `scale`: one division for both (wire set-up).
-  /// The point may differ from project()'s in its last bit.
+  /// The point may differ from project()'s in its last bit. As project(), for a point in front
+  /// of the camera (d > 0 for perspective; else `scale` is not positive, or infinite).
   glm::dvec2 projectScaled(const glm::dvec3& p, double& scale) const {
     scale = perspective ? focal / -p.z : orthoScale;
     return {cx + scale * p.x, cy - scale * p.y};
@@ -77,7 +78,7 @@ struct ViewTransform {
     const double l = glm::length(p);
     return l > 0 ? -p / l : glm::dvec3(0.0, 0.0, 1.0);
   }
-  /// Half-width in pixels of a line of world thickness `t` at depth d.
+  /// Pixels per world unit across the view at depth d (focal / d; orthographic: the scale).
   double pixelsPerWorld(double d) const { return perspective ? focal / d : orthoScale; }
   /// The largest angle (radians) between a view ray and the view axis in this image.
   double maxRayAngle() const;

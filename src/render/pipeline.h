@@ -339,7 +339,7 @@ double segmentTiltBound(const ViewTransform& v, const SegmentPrim& s);
 /// a wire off the view axis and across the radial direction is wider (1 / cos of the ray's
 /// angle at the image's edge). 1 where the axis passes through the eye or the view is
 /// orthographic (every ray parallel: r times the scale, exactly).
-/// l0, l1: |e0|, |e1| (set-up forms them once for this and wireDepthScale).
+/// `l0`, `l1`: |e0|, |e1| (set-up forms them once for this and wireDepthScale).
 inline double wireWidthFactor(const ViewTransform& v, const glm::dvec3& e0, const glm::dvec3& e1, double l0, double l1) {
   if (!v.perspective) return 1.0;
   const glm::dvec3 n = glm::cross(e0, e1);
@@ -364,8 +364,10 @@ inline constexpr double kMaxWireDepthScale = 5.0;
 /// depth; its entry lies half the chord nearer along the ray, cos(theta) of that in view depth.
 /// 1 for a wire across the view on the view axis (the paper's picture); bounded by
 /// kMaxWireDepthScale towards end-on, where the end caps, not the body, are what is seen.
-/// `unitAxis`: the axis over its length, or 0 where it has none (then 1); `le`: |e| (set-up
-/// forms both once per segment, for both ends). The view vector is -e / |e| (perspective) or +z.
+/// `unitAxis`: the axis over its length, or 0 where it has none (then 1); `le`: |e|. Set-up
+/// forms the unit axis once per segment and each end's |e| once for this and wireWidthFactor.
+/// The view vector is -e / |e| (perspective), else, or where |e| is not positive, +z (as
+/// ViewTransform::viewVector, to rounding).
 inline double wireDepthScale(const ViewTransform& v, const glm::dvec3& e, double le, const glm::dvec3& unitAxis) {
   if (unitAxis == glm::dvec3(0.0)) return 1.0;
   glm::dvec3 view(0.0, 0.0, 1.0);

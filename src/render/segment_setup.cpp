@@ -272,13 +272,17 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       }
       // Clip to [near, far] along the segment.
       auto clipEnd = [&](glm::dvec3& p, double& d, const glm::dvec3& q, double dq, bool& flag) {
+        // (The cut point's z is set to the plane's: interpolated, it can miss it by the far
+        // end's rounding, which projectScaled's scale would then carry into the width.)
         if (d < nearP) {
           p = p + (nearP - d) / (dq - d) * (q - p);
           d = nearP;
+          p.z = -nearP;
           flag = true;
         } else if (d > farP) {
           p = p + (farP - d) / (dq - d) * (q - p);
           d = farP;
+          p.z = -farP;
           flag = true;
         }
       };
@@ -288,7 +292,8 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       s.d0 = d0;
       s.d1 = d1;
       // (What several of the quantities below share is formed once: the ends' scales and
-      // distances, the unit axis; one reciprocal where three divisions by it would do.)
+      // distances, the unit axis; one reciprocal in place of two or three divisions by the
+      // same value.)
       s.p0 = view.projectScaled(e0, s.k0);
       s.p1 = view.projectScaled(e1, s.k1);
       s.l0 = glm::length(e0), s.l1 = glm::length(e1);
