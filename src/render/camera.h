@@ -74,9 +74,14 @@ struct ViewTransform {
   }
   /// Unit vector from an eye-space point towards the viewer.
   glm::dvec3 viewVector(const glm::dvec3& p) const {
+    return perspective ? viewVector(p, glm::length(p)) : glm::dvec3(0.0, 0.0, 1.0);
+  }
+  /// The same, given l = |p| (wire set-up has it already). One reciprocal for the three
+  /// components (l is 0, or at least the square root of the smallest normal double: 1 / l is
+  /// finite for every finite l > 0).
+  glm::dvec3 viewVector(const glm::dvec3& p, double l) const {
     if (!perspective) return {0.0, 0.0, 1.0};
-    const double l = glm::length(p);
-    return l > 0 ? -p / l : glm::dvec3(0.0, 0.0, 1.0);
+    return l > 0 ? p * (-1.0 / l) : glm::dvec3(0.0, 0.0, 1.0);
   }
   /// Pixels per world unit across the view at depth d (focal / d; orthographic: the scale).
   double pixelsPerWorld(double d) const { return perspective ? focal / d : orthoScale; }

@@ -366,12 +366,9 @@ inline constexpr double kMaxWireDepthScale = 5.0;
 /// kMaxWireDepthScale towards end-on, where the end caps, not the body, are what is seen.
 /// `unitAxis`: the axis over its length, or 0 where it has none (then 1); `le`: |e|. Set-up
 /// forms the unit axis once per segment and each end's |e| once for this and wireWidthFactor.
-/// The view vector is -e / |e| (perspective), else, or where |e| is not positive, +z (as
-/// ViewTransform::viewVector, to rounding).
 inline double wireDepthScale(const ViewTransform& v, const glm::dvec3& e, double le, const glm::dvec3& unitAxis) {
   if (unitAxis == glm::dvec3(0.0)) return 1.0;
-  glm::dvec3 view(0.0, 0.0, 1.0);
-  if (v.perspective && le > 0) view = e * (-1.0 / le);
+  const glm::dvec3 view = v.viewVector(e, le);
   const double sinBeta = glm::length(glm::cross(view, unitAxis));
   const double cosTheta = std::clamp(view.z, 0.0, 1.0);
   return cosTheta / std::max(sinBeta, 1.0 / kMaxWireDepthScale);

@@ -292,8 +292,7 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       s.d0 = d0;
       s.d1 = d1;
       // (What several of the quantities below share is formed once: the ends' scales and
-      // distances, the unit axis; one reciprocal in place of two or three divisions by the
-      // same value.)
+      // distances, the unit axis.)
       s.p0 = view.projectScaled(e0, s.k0);
       s.p1 = view.projectScaled(e1, s.k1);
       s.l0 = glm::length(e0), s.l1 = glm::length(e1);
@@ -305,16 +304,15 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       s.w1 = wire.thicknessInPixels ? halfT * ps.pixelScale : halfT * s.k1 * widen;
       s.e0 = e0, s.e1 = e1;
       const glm::dvec2 dv = s.p1 - s.p0;
-      const double length = glm::length(dv);
-      s.length = length;
+      s.length = glm::length(dv);
       // Widths are stored as floats: one that rounds to 0 or overflows draws nothing.
-      if (!std::isfinite(length) || !(float(s.w0) > 0) || !(float(s.w1) > 0) || !std::isfinite(float(s.w0)) ||
+      if (!std::isfinite(s.length) || !(float(s.w0) > 0) || !(float(s.w1) > 0) || !std::isfinite(float(s.w0)) ||
           !std::isfinite(float(s.w1)) || !std::isfinite(float(s.d1)) || !std::isfinite(float(s.d0))) {
         ++counts.clipped;
         continue;
       }
-      s.endOn = length < std::max(s.w0, s.w1);
-      if (!s.endOn) s.nrm = glm::dvec2(-dv.y, dv.x) * (1.0 / length);
+      s.endOn = s.length < std::max(s.w0, s.w1);
+      if (!s.endOn) s.nrm = glm::dvec2(-dv.y, dv.x) * (1.0 / s.length);
       s.valid = true;
     }
     // Joint offsets: vertex j joins segment j-1 and j.
@@ -345,9 +343,7 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       const SegScreen& s = segs[j];
       if (!s.valid) continue;
       const double arcHere = arc;
-      if (out.dashPhase) {
-        if (std::isfinite(s.length)) arc = std::fmod(arc + s.length, dashPeriod);
-      }
+      if (out.dashPhase) arc = std::fmod(arc + s.length, dashPeriod);  // (finite: checked above)
       SegmentPrim sp;
       sp.p0 = s.p0;
       sp.p1 = s.p1;
