@@ -139,15 +139,15 @@ class Binner {
     const int ox = tx * tile_, oy = ty * tile_;
     const int w = std::min(tile_, view_.width - ox), h = std::min(tile_, view_.height - oy);
     auto cell = [](double v, int o, int n) {
-      return std::int16_t(std::clamp<double>(std::floor(std::clamp(v, -1e9, 1e9)) - o, 0.0, double(n - 1)));
+      return std::uint8_t(std::clamp<double>(std::floor(std::clamp(v, -1e9, 1e9)) - o, 0.0, double(n - 1)));
     };
     TileBins::Item item;
     item.index = i;
     item.x0 = cell(x0, ox, w);
     item.y0 = cell(y0, oy, h);
     // The last pixel a coverage up to x1 (exclusive) reaches.
-    item.x1 = std::int16_t(std::clamp<double>(std::ceil(std::clamp(x1, -1e9, 1e9)) - 1 - ox, double(item.x0), double(w - 1)));
-    item.y1 = std::int16_t(std::clamp<double>(std::ceil(std::clamp(y1, -1e9, 1e9)) - 1 - oy, double(item.y0), double(h - 1)));
+    item.x1 = std::uint8_t(std::clamp<double>(std::ceil(std::clamp(x1, -1e9, 1e9)) - 1 - ox, double(item.x0), double(w - 1)));
+    item.y1 = std::uint8_t(std::clamp<double>(std::ceil(std::clamp(y1, -1e9, 1e9)) - 1 - oy, double(item.y0), double(h - 1)));
     item.zlo = 0.0f;
     return item;
   }
@@ -162,6 +162,9 @@ class Binner {
 
 TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& st, size_t memoryBudget) {
   const auto t0 = std::chrono::steady_clock::now();
+  if (tileSize < 1 || tileSize > TileBins::kMaxTileSize)  // (optionsProblem has said so already)
+    throw std::invalid_argument("tile size " + std::to_string(tileSize) + " outside 1 ... " +
+                                std::to_string(TileBins::kMaxTileSize));
   const Binner binner(ps, tileSize);
   TileBins bins;
   bins.tilesX = binner.tilesX();

@@ -26,7 +26,7 @@ TEST(SortTileItems, SameOrderAsTheComparisonForAnyDepths) {
       TileBins::Item& it = items[i];
       it.zlo = rng() % 3 ? pool[rng() % 13] : std::ldexp(float(rng() % 100000) - 50000.0f, int(rng() % 40) - 20);
       it.index = std::uint32_t(i * 3 + rng() % 3);  // increasing: binPrimitives' primitive order
-      it.x0 = std::int16_t(i % 7);
+      it.x0 = std::uint8_t(i % 7);
     }
     std::vector<TileBins::Item> want = items, got = items, scratch;
     std::sort(want.begin(), want.end());

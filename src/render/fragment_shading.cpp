@@ -170,7 +170,13 @@ glm::vec3 shadeFragment(const PreparedScene& ps, std::uint32_t i, double x, doub
     const double a = (1.0 - s) / double(sp.d0), b = s / double(sp.d1);
     s = a + b > 0 ? b / (a + b) : s;
   }
-  const glm::vec3 c = glm::mix(sh.c0, sh.c1, float(s));
+  // (Without the colours every segment's are 1 at both ends, and mix(1, 1, s) is exactly 1:
+  // fl(1 - s) is within 2^-25 of 1 - s for s in [0, 1], so adding s rounds to 1.)
+  glm::vec3 c(1.0f);
+  if (!ps.segmentColours.empty()) {
+    const SegmentColours& cl = ps.segmentColours[i - ps.triangles.size()];
+    c = glm::mix(cl.c0, cl.c1, float(s));
+  }
   if (sp.flags & kSegmentPreshaded) return c;
   const ShaderSlot& slot = ps.shaders[sp.shader];
   switch (slot.kind) {

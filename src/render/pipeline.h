@@ -145,7 +145,7 @@ inline constexpr std::uint8_t kSegmentCap0 = 1;         ///< half disc at p0 (a 
 inline constexpr std::uint8_t kSegmentCap1 = 2;         ///< half disc at p1
 inline constexpr std::uint8_t kSegmentEndOn = 4;        ///< shorter than wide: the hull of its end discs
 inline constexpr std::uint8_t kSegmentMayMerge = 8;     ///< its polyline has other pieces
-inline constexpr std::uint8_t kSegmentPreshaded = 16;   ///< c0, c1 hold the radiance at the ends
+inline constexpr std::uint8_t kSegmentPreshaded = 16;   ///< its colours hold the radiance at the ends
 
 /// How far a segment's polygon reaches from its axis in pixels: mitres up to kMitreLimit half
 /// widths, half discs up to pi / 2 half widths (their inner vertices sit outside the circle),
@@ -160,7 +160,12 @@ inline double segmentReach(const SegmentPrim& s) {
 /// What shading a wire fragment needs, read only for fragments that survive to the resolve.
 struct SegmentShading {
   glm::vec3 t0, t1;  ///< eye-space unit tangents at the two ends (averaged at joints)
-  glm::vec3 c0, c1;  ///< per-point colours; or, when kSegmentPreshaded, the radiance at the ends
+};
+/// A segment's colours at its ends: per-point colours; or, when kSegmentPreshaded, the radiance
+/// there. Kept only when some wire of the scene needs them (wireKeepsColours); a segment's colour
+/// is otherwise 1 at both ends, which interpolates to exactly 1.
+struct SegmentColours {
+  glm::vec3 c0, c1;
 };
 
 /// One way of shading: a surface material or a wire style, with the tables it reads.
@@ -223,6 +228,9 @@ struct PreparedScene {
   PodVector<glm::dvec2> vertices;  ///< the triangles' screen polygons
   PodVector<SegmentPrim> segments;
   PodVector<SegmentShading> segmentShading;
+  /// Per segment, or empty when every segment's colour is 1 at both ends (wireKeepsColours):
+  /// 24 bytes a segment that most dense scenes (one colour a wire, shaded) do without.
+  PodVector<SegmentColours> segmentColours;
   /// Per segment, the dash pattern's phase at p0 (pixels, HiddenLines::Dashed): empty unless a
   /// wire draws dashed hidden lines.
   PodVector<float> dashPhase;
@@ -457,12 +465,15 @@ struct TileBins {
   std::vector<std::uint32_t> offsets;  ///< tile t: items[offsets[t], offsets[t+1])
   /// One primitive in one tile: what the tile needs to order and cull it without touching the
   /// primitive itself (most are culled whole on dense scenes, and primitives are scattered).
+  /// 12 bytes: a dense scene has several per segment (a hair 40 pixels long crosses about five
+  /// tiles of 32), and the items are the largest of the render's per-segment arrays.
   struct Item {
     float zlo;                     ///< nearest depth of the primitive inside the tile: the tile sorts by (zlo, index)
     std::uint32_t index;           ///< the primitive (PreparedScene's numbering)
-    std::int16_t x0, y0, x1, y1;   ///< pixel rectangle within the tile, inclusive
+    std::uint8_t x0, y0, x1, y1;   ///< pixel rectangle within the tile, inclusive (tiles are at most 256 wide)
     bool operator<(const Item& o) const { return zlo < o.zlo || (zlo == o.zlo && index < o.index); }
   };
+  static constexpr int kMaxTileSize = 256;  ///< Item's corners are bytes
   PodVector<Item> items;           ///< per tile, in primitive order
   size_t bytes() const { return offsets.capacity() * sizeof(std::uint32_t) + items.capacity() * sizeof(Item); }
 };
@@ -607,6 +618,7 @@ struct TriangleSink {
 struct SegmentSink {
   SegmentPrim* prims;
   SegmentShading* shading;
+  SegmentColours* colours = nullptr;  ///< PreparedScene::segmentColours, when kept
   size_t count = 0;
   float* dashPhase = nullptr;  ///< PreparedScene::dashPhase, when kept
 };
@@ -614,7 +626,12 @@ struct SegmentSink {
 void setupTriangles(const PreparedScene& ps, const SceneSurface& surf, std::uint32_t surfaceIndex,
                     std::uint16_t shader, std::uint32_t tag, size_t begin, size_t end, TriangleSink& out,
                     SetupCounts& counts);
-/// Polylines [begin, end) of a wire: the paper's wire polygons (see SegmentPrim).
+/// True when wire `wire`, drawn by shader slot `shader` of `ps`, gives some segment a colour other
+/// than 1 at an end: per-point colours, a plain wire's colour, or radiance looked up at set-up
+/// (kSegmentPreshaded). PreparedScene::segmentColours is kept when any wire of the scene does.
+bool wireKeepsColours(const PreparedScene& ps, const SceneWire& wire, std::uint32_t shader);
+/// Polylines [begin, end) of a wire: the paper's wire polygons (see SegmentPrim). `out.colours`
+/// must be set when wireKeepsColours says so.
 void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_t shader,
                     std::uint32_t tagBase, size_t begin, size_t end, SegmentSink& out, SetupCounts& counts,
                     const WireSimplification* simplification = nullptr);

@@ -182,7 +182,7 @@ size_t PreparedScene::bytes() const {
   size_t b = triangles.capacity() * sizeof(TrianglePrim) + vertices.capacity() * sizeof(glm::dvec2) +
              triangleAttributes.capacity() * sizeof(TriangleAttributes) +
              segments.capacity() * sizeof(SegmentPrim) + segmentShading.capacity() * sizeof(SegmentShading) +
-             dashPhase.capacity() * sizeof(float);
+             segmentColours.capacity() * sizeof(SegmentColours) + dashPhase.capacity() * sizeof(float);
   for (const ShaderSlot& s : shaders) {
     if (s.wireTables) b += s.wireTables->bytes();
     if (s.surfaceTables) b += s.surfaceTables->bytes();
@@ -271,6 +271,10 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
   ps.vertices.resize(5 * triangleRoom);
   ps.segments.resize(segmentRoom);
   ps.segmentShading.resize(segmentRoom);
+  bool colours = false;  // some wire gives a segment a colour other than 1 (wireKeepsColours)
+  for (size_t w = 0; w < scene.wires.size(); ++w)
+    colours = colours || wireKeepsColours(ps, scene.wires[w], std::uint32_t(wireShader[w]));
+  if (colours) ps.segmentColours.resize(segmentRoom);
   bool dashed = false;
   for (const SceneWire& w : scene.wires) dashed = dashed || w.hidden.mode == HiddenLines::Mode::Dashed;
   if (dashed) ps.dashPhase.resize(segmentRoom);
@@ -278,6 +282,7 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
     Job& j = jobs[i];
     if (j.wire) {
       SegmentSink sink{ps.segments.data() + j.offset, ps.segmentShading.data() + j.offset};
+      if (colours) sink.colours = ps.segmentColours.data() + j.offset;
       if (dashed) sink.dashPhase = ps.dashPhase.data() + j.offset;
       const WireSimplification& simp = simplification.wires[j.object];
       setupPolylines(ps, scene.wires[j.object], std::uint32_t(wireShader[j.object]), tagBase[j.object], j.begin,
@@ -303,6 +308,9 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
         std::memmove(static_cast<void*>(ps.segments.data() + ns), ps.segments.data() + j.offset, j.count * sizeof(SegmentPrim));
         std::memmove(static_cast<void*>(ps.segmentShading.data() + ns), ps.segmentShading.data() + j.offset,
                      j.count * sizeof(SegmentShading));
+        if (colours)
+          std::memmove(static_cast<void*>(ps.segmentColours.data() + ns), ps.segmentColours.data() + j.offset,
+                       j.count * sizeof(SegmentColours));
         if (dashed) std::memmove(ps.dashPhase.data() + ns, ps.dashPhase.data() + j.offset, j.count * sizeof(float));
       }
       ns += j.count;
@@ -339,6 +347,7 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
   fit(ps.vertices, nv);
   fit(ps.segments, ns);
   fit(ps.segmentShading, ns);
+  if (colours) fit(ps.segmentColours, ns);
   if (dashed) fit(ps.dashPhase, ns);
   for (size_t i = 0; i < rejectedPerObject.size(); ++i) {
     if (!rejectedPerObject[i]) continue;

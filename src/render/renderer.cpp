@@ -69,7 +69,7 @@ size_t estimateRenderBytes(const Scene& scene, const RenderOptions& o, bool refe
   for (const SceneWire& wr : scene.wires)
     segments += std::max(0.0, double(wr.lines.points.size()) - double(wr.lines.polylineCount()));
   const double perTriangle = sizeof(TrianglePrim) + 5 * sizeof(glm::dvec2) + sizeof(TriangleAttributes);
-  const double perSegment = sizeof(SegmentPrim) + sizeof(SegmentShading);
+  const double perSegment = sizeof(SegmentPrim) + sizeof(SegmentShading) + sizeof(SegmentColours);  // (colours when kept)
   // The binning's per-chunk tile counts (binning.cpp: up to 4 chunks a thread, 65,536 primitives each).
   const double chunks = std::clamp(std::ceil((triangles + segments) / 65536.0), 1.0, 4.0 * threads);
   bytes += triangles * perTriangle + segments * perSegment + (triangles + segments) * sizeof(TileBins::Item) +
@@ -105,7 +105,8 @@ std::string optionsProblem(const RenderOptions& o) {
   if (!o.mask.valid()) return "mask must be 4x4, 8x4 or 8x8";
   if (o.budget < 1 || o.budget > kMaxListBudget) return "budget must be 1 ... " + std::to_string(kMaxListBudget);
   if (!(o.occlusionEpsilon >= 0.0 && o.occlusionEpsilon <= 0.1)) return "occlusion epsilon must be 0 ... 0.1";
-  if (o.tileSize < 8 || o.tileSize > 256) return "tile size must be 8 ... 256";
+  if (o.tileSize < 8 || o.tileSize > TileBins::kMaxTileSize)
+    return "tile size must be 8 ... " + std::to_string(TileBins::kMaxTileSize);
   if (o.threads < 0 || o.threads > kMaxThreads) return "threads must be 0 ... " + std::to_string(kMaxThreads);
   if (o.referenceSamples < 1 || o.referenceSamples > kMaxReferenceSamples)
     return "reference samples must be 1 ... " + std::to_string(kMaxReferenceSamples);

@@ -158,6 +158,24 @@ TEST(Render, LinesOfAnyWidthCoverWidthTimesLength) {
     }
 }
 
+// The largest tiles (TileBins::kMaxTileSize, whose bin items keep their rectangles in bytes): a
+// wire across three of them, through their last and first columns and rows, still holds the
+// exact area in every pixel (1e-5), as with the default tiles.
+TEST(Render, WireAcrossTheLargestTilesHasItsExactAreaAtTheirEdges) {
+  const int W = 600, H = 400;
+  for (const V2& p0 : {V2(2.3, 380.6), V2(597.4, 3.2)}) {
+    const V2 p1(W - p0.x, H - p0.y);
+    Scene scene = baseScene(W, H);
+    scene.wires.push_back(plainWire({{p0, p1}}, 2.5, 10.0, W, H));
+    RenderOptions o = smallOptions(W, H);
+    o.tileSize = TileBins::kMaxTileSize;
+    const RenderResult r = render(scene, o);
+    int at = -1;
+    EXPECT_LE(maxAlphaError(r.image, pixelAreas({segmentRect(p0, p1, 1.25)}, W, H), &at), 1e-5) << "pixel " << at;
+    EXPECT_NEAR(sumAlpha(r.image), 2.5 * glm::length(p1 - p0), 1e-3 * 2.5 * glm::length(p1 - p0));
+  }
+}
+
 TEST(Render, PolylineJointIsAMitreWithoutOverlap) {
   // A polyline bending by 60 degrees (and, the other reading of "a 60-degree bend", by 120
   // degrees, an interior angle of 60): the outline is two quads meeting on the mitre line,

@@ -8,6 +8,8 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace wf {
@@ -209,18 +211,32 @@ void segmentPolygon(const SegmentPrim& s, ScreenPolygon& poly) {
   poly.removeDuplicates();
 }
 
+namespace {
+bool hasPointColours(const PolylineSet& L) { return !L.points.empty() && L.colours.size() == L.points.size(); }
+// A straight wire's shading through one orthographic map depends on its tangent alone: it is
+// looked up once per segment at set-up and interpolated along it by colour (exactly: the
+// tangent is the same at both ends).
+bool preshadesByMap(const PreparedScene& ps, const ShaderSlot& slot) {
+  return ps.path == ShadingPath::Maps && slot.kind == ShaderSlot::Kind::WireShaded && slot.wireTables &&
+         ps.grid && ps.grid->size() == 1;
+}
+}  // namespace
+
+bool wireKeepsColours(const PreparedScene& ps, const SceneWire& wire, std::uint32_t shader) {
+  const ShaderSlot& slot = ps.shaders[shader];
+  return hasPointColours(wire.lines) || slot.kind == ShaderSlot::Kind::WirePlain || preshadesByMap(ps, slot);
+}
+
 void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_t shader,
                     std::uint32_t tagBase, size_t begin, size_t end, SegmentSink& out, SetupCounts& counts,
                     const WireSimplification* simplification) {
   const ViewTransform& view = ps.view;
   const PolylineSet& L = wire.lines;
   const ShaderSlot& slot = ps.shaders[shader];
-  const bool hasColours = L.colours.size() == L.points.size();
-  // A straight wire's shading through one orthographic map depends on its tangent alone: it is
-  // looked up once per segment here and interpolated along it by colour (exactly: the tangent
-  // is the same at both ends).
-  const bool preshadeMaps = ps.path == ShadingPath::Maps && slot.kind == ShaderSlot::Kind::WireShaded &&
-                            slot.wireTables && ps.grid->size() == 1;
+  const bool hasColours = hasPointColours(L);
+  const bool preshadeMaps = preshadesByMap(ps, slot);
+  if (!out.colours && wireKeepsColours(ps, wire, shader))
+    throw std::logic_error("setupPolylines: wire '" + wire.name + "' needs colours and has no room for them");
   const bool simplified = simplification && simplification->scale.size() == L.polylineCount();
   const double nearP = view.nearPlane, farP = view.farPlane;
   thread_local std::vector<SegScreen> segs;
@@ -413,25 +429,27 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       const glm::dvec3 t0 = jointTangent(j, s.tangent), t1 = jointTangent(j + 1, s.tangent);
       sh.t0 = glm::vec3(t0);
       sh.t1 = glm::vec3(t1);
-      sh.c0 = hasColours ? safeColour(L.colours[ids[j]]) : glm::vec3(1.0f);
-      sh.c1 = hasColours ? safeColour(L.colours[ids[j + 1]]) : glm::vec3(1.0f);
+      SegmentColours cl;
+      cl.c0 = hasColours ? safeColour(L.colours[ids[j]]) : glm::vec3(1.0f);
+      cl.c1 = hasColours ? safeColour(L.colours[ids[j + 1]]) : glm::vec3(1.0f);
       if (contrast < 1.0 && hasColours && simplification->meanColour.size() == simplification->scale.size()) {
         const glm::vec3 mean = simplification->meanColour[li];
-        sh.c0 = mean + (sh.c0 - mean) * float(contrast);
-        sh.c1 = mean + (sh.c1 - mean) * float(contrast);
+        cl.c0 = mean + (cl.c0 - mean) * float(contrast);
+        cl.c1 = mean + (cl.c1 - mean) * float(contrast);
       }
       if (slot.kind == ShaderSlot::Kind::WirePlain) {
-        sh.c0 *= slot.colour;
-        sh.c1 *= slot.colour;
+        cl.c0 *= slot.colour;
+        cl.c1 *= slot.colour;
         sp.flags |= kSegmentPreshaded;
       } else if (preshadeMaps && t0 == t1) {
         const glm::vec3 radiance = slot.wireTables->lookup(t0, view.cx, view.cy);
-        sh.c0 *= radiance;
-        sh.c1 *= radiance;
+        cl.c0 *= radiance;
+        cl.c1 *= radiance;
         sp.flags |= kSegmentPreshaded;
       }
       out.prims[out.count] = sp;
       out.shading[out.count] = sh;
+      if (out.colours) out.colours[out.count] = cl;
       if (out.dashPhase) out.dashPhase[out.count] = float(arcHere);
       ++out.count;
     }

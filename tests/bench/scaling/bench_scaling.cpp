@@ -218,6 +218,7 @@ void renderFigures(const wf::Scene& scene, const wf::RenderOptions& opt, int rep
     j["primitives_bytes"] = ps.segments.capacity() * sizeof(wf::SegmentPrim) + ps.triangles.capacity() * sizeof(wf::TrianglePrim);
     j["vertices_bytes"] = ps.vertices.capacity() * sizeof(glm::dvec2);
     j["attributes_bytes"] = ps.segmentShading.capacity() * sizeof(wf::SegmentShading) +
+                            ps.segmentColours.capacity() * sizeof(wf::SegmentColours) +
                             ps.triangleAttributes.capacity() * sizeof(wf::TriangleAttributes);
     j["tables_bytes"] = tables;
     j["prepared_bytes"] = ps.bytes();
