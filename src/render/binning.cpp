@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -63,8 +64,22 @@ class Binner {
   // Calls f(tile, item) for every tile primitive i may cover.
   template <class F>
   void forEachItem(std::uint32_t i, F&& f) const {
-    if (ps_.isSegment(i)) segmentItems(i, ps_.segmentOf(i), f);
+    if (ps_.isSegment(i)) segmentItems<true>(i, ps_.segmentOf(i), f);
     else triangleItems(i, ps_.triangles[i], f);
+  }
+  // The same tiles, without forming the items (the counting pass: a segment's depths are not
+  // needed to know which tiles it reaches).
+  template <class F>
+  void forEachTile(std::uint32_t i, F&& f) const {
+    if (ps_.isSegment(i)) {
+      segmentItems<false>(i, ps_.segmentOf(i), [&](int tile, const TileBins::Item&) { f(tile); });
+      return;
+    }
+    const TrianglePrim& p = ps_.triangles[i];
+    int tx0, ty0, tx1, ty1;
+    if (!tileRange(p.bbox[0], p.bbox[1], p.bbox[2], p.bbox[3], tx0, ty0, tx1, ty1)) return;
+    for (int ty = ty0; ty <= ty1; ++ty)
+      for (int tx = tx0; tx <= tx1; ++tx) f(ty * tilesX_ + tx);
   }
 
  private:
@@ -87,19 +102,26 @@ class Binner {
       }
   }
 
-  template <class F>
-  void segmentItems(std::uint32_t i, const SegmentPrim& s, F& f) const {
+  // kItems false: f(tile, an empty item) for the same tiles, with nothing of the items formed.
+  template <bool kItems, class F>
+  void segmentItems(std::uint32_t i, const SegmentPrim& s, F&& f) const {
     const double reach = segmentReach(s);
     const double bx0 = std::min(s.p0.x, s.p1.x) - reach, bx1 = std::max(s.p0.x, s.p1.x) + reach;
     const double by0 = std::min(s.p0.y, s.p1.y) - reach, by1 = std::max(s.p0.y, s.p1.y) + reach;
     int tx0, ty0, tx1, ty1;
     if (!tileRange(bx0, by0, bx1, by1, tx0, ty0, tx1, ty1)) return;
-    const float zlo = segmentZlo(view_, s);
-    const SegmentEndKeys keys(view_, s);
-    const double tilt = segmentTiltBound(view_, s);
-    // The round model takes the axis depth up to `slide` along the axis from the pixel's foot.
-    const SegmentFrame frame(s);
-    const double slide = SegmentTilt(view_, s, frame).shiftBound(view_, s, frame);
+    // (Formed only to fill the items: two divisions, a square root and the tilt.)
+    float zlo = 0.0f;
+    double tilt = 0.0, slide = 0.0;
+    std::optional<SegmentEndKeys> keys;
+    if constexpr (kItems) {
+      zlo = segmentZlo(view_, s);
+      keys.emplace(view_, s);
+      tilt = segmentTiltBound(view_, s);
+      // The round model takes the axis depth up to `slide` along the axis from the pixel's foot.
+      const SegmentFrame frame(s);
+      slide = SegmentTilt(view_, s, frame).shiftBound(view_, s, frame);
+    }
     for (int ty = ty0; ty <= ty1; ++ty)
       for (int tx = tx0; tx <= tx1; ++tx) {
         // The axis inside the tile grown by the reach: only that part can cover the tile.
@@ -107,6 +129,10 @@ class Binner {
         const double ry0 = ty * tile_ - reach, ry1 = (ty + 1) * tile_ + reach;
         double ta, tb;
         if (!clipAxis(s, rx0, ry0, rx1, ry1, ta, tb)) continue;
+        if constexpr (!kItems) {
+          f(ty * tilesX_ + tx, TileBins::Item{});
+          continue;
+        }
         const double ax = s.p0.x + ta * (s.p1.x - s.p0.x), bx = s.p0.x + tb * (s.p1.x - s.p0.x);
         const double ay = s.p0.y + ta * (s.p1.y - s.p0.y), by = s.p0.y + tb * (s.p1.y - s.p0.y);
         TileBins::Item item = rectItem(i, tx, ty, std::min(ax, bx) - reach, std::min(ay, by) - reach,
@@ -114,7 +140,8 @@ class Binner {
         // The axis depth is monotonic along the axis: its nearest is at one end of [ta, tb]; the
         // surface is at most the tilt and the largest radius nearer (either WireDepth, segmentZlo).
         const double sa = std::max(0.0, ta - slide), sb = std::min(1.0, tb + slide);
-        const double k = view_.perspective ? std::max(keys.axis(sa), keys.axis(sb)) : std::min(keys.axis(sa), keys.axis(sb));
+        const double k =
+            view_.perspective ? std::max(keys->axis(sa), keys->axis(sb)) : std::min(keys->axis(sa), keys->axis(sb));
         const double z = view_.depthFromKey(k) * (1.0 - tilt) - std::max(double(s.r0), double(s.r1));
         item.zlo = z >= zlo ? float(z) : zlo;  // never nearer than the whole segment (nor NaN)
         f(ty * tilesX_ + tx, item);
@@ -180,7 +207,7 @@ TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& st, s
     std::uint32_t* cnt = &counts[c * tiles];
     const std::uint32_t end = std::uint32_t(std::min<size_t>(n, (c + 1) * per));
     for (std::uint32_t i = std::uint32_t(c * per); i < end; ++i)
-      binner.forEachItem(i, [&](int tile, const TileBins::Item&) { ++cnt[tile]; });
+      binner.forEachTile(i, [&](int tile) { ++cnt[tile]; });
   });
   // Offsets: tile-major, chunks in order within a tile.
   bins.offsets.assign(tiles + 1, 0);

@@ -45,6 +45,14 @@ struct TriangleDepth {
   }
   /// Where the polygon may lie across rows [ya, yb]: false, the whole rectangle being rasterised.
   bool bandSpan(double, double, double&, double&) const { return false; }
+  /// A pixel's nearest depth, as the rasteriser asks it before range().
+  struct Near {
+    double z;
+  };
+  Near pixelNearest(int col, int row) const { return {nearest(col, row, col + 1.0, row + 1.0)}; }
+  void range(int col, int row, double cx, double cy, const Near& n, float& zmin, float& zmax, float& zkey) const {
+    range(col, row, cx, cy, n.z, zmin, zmax, zkey);
+  }
   /// zNear: nearest(col, row, col + 1, row + 1), which the rasteriser has already asked.
   void range(int col, int row, double cx, double cy, double zNear, float& zmin, float& zmax, float& zkey) const {
     const double a = zNear, b = farthest(col, row, col + 1.0, row + 1.0);
@@ -142,10 +150,27 @@ struct SegmentDepth {
     const double k = aa * ((aa > 0) == big ? x0 : x1) + ab * ((ab > 0) == big ? y0 : y1) + ac;
     return std::clamp(view->depthFromKey(k), alo, ahi);
   }
+  /// A pixel's nearest depth (nearest() over it) and, for the round model, the axis's nearest
+  /// depth it came from, which range() needs again.
+  struct Near {
+    double z;
+    double axis;  ///< nearestAxis over the pixel (Round)
+  };
+  Near pixelNearest(int col, int row) const {
+    if (model != WireDepth::Round) return {nearest(col, row, col + 1.0, row + 1.0), 0.0};
+    const double axis = nearestAxis(col, row, col + 1.0, row + 1.0);
+    return {std::max(view->nearPlane, axis * (1.0 - tilt.bound) - rmax), axis};  // nearest(), as it forms it
+  }
   /// zNear: nearest(col, row, col + 1, row + 1), which the rasteriser has already asked.
   void range(int col, int row, double cx, double cy, double zNear, float& zmin, float& zmax, float& zkey) const {
-    double a = zNear;
-    double b = std::max(a, farthest(col, row, col + 1.0, row + 1.0));
+    const Near n{zNear, model == WireDepth::Round ? nearestAxis(col, row, col + 1.0, row + 1.0) : 0.0};
+    range(col, row, cx, cy, n, zmin, zmax, zkey);
+  }
+  void range(int col, int row, double cx, double cy, const Near& n, float& zmin, float& zmax, float& zkey) const {
+    double a = n.z;
+    // The axis's farthest depth over the pixel, once (farthest() is it, moved by the tilt).
+    const double axisFar = farthestAxis(col, row, col + 1.0, row + 1.0);
+    double b = std::max(a, model == WireDepth::Round ? axisFar * (1.0 + tilt.bound) : axisFar);
     if (model == WireDepth::Round) {
       // The round surface over the pixel: between the axis a radius times sqrt(1 - q^2) nearer,
       // q the distance from the axis in half widths, smallest and largest over the pixel's
@@ -178,9 +203,7 @@ struct SegmentDepth {
         const double slack = 1e-6 * std::abs(tilt.lateral) * whi;
         const double tiltLo = std::min(tilt.lateral * la, tilt.lateral * lb) - slack;
         const double tiltHi = std::max(tilt.lateral * la, tilt.lateral * lb) + slack;
-        const double axisNear = nearestAxis(col, row, col + 1.0, row + 1.0);
-        const double axisFar = farthestAxis(col, row, col + 1.0, row + 1.0);
-        a = std::max(a, std::max(view->nearPlane, axisNear * (1.0 + tiltLo) - rhi * std::sqrt(1.0 - qmin * qmin)));
+        a = std::max(a, std::max(view->nearPlane, n.axis * (1.0 + tiltLo) - rhi * std::sqrt(1.0 - qmin * qmin)));
         b = std::max(a, std::min(b, axisFar * (1.0 + tiltHi) - rlo * std::sqrt(1.0 - qmax * qmax)));
       }
     }
@@ -368,7 +391,8 @@ void rasterizePolygon(const ScreenPolygon& poly, const Depth& depth, int rx0, in
         ++work.pixelsCulled;
         continue;
       }
-      const double zNear = depth.nearest(col, y0, col + 1.0, y1);
+      const typename Depth::Near near = depth.pixelNearest(col, row);
+      const double zNear = near.z;
       if (zNear > zRow && cullPixel(col, row, zNear)) {
         ++work.pixelsCulled;
         continue;
@@ -426,7 +450,7 @@ void rasterizePolygon(const ScreenPolygon& poly, const Depth& depth, int rx0, in
           pc.subpixel = sj * layout.w + si;
         }
       }
-      depth.range(col, row, pc.cx, pc.cy, zNear, pc.zmin, pc.zmax, pc.zkey);
+      depth.range(col, row, pc.cx, pc.cy, near, pc.zmin, pc.zmax, pc.zkey);
       if (hidden(col, row, pc.mask, pc.subpixel, std::max(zNear, double(pc.zmin)))) {
         ++work.masksHidden;
         continue;

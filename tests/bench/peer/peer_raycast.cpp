@@ -422,6 +422,11 @@ int main(int argc, char** argv) {
       ja.back()["ns_per_emitted_fragment_raster"] = nsEmitted;
       ja.back()["peak_bytes_per_segment"] = bytesSegment;
       ja.back()["fragments_emitted"] = r.stats.work.emitted;
+      const wf::RenderStats::RasterWork& w = r.stats.work;
+      ja.back()["raster_work"] = {{"items", w.items},         {"rows", w.rows},
+                                  {"rows_culled", w.rowsCulled}, {"pixels", w.pixels},
+                                  {"pixels_culled", w.pixelsCulled}, {"masks_hidden", w.masksHidden},
+                                  {"emitted", w.emitted},     {"primitives_occluded", r.stats.primitivesOccluded}};
       ja.back()["budget_tail_share"] = r.stats.budgetTailShare;
       ja.back()["target_speedup"] = target;
       if (m.w == 8 && m.h == 4 && a.floors.count(name) && !(speedup >= a.floors[name])) {
