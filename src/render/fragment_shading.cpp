@@ -170,8 +170,9 @@ glm::vec3 shadeFragment(const PreparedScene& ps, std::uint32_t i, double x, doub
     const double a = (1.0 - s) / double(sp.d0), b = s / double(sp.d1);
     s = a + b > 0 ? b / (a + b) : s;
   }
-  // (Without the colours every segment's are 1 at both ends, and mix(1, 1, s) is exactly 1:
-  // fl(1 - s) is within 2^-25 of 1 - s for s in [0, 1], so adding s rounds to 1.)
+  // (Without the colours every segment's are 1 at both ends, and mix(1, 1, s) = fl(fl(1 - s) + s)
+  // is exactly 1: fl(1 - s) is within 2^-25 of 1 - s for s in [0, 1], so the sum is within 2^-25
+  // of 1 and rounds to 1, a tie at 1 - 2^-25 to even, which is 1.)
   glm::vec3 c(1.0f);
   if (!ps.segmentColours.empty()) {
     const SegmentColours& cl = ps.segmentColours[i - ps.triangles.size()];

@@ -255,6 +255,9 @@ struct PreparedScene {
 /// The polygon of a segment (see SegmentPrim), in the order the rasteriser and the reference
 /// share.
 void segmentPolygon(const SegmentPrim& s, ScreenPolygon& poly);
+/// isConvex(segmentPolygon(s)), as set-up asks it of every mitred segment (a mitre that folds the
+/// polygon falls back to square ends).
+bool segmentPolygonConvex(const SegmentPrim& s);
 
 /// Where screen point (x, y) lies relative to a segment's axis: t along it (0 at p0, 1 at p1,
 /// outside [0, 1] beyond the ends) and q, the distance from the nearest axis point in half
@@ -474,6 +477,8 @@ struct TileBins {
     bool operator<(const Item& o) const { return zlo < o.zlo || (zlo == o.zlo && index < o.index); }
   };
   static constexpr int kMaxTileSize = 256;  ///< Item's corners are bytes
+  static_assert(sizeof(Item) == 12);
+  static_assert(kMaxTileSize - 1 <= std::numeric_limits<decltype(Item::x0)>::max());
   PodVector<Item> items;           ///< per tile, in primitive order
   size_t bytes() const { return offsets.capacity() * sizeof(std::uint32_t) + items.capacity() * sizeof(Item); }
 };

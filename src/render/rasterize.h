@@ -53,7 +53,8 @@ struct TriangleDepth {
   void range(int col, int row, double cx, double cy, const Near& n, float& zmin, float& zmax, float& zkey) const {
     range(col, row, cx, cy, n.z, zmin, zmax, zkey);
   }
-  /// zNear: nearest(col, row, col + 1, row + 1), which the rasteriser has already asked.
+  /// The pixel's depth range and its depth at (cx, cy), given zNear = nearest(col, row, col + 1,
+  /// row + 1) (the rasteriser's pixelNearest).
   void range(int col, int row, double cx, double cy, double zNear, float& zmin, float& zmax, float& zkey) const {
     const double a = zNear, b = farthest(col, row, col + 1.0, row + 1.0);
     zmin = float(a);
@@ -161,7 +162,8 @@ struct SegmentDepth {
     const double axis = nearestAxis(col, row, col + 1.0, row + 1.0);
     return {std::max(view->nearPlane, axis * (1.0 - tilt.bound) - rmax), axis};  // nearest(), as it forms it
   }
-  /// zNear: nearest(col, row, col + 1, row + 1), which the rasteriser has already asked.
+  /// range() given only zNear = nearest(col, row, col + 1, row + 1): the axis's nearest depth is
+  /// formed again (the rasteriser passes pixelNearest's instead; the same values).
   void range(int col, int row, double cx, double cy, double zNear, float& zmin, float& zmax, float& zkey) const {
     const Near n{zNear, model == WireDepth::Round ? nearestAxis(col, row, col + 1.0, row + 1.0) : 0.0};
     range(col, row, cx, cy, n, zmin, zmax, zkey);
@@ -391,8 +393,8 @@ void rasterizePolygon(const ScreenPolygon& poly, const Depth& depth, int rx0, in
         ++work.pixelsCulled;
         continue;
       }
-      const typename Depth::Near near = depth.pixelNearest(col, row);
-      const double zNear = near.z;
+      const typename Depth::Near pixelNear = depth.pixelNearest(col, row);
+      const double zNear = pixelNear.z;
       if (zNear > zRow && cullPixel(col, row, zNear)) {
         ++work.pixelsCulled;
         continue;
@@ -450,7 +452,7 @@ void rasterizePolygon(const ScreenPolygon& poly, const Depth& depth, int rx0, in
           pc.subpixel = sj * layout.w + si;
         }
       }
-      depth.range(col, row, pc.cx, pc.cy, near, pc.zmin, pc.zmax, pc.zkey);
+      depth.range(col, row, pc.cx, pc.cy, pixelNear, pc.zmin, pc.zmax, pc.zkey);
       if (hidden(col, row, pc.mask, pc.subpixel, std::max(zNear, double(pc.zmin)))) {
         ++work.masksHidden;
         continue;

@@ -176,6 +176,25 @@ TEST(Render, WireAcrossTheLargestTilesHasItsExactAreaAtTheirEdges) {
   }
 }
 
+// A wire that keeps colours (plain) but whose polylines form no segment (one point each): the
+// scene has no room for colours, and must still render, with nothing of that wire; with a shaded
+// wire beside it, whose segment then gets the colours' room, that wire draws its exact area.
+TEST(Render, WireOfNoSegmentThatKeepsColoursDrawsNothing) {
+  const int W = 32, H = 32;
+  Scene scene = baseScene(W, H);
+  scene.wires.push_back(plainWire({{V2(10.5, 10.5)}, {V2(20.0, 5.0)}}, 2.0, 10.0, W, H));
+  RenderResult r;
+  ASSERT_NO_THROW(r = render(scene, smallOptions(W, H)));
+  EXPECT_EQ(r.stats.segments, 0u);
+  EXPECT_EQ(sumAlpha(r.image), 0.0);
+  SceneWire shaded = plainWire({{V2(4.0, 16.0), V2(28.0, 16.0)}}, 2.0, 10.0, W, H);
+  shaded.style = WireStyle::Shaded;
+  scene.wires.push_back(shaded);
+  ASSERT_NO_THROW(r = render(scene, smallOptions(W, H)));
+  EXPECT_EQ(r.stats.segments, 1u);
+  EXPECT_NEAR(sumAlpha(r.image), 2.0 * 24.0, 1e-3 * 48.0);
+}
+
 TEST(Render, PolylineJointIsAMitreWithoutOverlap) {
   // A polyline bending by 60 degrees (and, the other reading of "a 60-degree bend", by 120
   // degrees, an interior angle of 60): the outline is two quads meeting on the mitre line,

@@ -1,7 +1,8 @@
 // Stage "primitives" (render/pipeline.h), wire segments: the paper's wire polygons (§3) with
-// mitred joints, end-on discs and optional round ends, stored as SegmentPrim (80 bytes) and
-// SegmentShading (48 bytes); the polygon itself is made on demand (segmentPolygon), so that a
-// million hairs do not hold twenty vertices each.
+// mitred joints, end-on discs and optional round ends, stored as SegmentPrim (80 bytes),
+// SegmentShading (24 bytes) and, when some wire needs them, SegmentColours (24 bytes); the
+// polygon itself is made on demand (segmentPolygon), so that a million hairs do not hold twenty
+// vertices each.
 #include "render/pipeline.h"
 
 #include <algorithm>
@@ -222,6 +223,34 @@ bool preshadesByMap(const PreparedScene& ps, const ShaderSlot& slot) {
 }
 }  // namespace
 
+// Without building the polygon where it is the quadrilateral p0 + o0, p1 + o1, p1 - o1, p0 - o0
+// (no caps, not end-on) of four distinct consecutive corners: the same corners and the same
+// turns in the same order, so the same answer. Otherwise the polygon itself.
+bool segmentPolygonConvex(const SegmentPrim& s) {
+  if (!(s.flags & (kSegmentCap0 | kSegmentCap1 | kSegmentEndOn))) {
+    const glm::dvec2 o0(s.o0), o1(s.o1);
+    const double x[4] = {s.p0.x + o0.x, s.p1.x + o1.x, s.p1.x - o1.x, s.p0.x - o0.x};
+    const double y[4] = {s.p0.y + o0.y, s.p1.y + o1.y, s.p1.y - o1.y, s.p0.y - o0.y};
+    bool distinct = true;
+    for (int i = 0; i < 4; ++i) distinct = distinct && !(x[i] == x[(i + 1) & 3] && y[i] == y[(i + 1) & 3]);
+    if (distinct) {
+      int sign = 0;
+      for (int i = 0; i < 4; ++i) {
+        const int j = (i + 1) & 3, k = (i + 2) & 3;
+        const double cr = (x[j] - x[i]) * (y[k] - y[j]) - (y[j] - y[i]) * (x[k] - x[j]);
+        const int t = cr > 0 ? 1 : (cr < 0 ? -1 : 0);
+        if (t == 0) continue;
+        if (sign == 0) sign = t;
+        else if (t != sign) return false;
+      }
+      return true;
+    }
+  }
+  ScreenPolygon poly;
+  segmentPolygon(s, poly);
+  return isConvex(poly);
+}
+
 bool wireKeepsColours(const PreparedScene& ps, const SceneWire& wire, std::uint32_t shader) {
   const ShaderSlot& slot = ps.shaders[shader];
   return hasPointColours(wire.lines) || slot.kind == ShaderSlot::Kind::WirePlain || preshadesByMap(ps, slot);
@@ -235,8 +264,9 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
   const ShaderSlot& slot = ps.shaders[shader];
   const bool hasColours = hasPointColours(L);
   const bool preshadeMaps = preshadesByMap(ps, slot);
-  if (!out.colours && wireKeepsColours(ps, wire, shader))
-    throw std::logic_error("setupPolylines: wire '" + wire.name + "' needs colours and has no room for them");
+  // (prepareScene gives room for colours when any wire keeps them; a scene with no segment at all
+  // has none to give, and needs none.)
+  const bool keepsColours = hasColours || slot.kind == ShaderSlot::Kind::WirePlain || preshadeMaps;  // wireKeepsColours
   const bool simplified = simplification && simplification->scale.size() == L.polylineCount();
   const double nearP = view.nearPlane, farP = view.farPlane;
   thread_local std::vector<SegScreen> segs;
@@ -399,9 +429,7 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
         sp.o1 = glm::vec2(mitred[j + 1] ? offsets[j + 1] : s.nrm * s.w1);
         if (mitred[j] || mitred[j + 1]) {
           // A mitre that folds the polygon falls back to square ends.
-          ScreenPolygon poly;
-          segmentPolygon(sp, poly);
-          if (!isConvex(poly)) {
+          if (!segmentPolygonConvex(sp)) {
             sp.o0 = glm::vec2(s.nrm * s.w0);
             sp.o1 = glm::vec2(s.nrm * s.w1);
           }
@@ -450,6 +478,7 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       out.prims[out.count] = sp;
       out.shading[out.count] = sh;
       if (out.colours) out.colours[out.count] = cl;
+      else if (keepsColours) throw std::logic_error("setupPolylines: wire '" + wire.name + "' keeps colours and has no room for them");
       if (out.dashPhase) out.dashPhase[out.count] = float(arcHere);
       ++out.count;
     }

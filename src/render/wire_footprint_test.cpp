@@ -79,6 +79,37 @@ RandomWire randomWire(std::mt19937_64& rng, const ViewTransform& v) {
 // The screen half width at an end, from rays: the largest offset across the axis's image at
 // which a ray still meets the cylinder, against r f / d times wireWidthFactor. Without the
 // factor the outline is up to 1 / cos(45 degrees) = 1.41 times wider at this view's corners.
+// segmentPolygonConvex (set-up's mitre check, which skips building the polygon for a mitred
+// quadrilateral) answers as isConvex(segmentPolygon(s)) does: random mitres, many of them folded
+// (offsets longer than the segment, crossed, reversed), caps at either end, end-on segments,
+// zero offsets and corners that coincide (which removeDuplicates merges). Both answers must occur.
+TEST(WireFootprint, MitreConvexityCheckMatchesThePolygon) {
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  int convex = 0, folded = 0;
+  for (int i = 0; i < 20000; ++i) {
+    SegmentPrim s{};
+    s.p0 = {100 + 20 * U(rng), 80 + 20 * U(rng)};
+    s.p1 = i % 17 == 0 ? s.p0 : glm::dvec2(100 + 20 * U(rng), 80 + 20 * U(rng));
+    const double scale = i % 3 == 0 ? 30.0 : 2.0;
+    s.o0 = glm::vec2(float(scale * U(rng)), float(scale * U(rng)));
+    s.o1 = i % 11 == 0 ? s.o0 : glm::vec2(float(scale * U(rng)), float(scale * U(rng)));
+    if (i % 13 == 0) s.o1 = glm::vec2(0.0f);
+    if (i % 19 == 0) s.o0 = -s.o1;  // p0 - o0 may land on p1 + o1 where the ends coincide
+    s.w0 = float(std::abs(2 * U(rng)) + 0.1), s.w1 = float(std::abs(2 * U(rng)) + 0.1);
+    const int kind = i % 7;
+    s.flags = kind == 1 ? kSegmentCap0 : kind == 2 ? kSegmentCap1 : kind == 3 ? kSegmentEndOn : 0;
+    if (s.flags & (kSegmentCap0 | kSegmentCap1) && s.p0 == s.p1) s.flags = 0;  // caps need a direction
+    ScreenPolygon poly;
+    segmentPolygon(s, poly);
+    const bool want = isConvex(poly);
+    ASSERT_EQ(segmentPolygonConvex(s), want) << "case " << i;
+    (want ? convex : folded)++;
+  }
+  EXPECT_GT(convex, 1000);
+  EXPECT_GT(folded, 1000);
+}
+
 TEST(WireFootprint, WidthFactorIsTheOutlineOfTheCylinder) {
   const ViewTransform v = wideView();
   std::mt19937_64 rng(11);
