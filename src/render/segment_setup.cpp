@@ -251,6 +251,10 @@ bool segmentPolygonConvex(const SegmentPrim& s) {
   return isConvex(poly);
 }
 
+[[noreturn, gnu::cold, gnu::noinline]] static void noRoomForColours(const SceneWire& wire) {
+  throw std::logic_error("setupPolylines: wire '" + wire.name + "' keeps colours and has no room for them");
+}
+
 bool wireKeepsColours(const PreparedScene& ps, const SceneWire& wire, std::uint32_t shader) {
   const ShaderSlot& slot = ps.shaders[shader];
   return hasPointColours(wire.lines) || slot.kind == ShaderSlot::Kind::WirePlain || preshadesByMap(ps, slot);
@@ -478,7 +482,7 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       out.prims[out.count] = sp;
       out.shading[out.count] = sh;
       if (out.colours) out.colours[out.count] = cl;
-      else if (keepsColours) throw std::logic_error("setupPolylines: wire '" + wire.name + "' keeps colours and has no room for them");
+      else if (keepsColours) noRoomForColours(wire);
       if (out.dashPhase) out.dashPhase[out.count] = float(arcHere);
       ++out.count;
     }
