@@ -120,6 +120,13 @@ inline int polygonEdges(const ScreenPolygon& p, EdgeFunction* edges) {
 }
 
 /// Whether the polygon is convex (all turns one way; collinear turns allowed).
+/// The turn at (xj, yj) from (xi, yi) to (xk, yk): 1 left, -1 right, 0 none (or NaN). isConvex
+/// and set-up's mitre check (segmentPolygonConvex) share it, so that they round alike.
+inline int turnSign(double xi, double yi, double xj, double yj, double xk, double yk) {
+  const double cr = (xj - xi) * (yk - yj) - (yj - yi) * (xk - xj);
+  return cr > 0 ? 1 : (cr < 0 ? -1 : 0);
+}
+
 inline bool isConvex(const ScreenPolygon& p) {
   int sign = 0;
   for (int i = 0; i < p.count; ++i) {
@@ -129,8 +136,7 @@ inline bool isConvex(const ScreenPolygon& p) {
     if (j == p.count) j = 0;
     int k = j + 1;
     if (k == p.count) k = 0;
-    const double cr = (p.x[j] - p.x[i]) * (p.y[k] - p.y[j]) - (p.y[j] - p.y[i]) * (p.x[k] - p.x[j]);
-    const int s = cr > 0 ? 1 : (cr < 0 ? -1 : 0);
+    const int s = turnSign(p.x[i], p.y[i], p.x[j], p.y[j], p.x[k], p.y[k]);
     if (s == 0) continue;
     if (sign == 0) sign = s;
     else if (s != sign) return false;

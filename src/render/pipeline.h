@@ -636,7 +636,8 @@ void setupTriangles(const PreparedScene& ps, const SceneSurface& surf, std::uint
 /// (kSegmentPreshaded). PreparedScene::segmentColours is kept when any wire of the scene does.
 bool wireKeepsColours(const PreparedScene& ps, const SceneWire& wire, std::uint32_t shader);
 /// Polylines [begin, end) of a wire: the paper's wire polygons (see SegmentPrim). `out.colours`
-/// must be set when wireKeepsColours says so.
+/// must have room when wireKeepsColours says so and a segment is written (it is null where the
+/// scene has no segment at all).
 void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_t shader,
                     std::uint32_t tagBase, size_t begin, size_t end, SegmentSink& out, SetupCounts& counts,
                     const WireSimplification* simplification = nullptr);

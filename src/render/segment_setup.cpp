@@ -237,8 +237,7 @@ bool segmentPolygonConvex(const SegmentPrim& s) {
       int sign = 0;
       for (int i = 0; i < 4; ++i) {
         const int j = (i + 1) & 3, k = (i + 2) & 3;
-        const double cr = (x[j] - x[i]) * (y[k] - y[j]) - (y[j] - y[i]) * (x[k] - x[j]);
-        const int t = cr > 0 ? 1 : (cr < 0 ? -1 : 0);
+        const int t = turnSign(x[i], y[i], x[j], y[j], x[k], y[k]);  // (isConvex's own)
         if (t == 0) continue;
         if (sign == 0) sign = t;
         else if (t != sign) return false;
@@ -270,7 +269,7 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
   const bool preshadeMaps = preshadesByMap(ps, slot);
   // (prepareScene gives room for colours when any wire keeps them; a scene with no segment at all
   // has none to give, and needs none.)
-  const bool keepsColours = hasColours || slot.kind == ShaderSlot::Kind::WirePlain || preshadeMaps;  // wireKeepsColours
+  const bool keepsColours = wireKeepsColours(ps, wire, shader);
   const bool simplified = simplification && simplification->scale.size() == L.polylineCount();
   const double nearP = view.nearPlane, farP = view.farPlane;
   thread_local std::vector<SegScreen> segs;

@@ -76,9 +76,6 @@ RandomWire randomWire(std::mt19937_64& rng, const ViewTransform& v) {
   }
 }
 
-// The screen half width at an end, from rays: the largest offset across the axis's image at
-// which a ray still meets the cylinder, against r f / d times wireWidthFactor. Without the
-// factor the outline is up to 1 / cos(45 degrees) = 1.41 times wider at this view's corners.
 // segmentPolygonConvex (set-up's mitre check, which skips building the polygon for a mitred
 // quadrilateral) answers as isConvex(segmentPolygon(s)) does: random mitres, many of them folded
 // (offsets longer than the segment, crossed, reversed), caps at either end, end-on segments,
@@ -108,8 +105,27 @@ TEST(WireFootprint, MitreConvexityCheckMatchesThePolygon) {
   }
   EXPECT_GT(convex, 1000);
   EXPECT_GT(folded, 1000);
+  // By hand: exact collinear turns (all four corners on the axis's line, or three of them), the
+  // first and last corners one (o0 = 0), the middle two one (o1 = 0), both.
+  auto check = [](glm::dvec2 p0, glm::dvec2 p1, glm::vec2 o0, glm::vec2 o1) {
+    SegmentPrim s{};
+    s.p0 = p0, s.p1 = p1, s.o0 = o0, s.o1 = o1, s.w0 = 1.0f, s.w1 = 1.0f;
+    ScreenPolygon poly;
+    segmentPolygon(s, poly);
+    return segmentPolygonConvex(s) == isConvex(poly);
+  };
+  EXPECT_TRUE(check({0, 0}, {8, 0}, {2, 0}, {2, 0}));
+  EXPECT_TRUE(check({0, 0}, {8, 0}, {2, 0}, {-2, 0}));
+  EXPECT_TRUE(check({0, 0}, {8, 0}, {0, 2}, {4, 0}));
+  EXPECT_TRUE(check({0, 0}, {8, 0}, {0, 0}, {0, 2}));
+  EXPECT_TRUE(check({0, 0}, {8, 0}, {0, 2}, {0, 0}));
+  EXPECT_TRUE(check({0, 0}, {8, 0}, {0, 0}, {0, 0}));
+  EXPECT_TRUE(check({0, 0}, {8, 4}, {-2, 4}, {6, -4}));
 }
 
+// The screen half width at an end, from rays: the largest offset across the axis's image at
+// which a ray still meets the cylinder, against r f / d times wireWidthFactor. Without the
+// factor the outline is up to 1 / cos(45 degrees) = 1.41 times wider at this view's corners.
 TEST(WireFootprint, WidthFactorIsTheOutlineOfTheCylinder) {
   const ViewTransform v = wideView();
   std::mt19937_64 rng(11);
