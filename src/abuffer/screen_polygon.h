@@ -119,7 +119,6 @@ inline int polygonEdges(const ScreenPolygon& p, EdgeFunction* edges) {
   return n;
 }
 
-/// Whether the polygon is convex (all turns one way; collinear turns allowed).
 /// The turn at (xj, yj) from (xi, yi) to (xk, yk): 1 left, -1 right, 0 none (or NaN). isConvex
 /// and set-up's mitre check (segmentPolygonConvex) share it, so that they round alike.
 inline int turnSign(double xi, double yi, double xj, double yj, double xk, double yk) {
@@ -127,6 +126,7 @@ inline int turnSign(double xi, double yi, double xj, double yj, double xk, doubl
   return cr > 0 ? 1 : (cr < 0 ? -1 : 0);
 }
 
+/// Whether the polygon is convex (all turns one way; collinear turns allowed).
 inline bool isConvex(const ScreenPolygon& p) {
   int sign = 0;
   for (int i = 0; i < p.count; ++i) {

@@ -125,8 +125,7 @@ struct SegmentDepth {
   /// where nearest, less the tilt, less the largest radius (Round: the radius is interpolated
   /// along the screen, the axis depth perspective-correctly, so the front plane would not bound it).
   double nearest(double x0, double y0, double x1, double y1) const {
-    if (model == WireDepth::Round)
-      return std::max(view->nearPlane, nearestAxis(x0, y0, x1, y1) * (1.0 - tilt.bound) - rmax);
+    if (model == WireDepth::Round) return nearestFromAxis(nearestAxis(x0, y0, x1, y1));
     const bool big = view->perspective;
     const double k = fa * ((fa > 0) == big ? x1 : x0) + fb * ((fb > 0) == big ? y1 : y0) + fc;
     return std::clamp(view->depthFromKey(k), flo, fhi);
@@ -141,10 +140,11 @@ struct SegmentDepth {
   }
   /// The farthest depth over the rectangle: the axis where farthest (Flat: the front plane lies
   /// before it), farther by the tilt (Round: the side of a wire towards the image centre).
-  double farthest(double x0, double y0, double x1, double y1) const {
-    const double z = farthestAxis(x0, y0, x1, y1);
-    return model == WireDepth::Round ? z * (1.0 + tilt.bound) : z;
-  }
+  double farthest(double x0, double y0, double x1, double y1) const { return farthestFromAxis(farthestAxis(x0, y0, x1, y1)); }
+  /// The round model's nearest() and either model's farthest() from the axis's nearest and
+  /// farthest depths over the same rectangle.
+  double nearestFromAxis(double axis) const { return std::max(view->nearPlane, axis * (1.0 - tilt.bound) - rmax); }
+  double farthestFromAxis(double axis) const { return model == WireDepth::Round ? axis * (1.0 + tilt.bound) : axis; }
   double farthestAxis(double x0, double y0, double x1, double y1) const {
     x0 -= slide, y0 -= slide, x1 += slide, y1 += slide;
     const bool big = view->perspective;
@@ -160,7 +160,7 @@ struct SegmentDepth {
   Near pixelNearest(int col, int row) const {
     if (model != WireDepth::Round) return {nearest(col, row, col + 1.0, row + 1.0), 0.0};
     const double axis = nearestAxis(col, row, col + 1.0, row + 1.0);
-    return {std::max(view->nearPlane, axis * (1.0 - tilt.bound) - rmax), axis};  // nearest(), as it forms it
+    return {nearestFromAxis(axis), axis};
   }
   /// range() given only zNear = nearest(col, row, col + 1, row + 1): the axis's nearest depth is
   /// formed again (the rasteriser passes pixelNearest's instead; the same values).
@@ -172,7 +172,7 @@ struct SegmentDepth {
     double a = n.z;
     // The axis's farthest depth over the pixel, once (farthest() is it, moved by the tilt).
     const double axisFar = farthestAxis(col, row, col + 1.0, row + 1.0);
-    double b = std::max(a, model == WireDepth::Round ? axisFar * (1.0 + tilt.bound) : axisFar);
+    double b = std::max(a, farthestFromAxis(axisFar));
     if (model == WireDepth::Round) {
       // The round surface over the pixel: between the axis a radius times sqrt(1 - q^2) nearer,
       // q the distance from the axis in half widths, smallest and largest over the pixel's

@@ -178,6 +178,7 @@ TEST(RobustOptions, RenderersRefuseOptionsOutOfRange) {
       bad([](RenderOptions& o) { o.budget = 0; }),      bad([](RenderOptions& o) { o.tileSize = 0; }),
       bad([](RenderOptions& o) { o.threads = -1; }),    bad([](RenderOptions& o) { o.referenceSamples = 0; }),
       bad([](RenderOptions& o) { o.occlusionEpsilon = std::nan(""); }),
+      bad([](RenderOptions& o) { o.tileSize = TileBins::kMaxTileSize + 1; }),  // bin items keep corners in bytes
   };
   for (const RenderOptions& o : cases) {
     ASSERT_FALSE(o.problem().empty());
