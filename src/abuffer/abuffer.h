@@ -126,6 +126,17 @@ struct SurfaceDepth {
   /// seen at a grazing angle would otherwise be half hidden by that very face, whose depth
   /// changes by more than the wire's radius across the wire's width.
   bool onSurface = false;
+  /// wire: its exact solid (render/pipeline.h, WireCapsule: a cylinder with a sphere at each
+  /// end) where the ray through a sample meets it, the round model above where it misses. In
+  /// the frame of the solid's p0 end, the ray through sample (sx, sy) passes (cw0 + cwx sx,
+  /// cw1 + cwy sy, cw2) at view depth zref and runs (cd0 + cdx sx, cd1 + cdy sy, cd2) per unit
+  /// of depth beyond it: every term near the solid's size, so floats keep its depth to a small
+  /// part of its radius whatever the distance from the eye.
+  bool capsule = false;
+  float zref = 0;
+  float cw0 = 0, cw1 = 0, cw2 = 0, cwx = 0, cwy = 0;
+  float cd0 = 0, cd1 = 0, cd2 = -1, cdx = 0, cdy = 0;
+  float cu0 = 0, cu1 = 0, cu2 = 0, clen = 0, cr0 = 0, cdr = 0;  ///< unit axis, length, radius at p0 and its change to p1 (world)
   /// plane: its depth at (sx, sy) extended beyond the primitive (no [lo, hi] clamp: the axis point
   /// an edge is judged at may lie outside this triangle, whose own depth range would then put it
   /// in front of a line lying on its plane), clamped to the near plane only.
@@ -144,6 +155,11 @@ struct SurfaceDepth {
   /// The depth at n samples (sx[k], sy[k]) into out[k] (a loop the compiler vectorises).
   void atSamples(const float* sx, const float* sy, int n, float* out) const;
   float at(float sx, float sy) const {
+    if (capsule) {
+      float d;
+      atSamples(&sx, &sy, 1, &d);
+      return d;
+    }
     float key, cut = 0.0f, tilt = 1.0f;
     if (kind == Kind::Plane) {
       key = k0 + kx * sx + ky * sy;

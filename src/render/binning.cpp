@@ -112,10 +112,12 @@ class Binner {
     if (!tileRange(bx0, by0, bx1, by1, tx0, ty0, tx1, ty1)) return;
     // (Formed only to fill the items: two divisions, a square root and the tilt.)
     float zlo = 0.0f;
-    double tilt = 0.0, slide = 0.0;
+    double tilt = 0.0, slide = 0.0, nearRadius = 0.0;
     std::optional<SegmentEndKeys> keys;
     if constexpr (kItems) {
-      zlo = segmentZlo(view_, s);
+      const bool exact = segmentUsesCapsule(ps_, i);
+      zlo = segmentZlo(view_, s, exact);
+      nearRadius = wireNearRadius(view_, s, exact);
       keys.emplace(view_, s);
       tilt = segmentTiltBound(view_, s);
       // The round model takes the axis depth up to `slide` along the axis from the pixel's foot.
@@ -142,7 +144,7 @@ class Binner {
         const double sa = std::max(0.0, ta - slide), sb = std::min(1.0, tb + slide);
         const double k =
             view_.perspective ? std::max(keys->axis(sa), keys->axis(sb)) : std::min(keys->axis(sa), keys->axis(sb));
-        const double z = view_.depthFromKey(k) * (1.0 - tilt) - std::max(double(s.r0), double(s.r1));
+        const double z = view_.depthFromKey(k) * (1.0 - tilt) - nearRadius;
         item.zlo = z >= zlo ? float(z) : zlo;  // never nearer than the whole segment (nor NaN)
         f(ty * tilesX_ + tx, item);
       }

@@ -241,6 +241,49 @@ void PreparedFragmentSource::fillWireDepthBasis(std::uint32_t prim, WireDepthBas
   d.s0 = float(tilt.shift0), d.st = float(tilt.shiftT);
   d.lo = 0.0f, d.hi = INFINITY;
   d.onSurface = ps_.shaderOf(prim).restsOnSurface;
+  b.axis0 = keys.axis(0.0), b.axis1 = keys.axis(1.0);
+  d.capsule = false;
+  if (segmentUsesCapsule(ps_, prim)) {
+    const WireCapsule c(v, s);
+    if (c.valid) {
+      d.capsule = true;
+      b.endMargin = c.endMargin(s);
+      b.length = fr.length;
+      b.e0 = c.e0;
+      d.cu0 = float(c.u.x), d.cu1 = float(c.u.y), d.cu2 = float(c.u.z);
+      d.clen = float(c.length), d.cr0 = float(c.r0), d.cdr = float(c.r1 - c.r0);
+    }
+  }
+}
+
+void PreparedFragmentSource::capsuleRay(const WireDepthBasis& b, int x, int y, SurfaceDepth& d) const {
+  const ViewTransform& v = ps_.view;
+  const double tu = b.hasLength ? (x + 0.5 - b.ax) * b.ux + (y + 0.5 - b.ay) * b.uy : 0.0;
+  // Along the body the model is the solid's depth within kCapsuleSlack radii: the solid only
+  // near the ends (the pixel's samples lie within 0.71 pixels of its centre).
+  if (!WireCapsule::nearEnd(tu, b.length, b.endMargin, 0.71)) {
+    d.capsule = false;
+    return;
+  }
+  const double t = std::clamp(tu, 0.0, 1.0);
+  const double z = v.depthFromKey(b.axis0 + (b.axis1 - b.axis0) * t);
+  if (!(z > 0.0) || !std::isfinite(z)) {
+    d.capsule = false;  // (the model's depth then)
+    return;
+  }
+  d.zref = float(z);
+  if (v.perspective) {
+    const double X = (x - v.cx) / v.focal, Y = -(y - v.cy) / v.focal;
+    d.cw0 = float(X * z - b.e0.x), d.cw1 = float(Y * z - b.e0.y), d.cw2 = float(-z - b.e0.z);
+    d.cwx = float(z / v.focal), d.cwy = float(-z / v.focal);
+    d.cd0 = float(X), d.cd1 = float(Y), d.cd2 = -1.0f;
+    d.cdx = float(1.0 / v.focal), d.cdy = float(-1.0 / v.focal);
+  } else {
+    d.cw0 = float((x - v.cx) / v.orthoScale - b.e0.x), d.cw1 = float(-(y - v.cy) / v.orthoScale - b.e0.y);
+    d.cw2 = float(-z - b.e0.z);
+    d.cwx = float(1.0 / v.orthoScale), d.cwy = float(-1.0 / v.orthoScale);
+    d.cd0 = 0.0f, d.cd1 = 0.0f, d.cd2 = -1.0f, d.cdx = 0.0f, d.cdy = 0.0f;
+  }
 }
 
 const PreparedFragmentSource::WireDepthBasis& PreparedFragmentSource::wireDepthBasis(std::uint32_t prim) const {

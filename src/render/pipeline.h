@@ -250,6 +250,12 @@ struct PreparedScene {
   size_t bytes() const;
 };
 
+/// Whether segment primitive i takes its depth from the exact solid (WireCapsule): a hair (a
+/// wire whose polyline is its axis, not one resting on a surface) in the round model.
+inline bool segmentUsesCapsule(const PreparedScene& ps, std::uint32_t i) {
+  return ps.wireDepth == WireDepth::Round && !ps.shaderOf(i).restsOnSurface;
+}
+
 // ---- a segment's geometry on screen ---------------------------------------------------------
 
 /// The polygon of a segment (see SegmentPrim), in the order the rasteriser and the reference
@@ -393,11 +399,104 @@ inline double wireDepthScale(const ViewTransform& v, const glm::dvec3& e, const 
   return wireDepthScale(v, e, glm::length(e), wireUnitAxis(axis));
 }
 
+/// A wire segment as a ray caster sees it: the cylinder about its eye-space axis of the radius
+/// its half widths stand for (linear along it), with a sphere about each end (docs/abuffer.md,
+/// "The exact solid at the ends"). The round model (segmentDepthAt) is within a few hundredths
+/// of a radius of it along the body but not near the ends, where the end's sphere, not the
+/// slanting body, is what a ray meets first (up to two radii farther than the model there).
+/// Hairs (wires that do not rest on a surface) take their depth from this where a ray meets
+/// it, and from the model where it misses (the polygon's outline lies a little outside the
+/// solid's); `valid` is false where the segment has no finite eye-space ends.
+struct WireCapsule {
+  glm::dvec3 e0{0.0}, u{0.0};  ///< eye-space p0; unit axis (0 for a segment of no length)
+  double length = 0;           ///< |e1 - e0|, world
+  double r0 = 0, r1 = 0;       ///< world radii at the ends (the half widths over pixelsPerWorld and wireWidthFactor)
+  bool valid = false;
+  WireCapsule() = default;
+  WireCapsule(const ViewTransform& v, const SegmentPrim& s) {
+    if (!(s.d0 > 0.0f) || !(s.d1 > 0.0f) || !std::isfinite(s.d0) || !std::isfinite(s.d1)) return;
+    e0 = v.eyePoint(s.p0.x, s.p0.y, s.d0);
+    const glm::dvec3 e1 = v.eyePoint(s.p1.x, s.p1.y, s.d1);
+    const double wf = wireWidthFactor(v, e0, e1);
+    r0 = double(s.w0) / (v.pixelsPerWorld(s.d0) * wf);
+    r1 = double(s.w1) / (v.pixelsPerWorld(s.d1) * wf);
+    const glm::dvec3 axis = e1 - e0;
+    length = glm::length(axis);
+    u = length > 0 && std::isfinite(length) ? axis * (1.0 / length) : glm::dvec3(0.0);
+    if (!(u != glm::dvec3(0.0))) length = 0;
+    valid = std::isfinite(r0) && std::isfinite(r1) && std::isfinite(e0.x + e0.y + e0.z) && r0 >= 0 && r1 >= 0;
+  }
+  /// The view depth where the ray through screen point (x, y) enters the solid (the ray's own
+  /// parameter: its direction has z = -1), or NaN where it misses. The body's radius is taken
+  /// at the axis point the ray passes nearest (a cone's, to first order in the taper).
+  double depthAt(const ViewTransform& v, double x, double y) const {
+    glm::dvec3 o, d;
+    if (v.perspective) o = glm::dvec3(0.0), d = glm::dvec3((x - v.cx) / v.focal, -(y - v.cy) / v.focal, -1.0);
+    else o = glm::dvec3((x - v.cx) / v.orthoScale, -(y - v.cy) / v.orthoScale, 0.0), d = glm::dvec3(0.0, 0.0, -1.0);
+    const double dd = glm::dot(d, d);
+    double best = INFINITY;
+    auto sphere = [&](const glm::dvec3& w, double r) {  // w: the ray's origin less the centre
+      const double b = glm::dot(d, w), disc = b * b - dd * (glm::dot(w, w) - r * r);
+      if (disc >= 0.0) best = std::min(best, (-b - std::sqrt(disc)) / dd);
+    };
+    const glm::dvec3 w = o - e0;
+    sphere(w, r0);
+    if (length > 0) {
+      sphere(w - u * length, r1);
+      const double du = glm::dot(d, u), wu = glm::dot(w, u);
+      const glm::dvec3 dp = d - u * du, wp = w - u * wu;
+      const double a = glm::dot(dp, dp), b = glm::dot(dp, wp);
+      if (a > 0.0) {
+        const double tc = std::clamp((wu - b / a * du) / length, 0.0, 1.0);  // where it passes nearest
+        const double r = r0 + (r1 - r0) * tc;
+        const double disc = b * b - a * (glm::dot(wp, wp) - r * r);
+        if (disc >= 0.0) {
+          const double sigma = (-b - std::sqrt(disc)) / a, h = wu + sigma * du;
+          if (h >= 0.0 && h <= length) best = std::min(best, sigma);
+        }
+      }
+    }
+    return best < INFINITY && best > 0.0 ? best : NAN;
+  }
+  /// The largest world radius.
+  double radius() const { return std::max(r0, r1); }
+  /// How far from either end (pixels along the axis) the solid may differ from the round model
+  /// by more than kCapsuleSlack radii: the half width times the depth radius's scale over the
+  /// world radius (where the end's sphere stands out of the slanting body; half of this measured
+  /// on the fur benchmarks, docs/abuffer.md). Infinite where not finite.
+  double endMargin(const SegmentPrim& s) const {
+    const double sc0 = r0 > 0 ? double(s.r0) / r0 : 1.0, sc1 = r1 > 0 ? double(s.r1) / r1 : 1.0;
+    const double m = std::max(double(s.w0) * std::max(1.0, sc0), double(s.w1) * std::max(1.0, sc1));
+    return std::isfinite(m) ? m : INFINITY;
+  }
+  /// Whether the solid, not the model, gives the depth at axis parameter t (screen length
+  /// `length` pixels) for a point up to `spread` pixels from it: near an end or beyond it.
+  static bool nearEnd(double t, double length, double margin, double spread) {
+    return !(t * length >= margin + spread && (1.0 - t) * length >= margin + spread);
+  }
+};
+
+/// How far, in world radii, the exact solid may lie outside the round model's depth range where
+/// the model is used as its bound (the body, away from the ends: within 0.03 radii measured).
+inline constexpr double kCapsuleSlack = 0.05;
+
+/// The farthest a wire's surface may lie in front of its axis, either model (the depth radii)
+/// or the exact solid (WireCapsule: its world radius, bounded from the half widths alone as
+/// w d / f, since wireWidthFactor >= 1), for the bounds that cull it. `exact`: WireCapsule's
+/// solid is the wire's depth (a hair in the round model, segmentUsesCapsule).
+inline double wireNearRadius(const ViewTransform& v, const SegmentPrim& s, bool exact) {
+  const double r = std::max(double(s.r0), double(s.r1));
+  if (!exact) return r;
+  const double w0 = double(s.w0) / v.pixelsPerWorld(s.d0), w1 = double(s.w1) / v.pixelsPerWorld(s.d1);
+  const double rw = std::max(w0, w1) * (1.0 + kCapsuleSlack);
+  return rw >= r ? rw : r;  // (NaN: the radii's own bound)
+}
+
 /// The nearest depth of a segment's visible surface (for either WireDepth): no nearer than its
 /// nearest axis depth, less the tilt (SegmentTilt), less its largest radius.
-inline float segmentZlo(const ViewTransform& v, const SegmentPrim& s) {
+inline float segmentZlo(const ViewTransform& v, const SegmentPrim& s, bool exact = false) {
   const double near = std::min(double(s.d0), double(s.d1)) * (1.0 - segmentTiltBound(v, s));
-  return float(std::max(v.nearPlane, near - std::max(double(s.r0), double(s.r1))));
+  return float(std::max(v.nearPlane, near - wireNearRadius(v, s, exact)));
 }
 
 
@@ -435,7 +534,13 @@ class PrimitiveDepth {
  public:
   PrimitiveDepth(const PreparedScene& ps, std::uint32_t i);
   double operator()(double x, double y) const {
-    if (wire_) return segmentDepthAt(*view_, *seg_, wire_->frame, wire_->keys, wire_->tilt, x, y, model_);
+    if (wire_) {
+      if (wire_->capsule.valid) {
+        const double e = wire_->capsule.depthAt(*view_, x, y);
+        if (e == e) return std::max(view_->nearPlane, e);
+      }
+      return segmentDepthAt(*view_, *seg_, wire_->frame, wire_->keys, wire_->tilt, x, y, model_);
+    }
     return std::clamp(view_->depthFromKey(tri_->depthKeyAt(x, y)), double(tri_->zlo), double(tri_->zhi));
   }
 
@@ -444,6 +549,7 @@ class PrimitiveDepth {
     SegmentFrame frame;
     SegmentEndKeys keys;
     SegmentTilt tilt;
+    WireCapsule capsule;  ///< valid for a hair (segmentUsesCapsule)
   };
   const ViewTransform* view_;
   const SegmentPrim* seg_ = nullptr;

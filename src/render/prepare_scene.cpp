@@ -172,7 +172,8 @@ PrimitiveDepth::PrimitiveDepth(const PreparedScene& ps, std::uint32_t i) : view_
   if (ps.isSegment(i)) {
     seg_ = &ps.segmentOf(i);
     const SegmentFrame fr(*seg_);
-    wire_.emplace(Wire{fr, SegmentEndKeys(ps.view, *seg_), SegmentTilt(ps.view, *seg_, fr)});
+    wire_.emplace(Wire{fr, SegmentEndKeys(ps.view, *seg_), SegmentTilt(ps.view, *seg_, fr),
+                       segmentUsesCapsule(ps, i) ? WireCapsule(ps.view, *seg_) : WireCapsule()});
   } else {
     tri_ = &ps.triangles[i];
   }

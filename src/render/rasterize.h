@@ -87,7 +87,9 @@ struct SegmentDepth {
   double aa, ab, ac, alo, ahi;  // axis key plane, its depth range
   SegmentEndKeys keys;
   SegmentTilt tilt;
-  SegmentDepth(const ViewTransform& v, const SegmentPrim& s, WireDepth m)
+  /// `exact`: the wire's depth is its exact solid where a ray meets it (a hair in the round
+  /// model: segmentUsesCapsule), the bounds grown to hold it.
+  SegmentDepth(const ViewTransform& v, const SegmentPrim& s, WireDepth m, bool exact = false)
       : view(&v), seg(&s), frame(s), model(m), keys(v, s), tilt(v, s, frame) {
     const double kf0 = keys.front(0.0), kf1 = keys.front(1.0);
     const double ka0 = keys.axis(0.0), ka1 = keys.axis(1.0);
@@ -99,7 +101,29 @@ struct SegmentDepth {
     reach = segmentReach(s);
     rmax = std::max(double(s.r0), double(s.r1));
     slide = m == WireDepth::Round ? tilt.shiftBound(v, s, frame) * frame.length : 0.0;
+    if (exact && m == WireDepth::Round) {
+      capsule = WireCapsule(v, s);
+      if (capsule.valid) {
+        // The model is within 0.03 radii of the solid along the body, farther from its ends
+        // than the half width times the depth radius's scale (docs/abuffer.md): there the round
+        // range holds the solid grown by kCapsuleSlack radii; nearer the ends, where the
+        // end's sphere lies up to two radii farther than the model, and beyond them, the
+        // range is [nearest, farthest], grown by the same to hold the sphere.
+        pad = kCapsuleSlack * capsule.radius();
+        rmax = std::max(rmax, capsule.radius() + pad);
+        endMargin = capsule.endMargin(s);
+        // sin(ViewTransform::maxRayAngle()), without its arc tangent
+        const double rx = std::max(v.cx, v.width - v.cx), ry = std::max(v.cy, v.height - v.cy);
+        const double sinRay = v.perspective ? std::sqrt((rx * rx + ry * ry) / (rx * rx + ry * ry + v.focal * v.focal)) : 0.0;
+        sphereFar0 = double(s.d0) + capsule.r0 * sinRay + pad;
+        sphereFar1 = double(s.d1) + capsule.r1 * sinRay + pad;
+      }
+    }
   }
+  WireCapsule capsule;    // valid: the depth is the solid's where a ray meets it
+  double pad = 0.0;       // the bounds' growth for the solid (kCapsuleSlack radii)
+  double endMargin = 0.0; // pixels from either end within which the solid's end may show (WireCapsule::endMargin)
+  double sphereFar0 = 0.0, sphereFar1 = 0.0;  // the farthest the end spheres' surfaces lie where rays enter them
   double slide;  // how far along the axis (pixels) the round model takes its axis depth (SegmentTilt)
   double reach;  // how far the polygon lies from the axis (segmentReach)
   double rmax;   // the largest radius
@@ -144,7 +168,7 @@ struct SegmentDepth {
   /// The round model's nearest() and either model's farthest() from the axis's nearest and
   /// farthest depths over the same rectangle.
   double nearestFromAxis(double axis) const { return std::max(view->nearPlane, axis * (1.0 - tilt.bound) - rmax); }
-  double farthestFromAxis(double axis) const { return model == WireDepth::Round ? axis * (1.0 + tilt.bound) : axis; }
+  double farthestFromAxis(double axis) const { return model == WireDepth::Round ? axis * (1.0 + tilt.bound) + pad : axis; }
   double farthestAxis(double x0, double y0, double x1, double y1) const {
     x0 -= slide, y0 -= slide, x1 += slide, y1 += slide;
     const bool big = view->perspective;
@@ -205,16 +229,32 @@ struct SegmentDepth {
         const double slack = 1e-6 * std::abs(tilt.lateral) * whi;
         const double tiltLo = std::min(tilt.lateral * la, tilt.lateral * lb) - slack;
         const double tiltHi = std::max(tilt.lateral * la, tilt.lateral * lb) + slack;
-        a = std::max(a, std::max(view->nearPlane, n.axis * (1.0 + tiltLo) - rhi * std::sqrt(1.0 - qmin * qmin)));
-        b = std::max(a, std::min(b, axisFar * (1.0 + tiltHi) - rlo * std::sqrt(1.0 - qmax * qmax)));
+        a = std::max(a, std::max(view->nearPlane, n.axis * (1.0 + tiltLo) - rhi * std::sqrt(1.0 - qmin * qmin) - pad));
+        double round = axisFar * (1.0 + tiltHi) - rlo * std::sqrt(1.0 - qmax * qmax) + pad;
+        if (capsule.valid) {
+          // Within endMargin of an end the ray may meet the end's sphere instead of the body: no
+          // farther than its centre and a radius times the sine of the ray's angle to the view
+          // axis (sphereFar).
+          const double margin = endMargin / frame.length;
+          if (tlo < margin) round = std::max(round, sphereFar0);
+          if (thi > 1.0 - margin) round = std::max(round, sphereFar1);
+        }
+        b = std::max(a, std::min(b, round));
       }
     }
     zmin = float(a);
     zmax = float(b);
     zkey = float(std::clamp(depthAt(cx, cy), a, b));
   }
-  /// segmentDepthAt (pipeline.h), with the end keys formed once.
-  double depthAt(double x, double y) const { return segmentDepthAt(*view, *seg, frame, keys, tilt, x, y, model); }
+  /// The solid's depth where a ray meets it (WireCapsule), else segmentDepthAt (pipeline.h),
+  /// with the end keys formed once.
+  double depthAt(double x, double y) const {
+    if (capsule.valid && WireCapsule::nearEnd(frame.t(x, y), frame.length, endMargin, 0.0)) {
+      const double e = capsule.depthAt(*view, x, y);
+      if (e == e) return std::max(view->nearPlane, e);
+    }
+    return segmentDepthAt(*view, *seg, frame, keys, tilt, x, y, model);
+  }
 };
 
 /// The centroid (sx, sy) in the pixel of the samples a non-empty mask covers, a mask row at a
@@ -490,6 +530,7 @@ class PreparedFragmentSource final : public FragmentSource {
         d.t0 = float(x - b.ax);
         d.l0 = float(y - b.ay);
       }
+      if (d.capsule) capsuleRay(b, x, y, d);
       return true;
     }
     const TrianglePrim& t = ps_.triangles[prim];
@@ -508,12 +549,18 @@ class PreparedFragmentSource final : public FragmentSource {
     std::uint32_t prim = 0;
     bool hasLength = false;
     double ax = 0, ay = 0, ux = 0, uy = 0, nx = 0, ny = 0;
+    double axis0 = 0, axis1 = 0;  ///< the axis's depth keys at the ends (capsule: the pixel's reference depth)
+    glm::dvec3 e0{0.0};           ///< capsule: the solid's p0 end, eye space
+    double endMargin = 0, length = 0;  ///< capsule: WireCapsule::endMargin, the screen length
     SurfaceDepth depth;
   };
   /// Segment `prim`'s basis, from the per-thread cache (fragment_shading.cpp).
   const WireDepthBasis& wireDepthBasis(std::uint32_t prim) const;
   /// Fills `b` for segment `prim` (the cache's miss path).
   void fillWireDepthBasis(std::uint32_t prim, WireDepthBasis& b) const;
+  /// The ray of pixel (x, y)'s samples relative to the solid's p0 end, about the axis's depth at
+  /// the pixel's centre (SurfaceDepth::capsule; fragment_shading.cpp).
+  void capsuleRay(const WireDepthBasis& b, int x, int y, SurfaceDepth& d) const;
   static std::uint64_t nextSerial();
   const PreparedScene& ps_;
   const std::uint64_t serial_;  ///< tells this render's cache entries from an earlier one's

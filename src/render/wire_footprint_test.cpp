@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 namespace wf {
@@ -338,8 +339,80 @@ TEST(WireFootprint, TiltedDepthIsWhereTheRayEntersTheCylinder) {
   EXPECT_GT(worstFlat, 0.3);
 }
 
-// The same model three ways: segmentDepthAt (double), the resolve's SurfaceDepth (float, at()
-// and atSamples()) agree within float rounding, and the rasteriser's per-pixel range [zmin, zmax]
+// WireCapsule (a hair's exact solid: its cylinder with a sphere at each end) against a brute
+// force that knows only the solid's definition, the points within r of the axis segment: along a
+// ray the distance to a segment is convex, so its minimum is found by golden-section search and
+// the first point within r by bisection before it. Random wires in a wide view, slanting at any
+// angle (towards the eye too, where the ends' spheres are what is seen), rays through the
+// polygon and a little beyond it (misses: NaN). The world radius comes back from the half widths.
+TEST(WireFootprint, CapsuleDepthIsWhereTheRayFirstMeetsTheSolid) {
+  const ViewTransform v = wideView();
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  int hits = 0, misses = 0, endHits = 0;
+  double worst = 0;
+  for (int k = 0; k < 80; ++k) {
+    RandomWire w = randomWire(rng, v);
+    w.r = 0.004 * -w.e0.z;
+    const Scene s = oneWireScene(w.e0, w.e1, w.r);
+    RenderStats st;
+    const PreparedScene ps = prepareScene(s, test::smallOptions(800, 600), st);
+    ASSERT_EQ(ps.segments.size(), 1u);
+    const SegmentPrim& p = ps.segments[0];
+    WireCapsule c(v, p);
+    ASSERT_TRUE(c.valid);
+    // The half widths stand for the world radius (to set-up's first order and its floats).
+    EXPECT_NEAR(c.r0, w.r, 2e-3 * w.r) << k;
+    EXPECT_NEAR(c.r1, w.r, 2e-3 * w.r) << k;
+    c.r1 = c.r0;  // one radius, so that the solid is exactly the points within it of the axis
+    const glm::dvec3 a = c.e0, b = c.e0 + c.u * c.length;
+    auto dist = [&](const glm::dvec3& q) {
+      const double t = std::clamp(glm::dot(q - a, b - a) / glm::dot(b - a, b - a), 0.0, 1.0);
+      return glm::length(q - (a + t * (b - a)));
+    };
+    const SegmentFrame fr(p);
+    for (int j = 0; j < 60; ++j) {
+      const double t = -0.3 + 1.6 * U(rng), q = 2.4 * U(rng) - 1.2;
+      const double wt = p.w0 + (p.w1 - p.w0) * std::clamp(t, 0.0, 1.0);
+      const glm::dvec2 at = p.p0 + t * (p.p1 - p.p0) + q * wt * glm::dvec2(fr.nx, fr.ny);
+      const glm::dvec3 dir = v.eyePoint(at.x, at.y, 1.0);  // z = -1: the parameter is the view depth
+      auto f = [&](double sigma) { return dist(sigma * dir) - c.r0; };
+      double lo = std::min(-a.z, -b.z) - 10 * c.r0, hi = std::max(-a.z, -b.z) + 10 * c.r0;
+      for (int i = 0; i < 200; ++i) {  // golden section for the minimum of the convex distance
+        const double m1 = hi - 0.618033988749895 * (hi - lo), m2 = lo + 0.618033988749895 * (hi - lo);
+        (f(m1) < f(m2) ? hi : lo) = f(m1) < f(m2) ? m2 : m1;
+      }
+      const double sMin = 0.5 * (lo + hi);
+      const double got = c.depthAt(v, at.x, at.y);
+      if (f(sMin) > 1e-9 * c.r0) {  // the ray misses the solid
+        if (f(sMin) > 1e-6 * c.r0) EXPECT_TRUE(std::isnan(got)) << k << " " << j << " " << got;
+        ++misses;
+        continue;
+      }
+      double out = std::min(-a.z, -b.z) - 10 * c.r0, in = sMin;
+      for (int i = 0; i < 200; ++i) {
+        const double m = 0.5 * (out + in);
+        (f(m) > 0 ? out : in) = m;
+      }
+      if (f(sMin) < -1e-4 * c.r0) {  // clearly inside somewhere: a hit, not a graze
+        ASSERT_FALSE(std::isnan(got)) << k << " " << j;
+        worst = std::max(worst, std::abs(got - in) / c.r0);
+        EXPECT_NEAR(got, in, 1e-7 * c.r0 + 1e-12 * in) << k << " " << j;
+        ++hits;
+        if (t < 0.1 || t > 0.9) ++endHits;
+      }
+    }
+  }
+  std::printf("[ measured ] capsule depth against the brute force: %d hits (%d near the ends), %d misses, worst %.3g r\n",
+              hits, endHits, misses, worst);
+  EXPECT_GT(hits, 2000);
+  EXPECT_GT(endHits, 500);
+  EXPECT_GT(misses, 200);
+}
+
+// The same depth three ways: the reference's (primitiveDepthAt, double: a hair's exact solid
+// where a ray meets it, the round model elsewhere), the resolve's SurfaceDepth (float, at() and
+// atSamples()) agree within float rounding, and the rasteriser's per-pixel range [zmin, zmax]
 // holds every depth in the pixel, for wires as thick as several pixels anywhere in a wide view,
 // slanting at every angle (the tilt and the slide along the axis are largest there).
 TEST(WireFootprint, ResolveAndRasteriserBoundsFollowTheTiltedModel) {
@@ -347,7 +420,7 @@ TEST(WireFootprint, ResolveAndRasteriserBoundsFollowTheTiltedModel) {
   const ViewTransform v = wideView();
   std::mt19937_64 rng(14);
   std::uniform_real_distribution<double> U(0.0, 1.0);
-  int pixels = 0;
+  int pixels = 0, nearEnds = 0, alongBody = 0;
   double worstAgree = 0;
   for (int k = 0; k < 60; ++k) {
     RandomWire w = randomWire(rng, v);
@@ -358,7 +431,8 @@ TEST(WireFootprint, ResolveAndRasteriserBoundsFollowTheTiltedModel) {
     ASSERT_EQ(ps.segments.size(), 1u) << k;
     const SegmentPrim& p = ps.segments[0];
     const SegmentFrame fr(p);
-    const SegmentDepth depth(v, p, WireDepth::Round);
+    ASSERT_TRUE(segmentUsesCapsule(ps, ps.primitiveCount() - 1));
+    const SegmentDepth depth(v, p, WireDepth::Round, true);
     const PreparedFragmentSource source(ps);
     // Pixels along the wire and across it, out to twice the half width.
     for (int j = 0; j < 40; ++j) {
@@ -376,8 +450,14 @@ TEST(WireFootprint, ResolveAndRasteriserBoundsFollowTheTiltedModel) {
       for (int i = 0; i < 16; ++i) sx[i] = (i % 4 + 0.5f) / 4, sy[i] = (i / 4 + 0.5f) / 4;
       sd.atSamples(sx, sy, 16, out);
       for (int i = 0; i < 16; ++i) {
-        const double exact = segmentDepthAt(v, p, fr, col + double(sx[i]), row + double(sy[i]), WireDepth::Round);
+        // The resolve takes the solid near the ends (within its margin of the pixel's centre),
+        // the model along the body, where the two differ by under kCapsuleSlack radii.
+        const double x = col + double(sx[i]), y = row + double(sy[i]);
+        const bool solid = WireCapsule::nearEnd(fr.t(col + 0.5, row + 0.5), fr.length, depth.endMargin, 0.71);
+        const double exact = solid ? primitiveDepthAt(ps, ps.primitiveCount() - 1, x, y)
+                                   : segmentDepthAt(v, p, fr, x, y, WireDepth::Round);
         const double tol = 2e-5 * exact;
+        ++(solid ? nearEnds : alongBody);
         worstAgree = std::max(worstAgree, std::abs(out[i] - exact) / exact);
         EXPECT_NEAR(out[i], exact, tol) << k << " " << col << "," << row;
         EXPECT_NEAR(sd.at(sx[i], sy[i]), exact, tol) << k;
@@ -388,6 +468,8 @@ TEST(WireFootprint, ResolveAndRasteriserBoundsFollowTheTiltedModel) {
     }
   }
   EXPECT_GT(pixels, 1000);
+  EXPECT_GT(nearEnds, 1000);  // both ways are tried
+  EXPECT_GT(alongBody, 1000);
 }
 
 
