@@ -136,38 +136,43 @@ WF_ALWAYS_INLINE void wireDepths(const SurfaceDepth& m, const float* sx, const f
     out[k] = std::min(hi, std::max(lo, d));
   }
 }
-// A wire's exact solid (SurfaceDepth::capsule) at the samples, the round model where a
-// sample's ray misses it. Branch-free, so that it vectorises as the model does.
+// A wire's exact solid (SurfaceDepth::capsule) at the samples; where a sample's ray misses it,
+// the depth where the ray passes it nearest (render/pipeline.h, WireCapsule::depthAt).
+// Branch-free, so that it vectorises as the model does.
 template <bool Perspective>
 WF_ALWAYS_INLINE void capsuleDepths(const SurfaceDepth& m, const float* sx, const float* sy, int n, float* out) {
-  wireDepths<Perspective, true>(m, sx, sy, n, out);  // the model, kept where the ray misses
   const float lo = std::max(m.nearPlane, m.lo), hi = m.hi;
   const float u0 = m.cu0, u1 = m.cu1, u2 = m.cu2, len = m.clen, r0 = m.cr0, dr = m.cdr;
   const float invLen = len > 0.0f ? 1.0f / len : 0.0f;
   for (int k = 0; k < n; ++k) {
     const float wx = m.cw0 + m.cwx * sx[k], wy = m.cw1 + m.cwy * sy[k], wz = m.cw2;
     const float dx = m.cd0 + m.cdx * sx[k], dy = m.cd1 + m.cdy * sy[k], dz = m.cd2;
-    const float dd = dx * dx + dy * dy + dz * dz;
+    const float dd = dx * dx + dy * dy + dz * dz, idd = 1.0f / dd;
     // The spheres about the ends: |w + s d| = r.
-    auto sphere = [&](float ox, float oy, float oz, float r) {
-      const float b = dx * ox + dy * oy + dz * oz, c = ox * ox + oy * oy + oz * oz - r * r;
-      const float disc = b * b - dd * c;
-      return disc >= 0.0f ? (-b - std::sqrt(std::max(disc, 0.0f))) / dd : INFINITY;
-    };
-    float best = std::min(sphere(wx, wy, wz, r0), sphere(wx - u0 * len, wy - u1 * len, wz - u2 * len, r0 + dr));
+    const float b0 = dx * wx + dy * wy + dz * wz, c0 = wx * wx + wy * wy + wz * wz - r0 * r0;
+    const float e1x = wx - u0 * len, e1y = wy - u1 * len, e1z = wz - u2 * len, r1 = r0 + dr;
+    const float b1 = dx * e1x + dy * e1y + dz * e1z, c1 = e1x * e1x + e1y * e1y + e1z * e1z - r1 * r1;
+    const float disc0 = b0 * b0 - dd * c0, disc1 = b1 * b1 - dd * c1;
+    float best = disc0 >= 0.0f ? (-b0 - std::sqrt(std::max(disc0, 0.0f))) * idd : INFINITY;
+    best = disc1 >= 0.0f ? std::min(best, (-b1 - std::sqrt(std::max(disc1, 0.0f))) * idd) : best;
     // The body: the ray's distance from the axis line is the radius where it passes nearest.
     const float du = dx * u0 + dy * u1 + dz * u2, wu = wx * u0 + wy * u1 + wz * u2;
     const float px = dx - u0 * du, py = dy - u1 * du, pz = dz - u2 * du;
     const float qx = wx - u0 * wu, qy = wy - u1 * wu, qz = wz - u2 * wu;
     const float a = px * px + py * py + pz * pz, b = px * qx + py * qy + pz * qz;
-    const float ia = a > 0.0f ? 1.0f / a : 0.0f;
-    const float tc = std::min(1.0f, std::max(0.0f, (wu - b * ia * du) * invLen));
+    const bool line = a > 0.0f;
+    const float ia = line ? 1.0f / a : 0.0f;
+    const float sNear = -b * ia, hNear = wu + sNear * du;
+    const float tc = std::min(1.0f, std::max(0.0f, hNear * invLen));
     const float r = r0 + dr * tc;
     const float disc = b * b - a * (qx * qx + qy * qy + qz * qz - r * r);
     const float sig = (-b - std::sqrt(std::max(disc, 0.0f))) * ia, h = wu + sig * du;
-    best = a > 0.0f && disc >= 0.0f && h >= 0.0f && h <= len ? std::min(best, sig) : best;
-    const float d = m.zref + best;
-    out[k] = best < INFINITY && d > 0.0f ? std::min(hi, std::max(lo, d)) : out[k];
+    best = line && disc >= 0.0f && h >= 0.0f && h <= len ? std::min(best, sig) : best;
+    // Missed: where it passes the solid nearest (the body's axis, or the nearer end's centre).
+    const float near0 = -b0 * idd, near1 = -b1 * idd;
+    const float nearest = !(line && len > 0.0f) ? std::min(near0, near1) : hNear < 0.0f ? near0 : hNear > len ? near1 : sNear;
+    const float s = best < INFINITY && m.zref + best > 0.0f ? best : nearest;  // (s from the depth zref)
+    out[k] = std::min(hi, std::max(lo, m.zref + s));
   }
 }
 }  // namespace
@@ -770,11 +775,18 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
     if (depthState[size_t(i)] == 0) {
       const Fragment& f = order[size_t(i)]->f;
       SurfaceDepth& model = models[2 * size_t(i)];
+      // A wire's exact solid is held to the fragment's depth range, which culling trusted
+      // (the rasteriser bounds it there: render/rasterize.h, SegmentDepth).
+      auto holdToRange = [&](SurfaceDepth& m) {
+        if (m.kind == SurfaceDepth::Kind::Wire && m.capsule) m.lo = f.zmin, m.hi = f.zmax;
+      };
       if (source_ && f.prim != Fragment::kNoPrimitive && source_->surfaceDepth(f.prim, px, py, model)) {
+        holdToRange(model);
         model.atSamples(sampleX_, sampleY_, N, d);
         SurfaceDepth& second = models[2 * size_t(i) + 1];
         second.kind = SurfaceDepth::Kind::Plane;  // none unless a wire's merged piece
         if (f.prim2 != Fragment::kNoPrimitive && source_->surfaceDepth(f.prim2, px, py, second)) {
+          holdToRange(second);
           float d2[64];
           second.atSamples(sampleX_, sampleY_, N, d2);
           for (int s = 0; s < N; ++s) d[s] = std::min(d[s], d2[s]);

@@ -244,7 +244,7 @@ void PreparedFragmentSource::fillWireDepthBasis(std::uint32_t prim, WireDepthBas
   b.axis0 = keys.axis(0.0), b.axis1 = keys.axis(1.0);
   d.capsule = false;
   if (segmentUsesCapsule(ps_, prim)) {
-    const WireCapsule c(v, s);
+    const WireCapsule c(v, s, segmentWidthInPixels(ps_, prim));
     if (c.valid) {
       d.capsule = true;
       b.endMargin = c.endMargin(s);
@@ -288,10 +288,11 @@ void PreparedFragmentSource::capsuleRay(const WireDepthBasis& b, int x, int y, S
 
 const PreparedFragmentSource::WireDepthBasis& PreparedFragmentSource::wireDepthBasis(std::uint32_t prim) const {
   // Direct-mapped, per thread (a resolving thread asks of the segments near the pixels it
-  // resolves, and the same segment again in the next pixels), on the heap: 256 entries of 168
-  // bytes. An entry holds the source's serial, so a later render never reads an earlier
-  // render's segment of the same number.
+  // resolves, and the same segment again in the next pixels), on the heap: 256 entries of
+  // sizeof(WireDepthBasis) (under 320 bytes with the solid's fields). An entry holds the source's
+  // serial, so a later render never reads an earlier render's segment of the same number.
   constexpr std::size_t kEntries = 256;
+  static_assert(sizeof(WireDepthBasis) <= 320);
   thread_local std::vector<WireDepthBasis> cache;
   if (cache.empty()) cache.resize(kEntries);
   WireDepthBasis& b = cache[(prim * 2654435761u) >> 24];

@@ -198,6 +198,7 @@ struct ShaderSlot {
   bool holdout = false;  ///< surfaces: hides, adds no colour (SceneSurface::holdout)
   HiddenLines hidden;    ///< wires: where surfaces hide them (SceneWire::hidden)
   bool restsOnSurface = false;  ///< wires: SceneWire::restsOnSurface (SurfaceDepth::onSurface)
+  bool widthInPixels = false;   ///< wires: SceneWire::thicknessInPixels (the half widths are the user's, not widened: WireCapsule)
 };
 
 /// The weight of a dashed hidden line at arc length s (pixels from the pattern's start): the
@@ -255,6 +256,8 @@ struct PreparedScene {
 inline bool segmentUsesCapsule(const PreparedScene& ps, std::uint32_t i) {
   return ps.wireDepth == WireDepth::Round && !ps.shaderOf(i).restsOnSurface;
 }
+/// ShaderSlot::widthInPixels of segment primitive i (WireCapsule's radius).
+inline bool segmentWidthInPixels(const PreparedScene& ps, std::uint32_t i) { return ps.shaderOf(i).widthInPixels; }
 
 // ---- a segment's geometry on screen ---------------------------------------------------------
 
@@ -412,24 +415,45 @@ struct WireCapsule {
   double length = 0;           ///< |e1 - e0|, world
   double r0 = 0, r1 = 0;       ///< world radii at the ends (the half widths over pixelsPerWorld and wireWidthFactor)
   bool valid = false;
+  bool everywhere = false;     ///< the model is not the body's depth here: the solid along the whole segment
   WireCapsule() = default;
-  WireCapsule(const ViewTransform& v, const SegmentPrim& s) {
+  /// `widthInPixels`: the half widths are the user's pixels (ShaderSlot::widthInPixels), the
+  /// radius they stand for w / pixelsPerWorld; otherwise set-up widened them by wireWidthFactor.
+  WireCapsule(const ViewTransform& v, const SegmentPrim& s, bool widthInPixels = false) {
     if (!(s.d0 > 0.0f) || !(s.d1 > 0.0f) || !std::isfinite(s.d0) || !std::isfinite(s.d1)) return;
     e0 = v.eyePoint(s.p0.x, s.p0.y, s.d0);
     const glm::dvec3 e1 = v.eyePoint(s.p1.x, s.p1.y, s.d1);
-    const double wf = wireWidthFactor(v, e0, e1);
+    const double wf = widthInPixels ? 1.0 : wireWidthFactor(v, e0, e1);
     r0 = double(s.w0) / (v.pixelsPerWorld(s.d0) * wf);
     r1 = double(s.w1) / (v.pixelsPerWorld(s.d1) * wf);
     const glm::dvec3 axis = e1 - e0;
     length = glm::length(axis);
     u = length > 0 && std::isfinite(length) ? axis * (1.0 / length) : glm::dvec3(0.0);
-    if (!(u != glm::dvec3(0.0))) length = 0;
+    if (!(u != glm::dvec3(0.0))) length = 0, r1 = r0;  // its p0 end's sphere alone
     valid = std::isfinite(r0) && std::isfinite(r1) && std::isfinite(e0.x + e0.y + e0.z) && r0 >= 0 && r1 >= 0;
+    // Where the model's depth radius is not the cylinder's own scale, the model differs from
+    // the solid along the whole segment, and the solid is used everywhere: set-up draws an
+    // end-on segment as its end discs, ramps the scale to 1 for one shorter than two half widths
+    // on screen, and caps it at kMaxWireDepthScale (where it reaches the cap times the cosine
+    // of the image's widest ray angle: a little more than where it is capped). A width given in
+    // pixels is not widened by wireWidthFactor: off the view axis the model's outline then lies
+    // inside the cylinder's.
+    if (valid) {
+      const double sl = glm::length(s.p1 - s.p0), wmax = std::max(double(s.w0), double(s.w1));
+      const double rx = std::max(v.cx, v.width - v.cx), ry = std::max(v.cy, v.height - v.cy);
+      const double cosMax = v.perspective ? v.focal / std::sqrt(v.focal * v.focal + rx * rx + ry * ry) : 1.0;
+      const double capped = kMaxWireDepthScale * cosMax * 0.999;
+      everywhere = (s.flags & kSegmentEndOn) || !(length > 0) || !(sl >= 2.0 * wmax) ||
+                   !(double(s.r0) < capped * r0) || !(double(s.r1) < capped * r1) ||
+                   (widthInPixels && wireWidthFactor(v, e0, e1) > 1.001);
+    }
   }
   /// The view depth where the ray through screen point (x, y) enters the solid (the ray's own
-  /// parameter: its direction has z = -1), or NaN where it misses. The body's radius is taken
-  /// at the axis point the ray passes nearest (a cone's, to first order in the taper).
-  double depthAt(const ViewTransform& v, double x, double y) const {
+  /// parameter: its direction has z = -1); where it misses (`hit` false), where it passes the
+  /// solid nearest (its outline's depth where it grazes it, so continuous across the outline).
+  /// The body's radius is taken at the axis point the ray passes nearest (a cone's, to first
+  /// order in the taper).
+  double depthAt(const ViewTransform& v, double x, double y, bool* hit = nullptr) const {
     glm::dvec3 o, d;
     if (v.perspective) o = glm::dvec3(0.0), d = glm::dvec3((x - v.cx) / v.focal, -(y - v.cy) / v.focal, -1.0);
     else o = glm::dvec3((x - v.cx) / v.orthoScale, -(y - v.cy) / v.orthoScale, 0.0), d = glm::dvec3(0.0, 0.0, -1.0);
@@ -438,25 +462,32 @@ struct WireCapsule {
     auto sphere = [&](const glm::dvec3& w, double r) {  // w: the ray's origin less the centre
       const double b = glm::dot(d, w), disc = b * b - dd * (glm::dot(w, w) - r * r);
       if (disc >= 0.0) best = std::min(best, (-b - std::sqrt(disc)) / dd);
+      return -b / dd;  // where it passes the centre nearest
     };
     const glm::dvec3 w = o - e0;
-    sphere(w, r0);
+    double nearest = sphere(w, r0);
     if (length > 0) {
-      sphere(w - u * length, r1);
+      const double near1 = sphere(w - u * length, r1);
       const double du = glm::dot(d, u), wu = glm::dot(w, u);
       const glm::dvec3 dp = d - u * du, wp = w - u * wu;
       const double a = glm::dot(dp, dp), b = glm::dot(dp, wp);
       if (a > 0.0) {
-        const double tc = std::clamp((wu - b / a * du) / length, 0.0, 1.0);  // where it passes nearest
+        const double sNear = -b / a, hNear = wu + sNear * du;  // where it passes the axis line nearest
+        const double tc = std::clamp(hNear / length, 0.0, 1.0);
+        nearest = hNear < 0.0 ? nearest : hNear > length ? near1 : sNear;
         const double r = r0 + (r1 - r0) * tc;
         const double disc = b * b - a * (glm::dot(wp, wp) - r * r);
         if (disc >= 0.0) {
           const double sigma = (-b - std::sqrt(disc)) / a, h = wu + sigma * du;
           if (h >= 0.0 && h <= length) best = std::min(best, sigma);
         }
+      } else {
+        nearest = std::min(nearest, near1);  // along the axis: its nearer end
       }
     }
-    return best < INFINITY && best > 0.0 ? best : NAN;
+    const bool in = best < INFINITY && best > 0.0;
+    if (hit) *hit = in;
+    return in ? best : nearest;
   }
   /// The largest world radius.
   double radius() const { return std::max(r0, r1); }
@@ -465,6 +496,7 @@ struct WireCapsule {
   /// world radius (where the end's sphere stands out of the slanting body; half of this measured
   /// on the fur benchmarks, docs/abuffer.md). Infinite where not finite.
   double endMargin(const SegmentPrim& s) const {
+    if (everywhere) return INFINITY;
     const double sc0 = r0 > 0 ? double(s.r0) / r0 : 1.0, sc1 = r1 > 0 ? double(s.r1) / r1 : 1.0;
     const double m = std::max(double(s.w0) * std::max(1.0, sc0), double(s.w1) * std::max(1.0, sc1));
     return std::isfinite(m) ? m : INFINITY;
@@ -473,6 +505,11 @@ struct WireCapsule {
   /// `length` pixels) for a point up to `spread` pixels from it: near an end or beyond it.
   static bool nearEnd(double t, double length, double margin, double spread) {
     return !(t * length >= margin + spread && (1.0 - t) * length >= margin + spread);
+  }
+  /// nearEnd for any point of screen parameters [tlo, thi] (a rectangle), with the resolve's
+  /// spread (its pixel's centre) and a pixel to spare.
+  static bool rangeNearEnd(double tlo, double thi, double length, double margin) {
+    return !(tlo * length >= margin + 1.5 && (1.0 - thi) * length >= margin + 1.5);
   }
 };
 
@@ -535,10 +572,7 @@ class PrimitiveDepth {
   PrimitiveDepth(const PreparedScene& ps, std::uint32_t i);
   double operator()(double x, double y) const {
     if (wire_) {
-      if (wire_->capsule.valid) {
-        const double e = wire_->capsule.depthAt(*view_, x, y);
-        if (e == e) return std::max(view_->nearPlane, e);
-      }
+      if (wire_->capsule.valid) return std::max(view_->nearPlane, wire_->capsule.depthAt(*view_, x, y));
       return segmentDepthAt(*view_, *seg_, wire_->frame, wire_->keys, wire_->tilt, x, y, model_);
     }
     return std::clamp(view_->depthFromKey(tri_->depthKeyAt(x, y)), double(tri_->zlo), double(tri_->zhi));

@@ -173,7 +173,7 @@ PrimitiveDepth::PrimitiveDepth(const PreparedScene& ps, std::uint32_t i) : view_
     seg_ = &ps.segmentOf(i);
     const SegmentFrame fr(*seg_);
     wire_.emplace(Wire{fr, SegmentEndKeys(ps.view, *seg_), SegmentTilt(ps.view, *seg_, fr),
-                       segmentUsesCapsule(ps, i) ? WireCapsule(ps.view, *seg_) : WireCapsule()});
+                       segmentUsesCapsule(ps, i) ? WireCapsule(ps.view, *seg_, segmentWidthInPixels(ps, i)) : WireCapsule()});
   } else {
     tri_ = &ps.triangles[i];
   }

@@ -89,7 +89,8 @@ struct SegmentDepth {
   SegmentTilt tilt;
   /// `exact`: the wire's depth is its exact solid where a ray meets it (a hair in the round
   /// model: segmentUsesCapsule), the bounds grown to hold it.
-  SegmentDepth(const ViewTransform& v, const SegmentPrim& s, WireDepth m, bool exact = false)
+  /// `widthInPixels`: ShaderSlot::widthInPixels (the solid's radius).
+  SegmentDepth(const ViewTransform& v, const SegmentPrim& s, WireDepth m, bool exact = false, bool widthInPixels = false)
       : view(&v), seg(&s), frame(s), model(m), keys(v, s), tilt(v, s, frame) {
     const double kf0 = keys.front(0.0), kf1 = keys.front(1.0);
     const double ka0 = keys.axis(0.0), ka1 = keys.axis(1.0);
@@ -102,19 +103,28 @@ struct SegmentDepth {
     rmax = std::max(double(s.r0), double(s.r1));
     slide = m == WireDepth::Round ? tilt.shiftBound(v, s, frame) * frame.length : 0.0;
     if (exact && m == WireDepth::Round) {
-      capsule = WireCapsule(v, s);
+      capsule = WireCapsule(v, s, widthInPixels);
       if (capsule.valid) {
         // The model is within 0.03 radii of the solid along the body, farther from its ends
-        // than the half width times the depth radius's scale (docs/abuffer.md): there the round
-        // range holds the solid grown by kCapsuleSlack radii; nearer the ends, where the
-        // end's sphere lies up to two radii farther than the model, and beyond them, the
-        // range is [nearest, farthest], grown by the same to hold the sphere.
+        // than endMargin (docs/abuffer.md, "The exact solid at the ends"): there the round range
+        // holds the solid grown by kCapsuleSlack radii. Within the margin the far side reaches
+        // the end's sphere (sphereFar), and wherever the solid gives the depth the near side is
+        // also bounded by the solid alone (capsuleNearest).
         pad = kCapsuleSlack * capsule.radius();
         rmax = std::max(rmax, capsule.radius() + pad);
         endMargin = capsule.endMargin(s);
-        // sin(ViewTransform::maxRayAngle()), without its arc tangent
+        // The image's widest ray angle theta (ViewTransform::maxRayAngle, without its arc
+        // tangent): R the farthest corner's distance from the centre, tan(theta) = R / f.
         const double rx = std::max(v.cx, v.width - v.cx), ry = std::max(v.cy, v.height - v.cy);
-        const double sinRay = v.perspective ? std::sqrt((rx * rx + ry * ry) / (rx * rx + ry * ry + v.focal * v.focal)) : 0.0;
+        const double tan2 = v.perspective ? (rx * rx + ry * ry) / (v.focal * v.focal) : 0.0;
+        const double sinRay = std::sqrt(tan2 / (1.0 + tan2));
+        // A point within r of an axis point projects within r f / (d - r) / cos(theta) of it
+        // (the projection's largest stretch at depth d); orthographic, r times the scale.
+        const double dNear = std::min(double(s.d0), double(s.d1)) - capsule.radius();
+        capsuleReach = v.perspective ? capsule.radius() * v.focal / dNear * std::sqrt(1.0 + tan2)
+                                     : capsule.radius() * v.orthoScale;
+        capsuleReach = (!v.perspective || dNear > 0.0) && std::isfinite(capsuleReach) ? capsuleReach * 1.01 + 1e-9
+                                                                                      : std::max(slide, reach) + 0.5;
         sphereFar0 = double(s.d0) + capsule.r0 * sinRay + pad;
         sphereFar1 = double(s.d1) + capsule.r1 * sinRay + pad;
       }
@@ -124,6 +134,30 @@ struct SegmentDepth {
   double pad = 0.0;       // the bounds' growth for the solid (kCapsuleSlack radii)
   double endMargin = 0.0; // pixels from either end within which the solid's end may show (WireCapsule::endMargin)
   double sphereFar0 = 0.0, sphereFar1 = 0.0;  // the farthest the end spheres' surfaces lie where rays enter them
+  double capsuleReach = 0.0;  // pixels: how far from a point of the solid the axis points within its radius project (capsuleNearest)
+  /// Whether the solid may give a depth somewhere in the rectangle (the resolve's and the
+  /// rasteriser's choice: WireCapsule::nearEnd).
+  bool solidIn(double x0, double y0, double x1, double y1) const {
+    if (!capsule.valid) return false;
+    if (!(frame.length > 0) || endMargin == INFINITY) return true;
+    const double tx0 = (x0 - frame.ax) * frame.ux, tx1 = (x1 - frame.ax) * frame.ux;
+    const double ty0 = (y0 - frame.ay) * frame.uy, ty1 = (y1 - frame.ay) * frame.uy;
+    return WireCapsule::rangeNearEnd(std::min(tx0, tx1) + std::min(ty0, ty1), std::max(tx0, tx1) + std::max(ty0, ty1),
+                                     frame.length, endMargin);
+  }
+  /// A bound on the solid's depth over the rectangle from the solid alone: a point of it lies
+  /// within its radius of an axis point, so no nearer than that point less the radius, and that
+  /// point projects within capsuleReach pixels of it (the axis's nearest over the rectangle grown
+  /// by that; the nearer end for a segment of no screen length). Whatever the model's depth radius
+  /// (capped, ramped or end-on: WireCapsule::everywhere).
+  double capsuleNearest(double x0, double y0, double x1, double y1) const {
+    const double rc = capsule.radius() * (1.0 + kCapsuleSlack);
+    if (!(frame.length > 0)) return std::max(view->nearPlane, alo - rc);
+    x0 -= capsuleReach, y0 -= capsuleReach, x1 += capsuleReach, y1 += capsuleReach;
+    const bool big = view->perspective;
+    const double k = aa * ((aa > 0) == big ? x1 : x0) + ab * ((ab > 0) == big ? y1 : y0) + ac;
+    return std::max(view->nearPlane, std::clamp(view->depthFromKey(k), alo, ahi) - rc);
+  }
   double slide;  // how far along the axis (pixels) the round model takes its axis depth (SegmentTilt)
   double reach;  // how far the polygon lies from the axis (segmentReach)
   double rmax;   // the largest radius
@@ -149,7 +183,10 @@ struct SegmentDepth {
   /// where nearest, less the tilt, less the largest radius (Round: the radius is interpolated
   /// along the screen, the axis depth perspective-correctly, so the front plane would not bound it).
   double nearest(double x0, double y0, double x1, double y1) const {
-    if (model == WireDepth::Round) return nearestFromAxis(nearestAxis(x0, y0, x1, y1));
+    if (model == WireDepth::Round) {
+      const double z = nearestFromAxis(nearestAxis(x0, y0, x1, y1));
+      return solidIn(x0, y0, x1, y1) ? std::min(z, capsuleNearest(x0, y0, x1, y1)) : z;
+    }
     const bool big = view->perspective;
     const double k = fa * ((fa > 0) == big ? x1 : x0) + fb * ((fb > 0) == big ? y1 : y0) + fc;
     return std::clamp(view->depthFromKey(k), flo, fhi);
@@ -184,7 +221,8 @@ struct SegmentDepth {
   Near pixelNearest(int col, int row) const {
     if (model != WireDepth::Round) return {nearest(col, row, col + 1.0, row + 1.0), 0.0};
     const double axis = nearestAxis(col, row, col + 1.0, row + 1.0);
-    return {nearestFromAxis(axis), axis};
+    const double z = nearestFromAxis(axis);
+    return {solidIn(col, row, col + 1.0, row + 1.0) ? std::min(z, capsuleNearest(col, row, col + 1.0, row + 1.0)) : z, axis};
   }
   /// range() given only zNear = nearest(col, row, col + 1, row + 1): the axis's nearest depth is
   /// formed again (the rasteriser passes pixelNearest's instead; the same values).
@@ -241,18 +279,21 @@ struct SegmentDepth {
         }
         b = std::max(a, std::min(b, round));
       }
+      if (solidIn(col, row, col + 1.0, row + 1.0)) {
+        // The round range is the model's; where the solid gives the depth, its own bound holds
+        // its near side (the model's depth radius may be capped, ramped or end-on).
+        a = std::min(a, capsuleNearest(col, row, col + 1.0, row + 1.0));
+      }
     }
     zmin = float(a);
     zmax = float(b);
     zkey = float(std::clamp(depthAt(cx, cy), a, b));
   }
-  /// The solid's depth where a ray meets it (WireCapsule), else segmentDepthAt (pipeline.h),
-  /// with the end keys formed once.
+  /// The solid's depth near the ends (WireCapsule), else segmentDepthAt (pipeline.h), with the
+  /// end keys formed once.
   double depthAt(double x, double y) const {
-    if (capsule.valid && WireCapsule::nearEnd(frame.t(x, y), frame.length, endMargin, 0.0)) {
-      const double e = capsule.depthAt(*view, x, y);
-      if (e == e) return std::max(view->nearPlane, e);
-    }
+    if (capsule.valid && WireCapsule::nearEnd(frame.t(x, y), frame.length, endMargin, 0.0))
+      return std::max(view->nearPlane, capsule.depthAt(*view, x, y));
     return segmentDepthAt(*view, *seg, frame, keys, tilt, x, y, model);
   }
 };

@@ -296,7 +296,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
           const SegmentPrim& s = ps.segments[index - triangleCount];
           tag = s.tag;
           mayMerge = s.flags & kSegmentMayMerge;
-          const SegmentDepth depth(ps.view, s, ps.wireDepth, segmentUsesCapsule(ps, index));
+          const SegmentDepth depth(ps.view, s, ps.wireDepth, segmentUsesCapsule(ps, index), segmentWidthInPixels(ps, index));
           auto never = [](auto&&...) { return false; };
           // A wire resting on a surface is judged at its axis (Fragment::onSurface): a plane in
           // front over a pixel beside its axis may be behind it at the axis. So a pixel (a row) of

@@ -197,6 +197,7 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
     slot.opacity = safeOpacity(w.opacity);
     slot.hidden = w.hidden;
     slot.restsOnSurface = w.restsOnSurface;
+    slot.widthInPixels = w.thicknessInPixels;
     HiddenLines& h = slot.hidden;  // out-of-range values fall back to the defaults
     if (!(h.dash >= 0.1 && h.dash <= 1e4)) h.dash = HiddenLines{}.dash;
     if (!(h.gap >= 0.0 && h.gap <= 1e4)) h.gap = HiddenLines{}.gap;
