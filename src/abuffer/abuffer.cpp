@@ -979,6 +979,7 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
       auto ownDepths = [&] {
         if (depthsDone) return;
         if (source_ && f.prim != Fragment::kNoPrimitive && source_->surfaceDepth(f.prim, px, py, xm[0])) {
+          if (xm[0].kind == SurfaceDepth::Kind::Wire && xm[0].capsule) xm[0].lo = f.zmin, xm[0].hi = f.zmax;  // (as depthsOf)
           xm[0].atSamples(sampleX_, sampleY_, N, xd.data());
           edge = xm[0].kind == SurfaceDepth::Kind::Wire && xm[0].onSurface;
         } else {

@@ -127,11 +127,11 @@ struct SurfaceDepth {
   /// changes by more than the wire's radius across the wire's width.
   bool onSurface = false;
   /// wire: its exact solid (render/pipeline.h, WireCapsule: a cylinder with a sphere at each
-  /// end) where the ray through a sample meets it, the round model above where it misses. In
-  /// the frame of the solid's p0 end, the ray through sample (sx, sy) passes (cw0 + cwx sx,
-  /// cw1 + cwy sy, cw2) at view depth zref and runs (cd0 + cdx sx, cd1 + cdy sy, cd2) per unit
-  /// of depth beyond it: every term near the solid's size, so floats keep its depth to a small
-  /// part of its radius whatever the distance from the eye.
+  /// end), or where the ray through a sample passes it nearest when it misses. In the frame of
+  /// the solid's p0 end, the ray through sample (sx, sy) passes (cw0 + cwx sx, cw1 + cwy sy,
+  /// cw2) at view depth zref and runs (cd0 + cdx sx, cd1 + cdy sy, cd2) per unit of depth beyond
+  /// it: every term of the size of the segment's world length, not of its distance from the eye,
+  /// so that floats keep its depth to a small part of its radius.
   bool capsule = false;
   float zref = 0;
   float cw0 = 0, cw1 = 0, cw2 = 0, cwx = 0, cwy = 0;

@@ -112,12 +112,15 @@ class Binner {
     if (!tileRange(bx0, by0, bx1, by1, tx0, ty0, tx1, ty1)) return;
     // (Formed only to fill the items: two divisions, a square root and the tilt.)
     float zlo = 0.0f;
-    double tilt = 0.0, slide = 0.0, nearRadius = 0.0;
+    double tilt = 0.0, slide = 0.0, nearRadius = 0.0, depthReach = reach;
     std::optional<SegmentEndKeys> keys;
     if constexpr (kItems) {
       const bool exact = segmentUsesCapsule(ps_, i);
       zlo = segmentZlo(view_, s, exact);
       nearRadius = wireNearRadius(view_, s, exact);
+      // A hair's solid: a point of it seen in the tile lies within its radius of an axis point
+      // projecting within capsuleReach of it (wider than the polygon's reach off the view axis).
+      if (exact) depthReach = std::max(reach, capsuleReach(view_, nearRadius, std::min(double(s.d0), double(s.d1))));
       keys.emplace(view_, s);
       tilt = segmentTiltBound(view_, s);
       // The round model takes the axis depth up to `slide` along the axis from the pixel's foot.
@@ -141,6 +144,12 @@ class Binner {
                                        std::max(ax, bx) + reach, std::max(ay, by) + reach);
         // The axis depth is monotonic along the axis: its nearest is at one end of [ta, tb]; the
         // surface is at most the tilt and the largest radius nearer (either WireDepth, segmentZlo).
+        // A hair's solid reaches from the axis grown by depthReach.
+        if (depthReach > reach) {
+          if (!(depthReach < INFINITY)) ta = 0.0, tb = 1.0;
+          else clipAxis(s, tx * tile_ - depthReach, ty * tile_ - depthReach, (tx + 1) * tile_ + depthReach,
+                        (ty + 1) * tile_ + depthReach, ta, tb);  // (holds the reach's clip)
+        }
         const double sa = std::max(0.0, ta - slide), sb = std::min(1.0, tb + slide);
         const double k =
             view_.perspective ? std::max(keys->axis(sa), keys->axis(sb)) : std::min(keys->axis(sa), keys->axis(sb));

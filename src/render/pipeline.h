@@ -407,9 +407,10 @@ inline double wireDepthScale(const ViewTransform& v, const glm::dvec3& e, const 
 /// "The exact solid at the ends"). The round model (segmentDepthAt) is within a few hundredths
 /// of a radius of it along the body but not near the ends, where the end's sphere, not the
 /// slanting body, is what a ray meets first (up to two radii farther than the model there).
-/// Hairs (wires that do not rest on a surface) take their depth from this where a ray meets
-/// it, and from the model where it misses (the polygon's outline lies a little outside the
-/// solid's); `valid` is false where the segment has no finite eye-space ends.
+/// Hairs (wires that do not rest on a surface) take their depth from this near their ends (or
+/// along the whole segment: `everywhere`); a ray that misses it (the polygon's outline lies a
+/// little outside the solid's) takes where it passes it nearest. `valid` is false where the
+/// segment has no finite eye-space ends.
 struct WireCapsule {
   glm::dvec3 e0{0.0}, u{0.0};  ///< eye-space p0; unit axis (0 for a segment of no length)
   double length = 0;           ///< |e1 - e0|, world
@@ -516,6 +517,21 @@ struct WireCapsule {
 /// How far, in world radii, the exact solid may lie outside the round model's depth range where
 /// the model is used as its bound (the body, away from the ends: within 0.03 radii measured).
 inline constexpr double kCapsuleSlack = 0.05;
+
+/// How far (pixels) a point of a hair's solid of world radius at most `radius` may project from
+/// the axis points within that radius of it, for points seen in the image (the bounds that hold
+/// the solid: SegmentDepth::capsuleNearest, binning). The projection stretches a displacement at
+/// depth z by at most f / z / cos(theta), theta the ray's angle to the view axis, at most the
+/// image's widest (ViewTransform::maxRayAngle); the displacement's points lie no nearer than the
+/// axis's nearest depth `dmin` less the radius. Orthographic: the radius times the scale.
+/// Infinite where the solid may reach the eye (then the whole axis bounds it).
+inline double capsuleReach(const ViewTransform& v, double radius, double dmin) {
+  if (!v.perspective) return radius * v.orthoScale * 1.01 + 1e-9;
+  const double rx = std::max(v.cx, v.width - v.cx), ry = std::max(v.cy, v.height - v.cy);
+  const double dNear = dmin - radius;
+  const double rho = radius * v.focal / dNear * std::sqrt(1.0 + (rx * rx + ry * ry) / (v.focal * v.focal));
+  return dNear > 0.0 && std::isfinite(rho) ? rho * 1.01 + 1e-9 : INFINITY;
+}
 
 /// The farthest a wire's surface may lie in front of its axis, either model (the depth radii)
 /// or the exact solid (WireCapsule: its world radius, bounded from the half widths alone as

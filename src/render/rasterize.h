@@ -118,13 +118,7 @@ struct SegmentDepth {
         const double rx = std::max(v.cx, v.width - v.cx), ry = std::max(v.cy, v.height - v.cy);
         const double tan2 = v.perspective ? (rx * rx + ry * ry) / (v.focal * v.focal) : 0.0;
         const double sinRay = std::sqrt(tan2 / (1.0 + tan2));
-        // A point within r of an axis point projects within r f / (d - r) / cos(theta) of it
-        // (the projection's largest stretch at depth d); orthographic, r times the scale.
-        const double dNear = std::min(double(s.d0), double(s.d1)) - capsule.radius();
-        capsuleReach = v.perspective ? capsule.radius() * v.focal / dNear * std::sqrt(1.0 + tan2)
-                                     : capsule.radius() * v.orthoScale;
-        capsuleReach = (!v.perspective || dNear > 0.0) && std::isfinite(capsuleReach) ? capsuleReach * 1.01 + 1e-9
-                                                                                      : std::max(slide, reach) + 0.5;
+        capsuleReach = wf::capsuleReach(v, capsule.radius(), std::min(double(s.d0), double(s.d1)));
         sphereFar0 = double(s.d0) + capsule.r0 * sinRay + pad;
         sphereFar1 = double(s.d1) + capsule.r1 * sinRay + pad;
       }
@@ -152,7 +146,7 @@ struct SegmentDepth {
   /// (capped, ramped or end-on: WireCapsule::everywhere).
   double capsuleNearest(double x0, double y0, double x1, double y1) const {
     const double rc = capsule.radius() * (1.0 + kCapsuleSlack);
-    if (!(frame.length > 0)) return std::max(view->nearPlane, alo - rc);
+    if (!(frame.length > 0) || capsuleReach == INFINITY) return std::max(view->nearPlane, alo - rc);
     x0 -= capsuleReach, y0 -= capsuleReach, x1 += capsuleReach, y1 += capsuleReach;
     const bool big = view->perspective;
     const double k = aa * ((aa > 0) == big ? x1 : x0) + ab * ((ab > 0) == big ? y1 : y0) + ac;
@@ -216,18 +210,21 @@ struct SegmentDepth {
   /// depth it came from, which range() needs again.
   struct Near {
     double z;
-    double axis;  ///< nearestAxis over the pixel (Round)
+    double axis;              ///< nearestAxis over the pixel (Round)
+    double solid = INFINITY;  ///< capsuleNearest over the pixel where the solid may give its depth (solidIn)
   };
   Near pixelNearest(int col, int row) const {
     if (model != WireDepth::Round) return {nearest(col, row, col + 1.0, row + 1.0), 0.0};
     const double axis = nearestAxis(col, row, col + 1.0, row + 1.0);
-    const double z = nearestFromAxis(axis);
-    return {solidIn(col, row, col + 1.0, row + 1.0) ? std::min(z, capsuleNearest(col, row, col + 1.0, row + 1.0)) : z, axis};
+    const double solid = solidIn(col, row, col + 1.0, row + 1.0) ? capsuleNearest(col, row, col + 1.0, row + 1.0) : INFINITY;
+    return {std::min(nearestFromAxis(axis), solid), axis, solid};
   }
   /// range() given only zNear = nearest(col, row, col + 1, row + 1): the axis's nearest depth is
   /// formed again (the rasteriser passes pixelNearest's instead; the same values).
   void range(int col, int row, double cx, double cy, double zNear, float& zmin, float& zmax, float& zkey) const {
-    const Near n{zNear, model == WireDepth::Round ? nearestAxis(col, row, col + 1.0, row + 1.0) : 0.0};
+    const bool solid = model == WireDepth::Round && solidIn(col, row, col + 1.0, row + 1.0);
+    const Near n{zNear, model == WireDepth::Round ? nearestAxis(col, row, col + 1.0, row + 1.0) : 0.0,
+                 solid ? capsuleNearest(col, row, col + 1.0, row + 1.0) : INFINITY};
     range(col, row, cx, cy, n, zmin, zmax, zkey);
   }
   void range(int col, int row, double cx, double cy, const Near& n, float& zmin, float& zmax, float& zkey) const {
@@ -273,17 +270,16 @@ struct SegmentDepth {
           // Within endMargin of an end the ray may meet the end's sphere instead of the body: no
           // farther than its centre and a radius times the sine of the ray's angle to the view
           // axis (sphereFar).
-          const double margin = endMargin / frame.length;
-          if (tlo < margin) round = std::max(round, sphereFar0);
-          if (thi > 1.0 - margin) round = std::max(round, sphereFar1);
+          // (where solidIn holds: the margin and the resolve's spread, WireCapsule::rangeNearEnd)
+          const double margin = (endMargin + 1.5) / frame.length;
+          if (!(tlo >= margin)) round = std::max(round, sphereFar0);
+          if (!(thi <= 1.0 - margin)) round = std::max(round, sphereFar1);
         }
         b = std::max(a, std::min(b, round));
       }
-      if (solidIn(col, row, col + 1.0, row + 1.0)) {
-        // The round range is the model's; where the solid gives the depth, its own bound holds
-        // its near side (the model's depth radius may be capped, ramped or end-on).
-        a = std::min(a, capsuleNearest(col, row, col + 1.0, row + 1.0));
-      }
+      // The round range is the model's; where the solid may give the depth, its own bound holds
+      // its near side (the model's depth radius may be capped, ramped or end-on).
+      a = std::min(a, n.solid);
     }
     zmin = float(a);
     zmax = float(b);
