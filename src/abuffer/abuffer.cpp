@@ -775,18 +775,13 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
     if (depthState[size_t(i)] == 0) {
       const Fragment& f = order[size_t(i)]->f;
       SurfaceDepth& model = models[2 * size_t(i)];
-      // A wire's exact solid is held to the fragment's depth range, which culling trusted
-      // (the rasteriser bounds it there: render/rasterize.h, SegmentDepth).
-      auto holdToRange = [&](SurfaceDepth& m) {
-        if (m.kind == SurfaceDepth::Kind::Wire && m.capsule) m.lo = f.zmin, m.hi = f.zmax;
-      };
       if (source_ && f.prim != Fragment::kNoPrimitive && source_->surfaceDepth(f.prim, px, py, model)) {
-        holdToRange(model);
+        model.holdSolidTo(f.zmin, f.zmax);
         model.atSamples(sampleX_, sampleY_, N, d);
         SurfaceDepth& second = models[2 * size_t(i) + 1];
         second.kind = SurfaceDepth::Kind::Plane;  // none unless a wire's merged piece
         if (f.prim2 != Fragment::kNoPrimitive && source_->surfaceDepth(f.prim2, px, py, second)) {
-          holdToRange(second);
+          second.holdSolidTo(f.zmin, f.zmax);
           float d2[64];
           second.atSamples(sampleX_, sampleY_, N, d2);
           for (int s = 0; s < N; ++s) d[s] = std::min(d[s], d2[s]);
@@ -979,7 +974,7 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
       auto ownDepths = [&] {
         if (depthsDone) return;
         if (source_ && f.prim != Fragment::kNoPrimitive && source_->surfaceDepth(f.prim, px, py, xm[0])) {
-          if (xm[0].kind == SurfaceDepth::Kind::Wire && xm[0].capsule) xm[0].lo = f.zmin, xm[0].hi = f.zmax;  // (as depthsOf)
+          xm[0].holdSolidTo(f.zmin, f.zmax);
           xm[0].atSamples(sampleX_, sampleY_, N, xd.data());
           edge = xm[0].kind == SurfaceDepth::Kind::Wire && xm[0].onSurface;
         } else {

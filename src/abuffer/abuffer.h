@@ -133,6 +133,11 @@ struct SurfaceDepth {
   /// it: every term of the size of the segment's world length, not of its distance from the eye,
   /// so that floats keep its depth to a small part of its radius.
   bool capsule = false;
+  /// The resolve holds a wire's solid to its fragment's depth range [zmin, zmax], which culling
+  /// trusted (render/rasterize.h, SegmentDepth bounds it there); the model already lies in it.
+  void holdSolidTo(float zmin, float zmax) {
+    if (kind == Kind::Wire && capsule) lo = zmin, hi = zmax;
+  }
   float zref = 0;
   float cw0 = 0, cw1 = 0, cw2 = 0, cwx = 0, cwy = 0;
   float cd0 = 0, cd1 = 0, cd2 = -1, cdx = 0, cdy = 0;

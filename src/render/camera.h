@@ -9,6 +9,7 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 #include <string>
@@ -87,6 +88,13 @@ struct ViewTransform {
   double pixelsPerWorld(double d) const { return perspective ? focal / d : orthoScale; }
   /// The largest angle (radians) between a view ray and the view axis in this image.
   double maxRayAngle() const;
+  /// tan^2 of maxRayAngle() without its arc tangent (the image's farthest corner from the
+  /// centre over the focal length, squared); 0 when orthographic.
+  double maxRayTan2() const {
+    if (!perspective) return 0.0;
+    const double rx = std::max(cx, width - cx), ry = std::max(cy, height - cy);
+    return (rx * rx + ry * ry) / (focal * focal);
+  }
 };
 
 }  // namespace wf

@@ -261,7 +261,7 @@ void PreparedFragmentSource::capsuleRay(const WireDepthBasis& b, int x, int y, S
   const double tu = b.hasLength ? (x + 0.5 - b.ax) * b.ux + (y + 0.5 - b.ay) * b.uy : 0.0;
   // Along the body the model is the solid's depth within kCapsuleSlack radii: the solid only
   // near the ends (the pixel's samples lie within 0.71 pixels of its centre).
-  if (!WireCapsule::nearEnd(tu, b.length, b.endMargin, 0.71)) {
+  if (!WireCapsule::nearEnd(tu, b.length, b.endMargin, WireCapsule::kPixelSpread)) {
     d.capsule = false;
     return;
   }

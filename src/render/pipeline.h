@@ -441,8 +441,7 @@ struct WireCapsule {
     // inside the cylinder's.
     if (valid) {
       const double sl = glm::length(s.p1 - s.p0), wmax = std::max(double(s.w0), double(s.w1));
-      const double rx = std::max(v.cx, v.width - v.cx), ry = std::max(v.cy, v.height - v.cy);
-      const double cosMax = v.perspective ? v.focal / std::sqrt(v.focal * v.focal + rx * rx + ry * ry) : 1.0;
+      const double cosMax = 1.0 / std::sqrt(1.0 + v.maxRayTan2());
       const double capped = kMaxWireDepthScale * cosMax * 0.999;
       everywhere = (s.flags & kSegmentEndOn) || !(length > 0) || !(sl >= 2.0 * wmax) ||
                    !(double(s.r0) < capped * r0) || !(double(s.r1) < capped * r1) ||
@@ -505,13 +504,15 @@ struct WireCapsule {
   /// Whether the solid, not the model, gives the depth at axis parameter t (screen length
   /// `length` pixels) for a point up to `spread` pixels from it: near an end or beyond it.
   static bool nearEnd(double t, double length, double margin, double spread) {
-    return !(t * length >= margin + spread && (1.0 - t) * length >= margin + spread);
+    return nearP0(t, length, margin + spread) || nearP1(t, length, margin + spread);
   }
-  /// nearEnd for any point of screen parameters [tlo, thi] (a rectangle), with the resolve's
-  /// spread (its pixel's centre) and a pixel to spare.
-  static bool rangeNearEnd(double tlo, double thi, double length, double margin) {
-    return !(tlo * length >= margin + 1.5 && (1.0 - thi) * length >= margin + 1.5);
-  }
+  /// Within `margin` pixels of p0 (or before it), of p1 (or beyond it), at axis parameter t.
+  static bool nearP0(double t, double length, double margin) { return !(t * length >= margin); }
+  static bool nearP1(double t, double length, double margin) { return !((1.0 - t) * length >= margin); }
+  /// The spreads the solid's users take: the resolve decides per pixel at its centre, whose
+  /// samples lie within kPixelSpread of it; the rasteriser's bounds, for any point of the axis
+  /// parameters a rectangle spans, allow kRangeSpread (that and a pixel to spare).
+  static constexpr double kPixelSpread = 0.71, kRangeSpread = 1.5;
 };
 
 /// How far, in world radii, the exact solid may lie outside the round model's depth range where
@@ -527,9 +528,8 @@ inline constexpr double kCapsuleSlack = 0.05;
 /// Infinite where the solid may reach the eye (then the whole axis bounds it).
 inline double capsuleReach(const ViewTransform& v, double radius, double dmin) {
   if (!v.perspective) return radius * v.orthoScale * 1.01 + 1e-9;
-  const double rx = std::max(v.cx, v.width - v.cx), ry = std::max(v.cy, v.height - v.cy);
   const double dNear = dmin - radius;
-  const double rho = radius * v.focal / dNear * std::sqrt(1.0 + (rx * rx + ry * ry) / (v.focal * v.focal));
+  const double rho = radius * v.focal / dNear * std::sqrt(1.0 + v.maxRayTan2());
   return dNear > 0.0 && std::isfinite(rho) ? rho * 1.01 + 1e-9 : INFINITY;
 }
 

@@ -113,11 +113,7 @@ struct SegmentDepth {
         pad = kCapsuleSlack * capsule.radius();
         rmax = std::max(rmax, capsule.radius() + pad);
         endMargin = capsule.endMargin(s);
-        // The image's widest ray angle theta (ViewTransform::maxRayAngle, without its arc
-        // tangent): R the farthest corner's distance from the centre, tan(theta) = R / f.
-        const double rx = std::max(v.cx, v.width - v.cx), ry = std::max(v.cy, v.height - v.cy);
-        const double tan2 = v.perspective ? (rx * rx + ry * ry) / (v.focal * v.focal) : 0.0;
-        const double sinRay = std::sqrt(tan2 / (1.0 + tan2));
+        const double tan2 = v.maxRayTan2(), sinRay = std::sqrt(tan2 / (1.0 + tan2));  // of the widest ray angle
         capsuleReach = wf::capsuleReach(v, capsule.radius(), std::min(double(s.d0), double(s.d1)));
         sphereFar0 = double(s.d0) + capsule.r0 * sinRay + pad;
         sphereFar1 = double(s.d1) + capsule.r1 * sinRay + pad;
@@ -136,8 +132,9 @@ struct SegmentDepth {
     if (!(frame.length > 0) || endMargin == INFINITY) return true;
     const double tx0 = (x0 - frame.ax) * frame.ux, tx1 = (x1 - frame.ax) * frame.ux;
     const double ty0 = (y0 - frame.ay) * frame.uy, ty1 = (y1 - frame.ay) * frame.uy;
-    return WireCapsule::rangeNearEnd(std::min(tx0, tx1) + std::min(ty0, ty1), std::max(tx0, tx1) + std::max(ty0, ty1),
-                                     frame.length, endMargin);
+    const double m = endMargin + WireCapsule::kRangeSpread;
+    return WireCapsule::nearP0(std::min(tx0, tx1) + std::min(ty0, ty1), frame.length, m) ||
+           WireCapsule::nearP1(std::max(tx0, tx1) + std::max(ty0, ty1), frame.length, m);
   }
   /// A bound on the solid's depth over the rectangle from the solid alone: a point of it lies
   /// within its radius of an axis point, so no nearer than that point less the radius, and that
@@ -270,10 +267,10 @@ struct SegmentDepth {
           // Within endMargin of an end the ray may meet the end's sphere instead of the body: no
           // farther than its centre and a radius times the sine of the ray's angle to the view
           // axis (sphereFar).
-          // (where solidIn holds: the margin and the resolve's spread, WireCapsule::rangeNearEnd)
-          const double margin = (endMargin + 1.5) / frame.length;
-          if (!(tlo >= margin)) round = std::max(round, sphereFar0);
-          if (!(thi <= 1.0 - margin)) round = std::max(round, sphereFar1);
+          // (at each end where solidIn holds)
+          const double m = endMargin + WireCapsule::kRangeSpread;
+          if (WireCapsule::nearP0(tlo, frame.length, m)) round = std::max(round, sphereFar0);
+          if (WireCapsule::nearP1(thi, frame.length, m)) round = std::max(round, sphereFar1);
         }
         b = std::max(a, std::min(b, round));
       }

@@ -513,7 +513,7 @@ TEST(WireFootprint, SolidStaysWithinTheCullingBoundsOfEveryHair) {
         for (int i = 0; i < 16; ++i) sx[i] = (i % 4 + 0.5f) / 4, sy[i] = (i / 4 + 0.5f) / 4;
         sd.atSamples(sx, sy, 16, out);  // (unheld: the resolve holds them to [zmin, zmax] as well)
         const bool solidHere = WireCapsule::nearEnd(SegmentFrame(p).t(col + 0.5, row + 0.5), SegmentFrame(p).length,
-                                                    depth.endMargin, 0.71);
+                                                    depth.endMargin, WireCapsule::kPixelSpread);
         for (int i = 0; i < 16; ++i) {
           // A ray that misses the solid takes where it passes it nearest, which the resolve holds
           // to [zmin, zmax] (and the rasteriser its centroid's): the bounds are for the solid.
@@ -595,7 +595,7 @@ TEST(WireFootprint, ResolveAndRasteriserBoundsFollowTheTiltedModel) {
         // The resolve takes the solid near the ends (within its margin of the pixel's centre),
         // the model along the body, where the two differ by under kCapsuleSlack radii.
         const double x = col + double(sx[i]), y = row + double(sy[i]);
-        const bool solid = WireCapsule::nearEnd(fr.t(col + 0.5, row + 0.5), fr.length, depth.endMargin, 0.71);
+        const bool solid = WireCapsule::nearEnd(fr.t(col + 0.5, row + 0.5), fr.length, depth.endMargin, WireCapsule::kPixelSpread);
         const double exact = solid ? primitiveDepthAt(ps, ps.primitiveCount() - 1, x, y)
                                    : segmentDepthAt(v, p, fr, x, y, WireDepth::Round);
         const double tol = 2e-5 * exact;
