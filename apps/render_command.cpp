@@ -89,6 +89,7 @@ json statsJson(const wf::RenderStats& st, const wf::RenderOptions& o, bool refer
   j["hidden_line_fragments"] = st.abuffer.xray;  // x-ray copies of wires drawn dashed or ghosted
   j["max_fragments_per_pixel"] = st.abuffer.maxFragmentsPerPixel;
   j["peak_bytes"] = st.peakBytes;
+  j["bin_bands"] = st.binBands;  // tile-row bands binned one after another (their items not all held at once)
   json e;
   e["coverage_quantisation"] = st.coverageQuantisation;
   e["map_max"] = st.mapError;

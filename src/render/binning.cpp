@@ -54,9 +54,12 @@ bool clipAxis(const SegmentPrim& s, double rx0, double ry0, double rx1, double r
 
 class Binner {
  public:
-  Binner(const PreparedScene& ps, int tileSize) : ps_(ps), view_(ps.view), tile_(tileSize) {
+  // Tiles of tile rows [rowBegin, rowEnd) only (clamped to the grid).
+  Binner(const PreparedScene& ps, int tileSize, int rowBegin, int rowEnd) : ps_(ps), view_(ps.view), tile_(tileSize) {
     tilesX_ = (view_.width + tileSize - 1) / tileSize;
     tilesY_ = (view_.height + tileSize - 1) / tileSize;
+    rowLo_ = std::clamp(rowBegin, 0, tilesY_);
+    rowHi_ = std::clamp(rowEnd, rowLo_, tilesY_);
   }
   int tilesX() const { return tilesX_; }
   int tilesY() const { return tilesY_; }
@@ -168,7 +171,8 @@ class Binner {
     ty0 = std::clamp(int(std::floor(y0)) / tile_, 0, tilesY_ - 1);
     tx1 = std::clamp((int(std::ceil(x1)) - 1) / tile_, 0, tilesX_ - 1);
     ty1 = std::clamp((int(std::ceil(y1)) - 1) / tile_, 0, tilesY_ - 1);
-    return true;
+    ty0 = std::max(ty0, rowLo_), ty1 = std::min(ty1, rowHi_ - 1);  // the rows binned
+    return ty0 <= ty1;
   }
 
   // The item of primitive i in tile (tx, ty) with the pixel rectangle of [x0, x1] x [y0, y1]
@@ -194,63 +198,127 @@ class Binner {
   const ViewTransform& view_;
   int tile_;
   int tilesX_ = 1, tilesY_ = 1;
+  int rowLo_ = 0, rowHi_ = 1;
 };
 
 }  // namespace
 
-TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& st, size_t memoryBudget) {
-  const auto t0 = std::chrono::steady_clock::now();
+BinCounts countBins(const PreparedScene& ps, int tileSize, int rowBegin, int rowEnd) {
   if (tileSize < 1 || tileSize > TileBins::kMaxTileSize)  // (optionsProblem has said so already)
     throw std::invalid_argument("tile size " + std::to_string(tileSize) + " outside 1 ... " +
                                 std::to_string(TileBins::kMaxTileSize));
-  const Binner binner(ps, tileSize);
-  TileBins bins;
-  bins.tilesX = binner.tilesX();
-  bins.tilesY = binner.tilesY();
-  const size_t tiles = size_t(bins.tilesX) * size_t(bins.tilesY);
+  const Binner binner(ps, tileSize, rowBegin, rowEnd);
+  BinCounts c;
+  c.tileSize = tileSize;
+  c.tilesX = binner.tilesX();
+  c.tilesY = binner.tilesY();
+  c.rowBegin = std::clamp(rowBegin, 0, c.tilesY);
+  c.rowEnd = std::clamp(rowEnd, c.rowBegin, c.tilesY);
+  const size_t tiles = size_t(c.tilesX) * size_t(c.rowEnd - c.rowBegin);
   const std::uint32_t n = ps.primitiveCount();
   // Chunks of primitives: enough to share out, few enough that their per-tile counts stay small.
   const size_t threads = size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
-  const size_t chunks = std::clamp<size_t>((n + 65535) / 65536, 1, 4 * threads);
-  const size_t per = (n + chunks - 1) / chunks;
-  std::vector<std::uint32_t> counts(chunks * tiles, 0);  // chunk-major
-  tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
-    std::uint32_t* cnt = &counts[c * tiles];
-    const std::uint32_t end = std::uint32_t(std::min<size_t>(n, (c + 1) * per));
-    for (std::uint32_t i = std::uint32_t(c * per); i < end; ++i)
-      binner.forEachTile(i, [&](int tile) { ++cnt[tile]; });
+  // (Whole blocks a chunk: each block's rows are written by one.)
+  c.chunks = std::clamp<size_t>((n + 65535) / 65536, 1, 4 * threads);
+  c.perChunk = ((n + c.chunks - 1) / c.chunks + BinCounts::kBlock - 1) / BinCounts::kBlock * BinCounts::kBlock;
+  c.counts.assign(c.chunks * tiles, 0);  // chunk-major
+  c.blockRows.assign(2 * ((size_t(n) + BinCounts::kBlock - 1) / BinCounts::kBlock), 0);
+  const size_t first = size_t(c.rowBegin) * size_t(c.tilesX);
+  const int tilesX = c.tilesX;
+  tbb::parallel_for(size_t(0), c.chunks, [&](size_t k) {
+    std::uint32_t* cnt = &c.counts[k * tiles];
+    const std::uint32_t end = std::uint32_t(std::min<size_t>(n, (k + 1) * c.perChunk));
+    for (std::uint32_t i = std::uint32_t(std::min<size_t>(n, k * c.perChunk)); i < end;) {
+      const size_t b = i / BinCounts::kBlock;
+      const std::uint32_t blockEnd = std::uint32_t(std::min<size_t>(end, (b + 1) * BinCounts::kBlock));
+      int lo = std::numeric_limits<int>::max(), hi = -1;
+      for (; i < blockEnd; ++i)
+        binner.forEachTile(i, [&](int tile) {
+          ++cnt[size_t(tile) - first];
+          lo = std::min(lo, tile / tilesX), hi = std::max(hi, tile / tilesX);
+        });
+      c.blockRows[2 * b] = lo, c.blockRows[2 * b + 1] = hi;
+    }
   });
+  return c;
+}
+
+void checkBinsFit(const PreparedScene& ps, const BinCounts& c, std::uint64_t items, size_t memoryBudget) {
+  if (items > std::numeric_limits<std::uint32_t>::max()) throw std::length_error("more than 4 billion tile items");
+  // The items are allocated while the primitives, the counts and a band's offsets are held.
+  const double offsets = double(c.tilesX) * (c.rowEnd - c.rowBegin + 1) * sizeof(std::uint32_t) * (1.0 + double(c.chunks));
+  const double held = double(ps.bytes()) + double(c.bytes()) + offsets;
+  if (memoryBudget && held + double(items) * sizeof(TileBins::Item) > double(memoryBudget))
+    throw std::length_error("the primitives fall into " + std::to_string(items) + " tile bins (" +
+                            std::to_string(items * sizeof(TileBins::Item) >> 20) + " MiB beside " +
+                            std::to_string(size_t(held) >> 20) +
+                            " MiB of primitives), over the memory budget (RenderOptions::memoryBudget / --memory-budget)");
+}
+
+std::uint64_t BinCounts::rowItems(int row) const {
+  std::uint64_t sum = 0;
+  if (row < rowBegin || row >= rowEnd) return 0;
+  const size_t tiles = size_t(tilesX) * size_t(rowEnd - rowBegin);
+  for (size_t k = 0; k < chunks; ++k)
+    for (int tx = 0; tx < tilesX; ++tx) sum += counts[k * tiles + size_t(row - rowBegin) * size_t(tilesX) + size_t(tx)];
+  return sum;
+}
+
+void binPrimitives(const PreparedScene& ps, const BinCounts& c, int rowBegin, int rowEnd, RenderStats& st,
+                   size_t memoryBudget, TileBins& bins) {
+  const auto t0 = std::chrono::steady_clock::now();
+  rowBegin = std::clamp(rowBegin, c.rowBegin, c.rowEnd);
+  rowEnd = std::clamp(rowEnd, rowBegin, c.rowEnd);
+  const Binner binner(ps, c.tileSize, rowBegin, rowEnd);
+  bins.tilesX = c.tilesX;
+  bins.tilesY = c.tilesY;
+  bins.rowBegin = rowBegin;
+  bins.rowEnd = rowEnd;
+  const size_t countedTiles = size_t(c.tilesX) * size_t(c.rowEnd - c.rowBegin);
+  const size_t first = size_t(rowBegin) * size_t(c.tilesX);              // the band's first tile
+  const size_t skip = size_t(rowBegin - c.rowBegin) * size_t(c.tilesX);   // its place in the counts
+  const size_t tiles = size_t(c.tilesX) * size_t(rowEnd - rowBegin);
+  const std::uint32_t n = ps.primitiveCount();
   // Offsets: tile-major, chunks in order within a tile.
   bins.offsets.assign(tiles + 1, 0);
-  std::vector<std::uint32_t> start(chunks * tiles);
+  std::vector<std::uint32_t> start(c.chunks * tiles);
   std::uint64_t total = 0;
   for (size_t t = 0; t < tiles; ++t) {
     bins.offsets[t] = std::uint32_t(total);
-    for (size_t c = 0; c < chunks; ++c) {
-      start[c * tiles + t] = std::uint32_t(total);
-      total += counts[c * tiles + t];
+    for (size_t k = 0; k < c.chunks; ++k) {
+      start[k * tiles + t] = std::uint32_t(total);
+      total += c.counts[k * countedTiles + skip + t];
     }
   }
-  if (total > std::numeric_limits<std::uint32_t>::max()) throw std::length_error("more than 4 billion tile items");
-  // The items are allocated while the primitives and the counts are held.
-  const double held = double(ps.bytes()) + double(counts.size() + start.size()) * sizeof(std::uint32_t);
-  if (memoryBudget && held + double(total) * sizeof(TileBins::Item) > double(memoryBudget))
-    throw std::length_error("the primitives fall into " + std::to_string(total) + " tile bins (" +
-                            std::to_string(total * sizeof(TileBins::Item) >> 20) + " MiB beside " +
-                            std::to_string(size_t(held) >> 20) +
-                            " MiB of primitives), over the memory budget (RenderOptions::memoryBudget / --memory-budget)");
+  checkBinsFit(ps, c, total, memoryBudget);
   bins.offsets[tiles] = std::uint32_t(total);
-  bins.items.resize(total);
-  tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
-    std::uint32_t* fill = &start[c * tiles];
-    const std::uint32_t end = std::uint32_t(std::min<size_t>(n, (c + 1) * per));
-    for (std::uint32_t i = std::uint32_t(c * per); i < end; ++i)
-      binner.forEachItem(i, [&](int tile, const TileBins::Item& item) { bins.items[fill[tile]++] = item; });
+  bins.items.resize(total);  // (within the capacity a previous band left: not moved)
+  tbb::parallel_for(size_t(0), c.chunks, [&](size_t k) {
+    std::uint32_t* fill = &start[k * tiles];
+    const std::uint32_t end = std::uint32_t(std::min<size_t>(n, (k + 1) * c.perChunk));
+    for (std::uint32_t i = std::uint32_t(std::min<size_t>(n, k * c.perChunk)); i < end;) {
+      // A block none of whose primitives reaches these rows is passed over unread.
+      const size_t b = i / BinCounts::kBlock;
+      const std::uint32_t blockEnd = std::uint32_t(std::min<size_t>(end, (b + 1) * BinCounts::kBlock));
+      if (c.blockRows[2 * b + 1] < rowBegin || c.blockRows[2 * b] >= rowEnd) {
+        i = blockEnd;
+        continue;
+      }
+      for (; i < blockEnd; ++i)
+        binner.forEachItem(i, [&](int tile, const TileBins::Item& item) { bins.items[fill[size_t(tile) - first]++] = item; });
+    }
   });
-  st.tiles = tiles;
-  st.tilesEmpty = 0;
+  st.tiles += tiles;
   for (size_t t = 0; t < tiles; ++t) st.tilesEmpty += bins.offsets[t] == bins.offsets[t + 1];
-  st.binning = secondsSince(t0);
+  st.binning += secondsSince(t0);
+}
+
+TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& st, size_t memoryBudget) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const BinCounts counts = countBins(ps, tileSize);
+  st.binning += secondsSince(t0);
+  TileBins bins;
+  binPrimitives(ps, counts, 0, counts.tilesY, st, memoryBudget, bins);
   return bins;
 }
 

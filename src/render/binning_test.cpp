@@ -1,6 +1,10 @@
 // Tests of the per-tile order (binning.cpp, sortTileItems) against the comparison it stands for,
-// TileBins::Item::operator< (depth, then primitive), applied by std::sort.
+// TileBins::Item::operator< (depth, then primitive), applied by std::sort; and of binning in
+// bands of tile rows against binning the whole grid.
 #include "render/pipeline.h"
+#include "render/renderer.h"
+
+#include "render_test_scenes.h"
 
 #include <gtest/gtest.h>
 
@@ -9,10 +13,74 @@
 #include <cstdint>
 #include <cstring>
 #include <random>
+#include <utility>
 #include <vector>
 
 namespace wf {
 namespace {
+
+// Every band of tile rows, binned from the counts of the whole grid (or of rows counted alone),
+// holds exactly the whole grid's items of its tiles, in the same order; the counts per row are
+// the items the rows get. Triangles and segments, perspective (tilted hairs, whose tile depths
+// reach their solid) and orthographic; primitives in shuffled order, so that the counts' blocks
+// reach many rows.
+TEST(BinBands, EveryBandHoldsTheWholeGridsItemsOfItsTiles) {
+  for (bool perspective : {true, false}) {
+    const int W = 200, H = 150;
+    Scene s = test::baseScene(W, H);
+    if (perspective) s.camera->projection = Camera::Projection::Perspective, s.camera->fovYDegrees = 120.0;
+    s.surfaces.push_back(test::screenRect(20, 15, 180, 140, 40.0, W, H, glm::vec3(0.5f)));
+    SceneWire w;
+    w.restsOnSurface = false;
+    w.thickness = 1.5;
+    w.roundEnds = true;
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int i = 0; i < 3000; ++i) {
+      const test::V2 a(u(rng) * W, u(rng) * H), b(a.x + (u(rng) - 0.5) * 90, a.y + (u(rng) - 0.5) * 90);
+      w.lines.add({test::world(a, 20.0 + 10 * u(rng), W, H), test::world(b, 20.0 + 10 * u(rng), W, H)});
+    }
+    s.wires.push_back(w);
+    RenderOptions o = test::smallOptions(W, H);
+    o.tileSize = 8;
+    RenderStats st;
+    const PreparedScene ps = prepareScene(s, o, st);
+    ASSERT_GT(ps.segments.size(), 1000u);
+    const TileBins whole = binPrimitives(ps, o.tileSize, st);
+    const BinCounts counts = countBins(ps, o.tileSize);
+    std::uint64_t total = 0;
+    for (int row = 0; row < counts.tilesY; ++row) {
+      std::uint64_t inRow = 0;
+      for (int t = row * whole.tilesX; t < (row + 1) * whole.tilesX; ++t) inRow += whole.end(t) - whole.begin(t);
+      EXPECT_EQ(counts.rowItems(row), inRow) << row;
+      total += inRow;
+    }
+    EXPECT_EQ(total, whole.items.size());
+    auto same = [&](const TileBins& band, int t) {
+      ASSERT_EQ(band.end(t) - band.begin(t), whole.end(t) - whole.begin(t)) << t;
+      for (std::uint32_t k = 0; k < whole.end(t) - whole.begin(t); ++k) {
+        const TileBins::Item &p = band.items[band.begin(t) + k], &q = whole.items[whole.begin(t) + k];
+        ASSERT_TRUE(p.index == q.index && std::memcmp(&p.zlo, &q.zlo, sizeof(float)) == 0 && p.x0 == q.x0 &&
+                    p.y0 == q.y0 && p.x1 == q.x1 && p.y1 == q.y1)
+            << "tile " << t << " item " << k;
+      }
+    };
+    // Bands of 1, 3 and 7 rows, one buffer reused; and rows 5 ... 11 counted alone.
+    for (int rows : {1, 3, 7}) {
+      TileBins band;
+      for (int r0 = 0; r0 < counts.tilesY; r0 += rows) {
+        binPrimitives(ps, counts, r0, r0 + rows, st, 0, band);
+        for (int t = r0 * whole.tilesX; t < std::min(r0 + rows, counts.tilesY) * whole.tilesX; ++t) same(band, t);
+      }
+    }
+    const BinCounts some = countBins(ps, o.tileSize, 5, 12);
+    TileBins band;
+    binPrimitives(ps, some, 0, 100, st, 0, band);
+    EXPECT_EQ(band.rowBegin, 5);
+    EXPECT_EQ(band.rowEnd, 12);
+    for (int t = 5 * whole.tilesX; t < 12 * whole.tilesX; ++t) same(band, t);
+  }
+}
 
 TEST(SortTileItems, SameOrderAsTheComparisonForAnyDepths) {
   std::mt19937 rng(5);

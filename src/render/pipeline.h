@@ -619,9 +619,15 @@ struct PixelCoverage {
   float zkey;              ///< its depth at the centroid (the order of the resolve)
 };
 
+/// The items of the tiles of tile rows [rowBegin, rowEnd) (the whole grid, or one band of it:
+/// the renderer bins a dense scene a band at a time, so that its items are not all held at once).
 struct TileBins {
   int tilesX = 0, tilesY = 0;
-  std::vector<std::uint32_t> offsets;  ///< tile t: items[offsets[t], offsets[t+1])
+  int rowBegin = 0, rowEnd = 0;        ///< the tile rows binned
+  std::vector<std::uint32_t> offsets;  ///< the band's k-th tile: items[offsets[k], offsets[k+1])
+  /// Tile t's items (t numbered over the whole grid, in the rows binned): [begin, end).
+  std::uint32_t begin(int t) const { return offsets[size_t(t) - size_t(rowBegin) * size_t(tilesX)]; }
+  std::uint32_t end(int t) const { return offsets[size_t(t) - size_t(rowBegin) * size_t(tilesX) + 1]; }
   /// One primitive in one tile: what the tile needs to order and cull it without touching the
   /// primitive itself (most are culled whole on dense scenes, and primitives are scattered).
   /// 12 bytes: a dense scene has several per segment (a hair 40 pixels long crosses about five
@@ -669,8 +675,34 @@ void inArena(int threads, F&& f) {
 
 /// Primitive i's screen polygon.
 void screenPolygonOf(const PreparedScene& ps, std::uint32_t i, ScreenPolygon& poly);
-/// Stage "bins". Throws std::length_error when the items would exceed `memoryBudget` bytes
-/// (0: unlimited): many large primitives over small tiles multiply.
+/// Stage "bins", its counting pass: how many items each chunk of primitives gives each tile of
+/// tile rows [rowBegin, rowEnd) (clamped to the grid). Tells the renderer how many items a band
+/// of rows will hold before any is formed, and places them when it is filled.
+struct BinCounts {
+  int tileSize = 32, tilesX = 0, tilesY = 0, rowBegin = 0, rowEnd = 0;
+  size_t chunks = 1, perChunk = 0;     ///< chunks of perChunk primitives, in primitive order
+  std::vector<std::uint32_t> counts;   ///< chunk-major, then the rows' tiles in order
+  /// Per block of kBlock primitives, the first and last tile rows its items reach (none: max,
+  /// -1): a band's filling passes over blocks that reach none of its rows without reading them
+  /// (primitives made in order, such as fur grown over a patch or a mesh's triangles, lie near
+  /// their neighbours).
+  static constexpr size_t kBlock = 256;
+  std::vector<int> blockRows;
+  std::uint64_t rowItems(int row) const;  ///< the items of tile row `row`
+  size_t bytes() const { return counts.capacity() * sizeof(std::uint32_t) + blockRows.capacity() * sizeof(int); }
+};
+BinCounts countBins(const PreparedScene& ps, int tileSize, int rowBegin = 0,
+                    int rowEnd = std::numeric_limits<int>::max());
+/// Stage "bins": fills `bins` (reusing its memory) with the items of tile rows [rowBegin,
+/// rowEnd) within those counted; each tile's items in primitive order, whatever the thread
+/// count. Throws std::length_error when the items would exceed `memoryBudget` bytes (0:
+/// unlimited) beside the primitives: many large primitives over small tiles multiply.
+void binPrimitives(const PreparedScene& ps, const BinCounts& counts, int rowBegin, int rowEnd, RenderStats& stats,
+                   size_t memoryBudget, TileBins& bins);
+/// Throws binPrimitives' std::length_error unless `items` items fit `memoryBudget` (0:
+/// unlimited) beside the primitives and the counts.
+void checkBinsFit(const PreparedScene& ps, const BinCounts& counts, std::uint64_t items, size_t memoryBudget);
+/// The whole grid at once.
 TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& stats, size_t memoryBudget = 0);
 /// Sorts one tile's items into TileBins::Item's order (zlo, then index) when they arrive in
 /// primitive order, as binPrimitives leaves them: a stable radix sort on zlo (-0 taken as +0,

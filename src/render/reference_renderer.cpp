@@ -78,7 +78,7 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
         y = q.y;
       };
       std::uint32_t order = 0;
-      const std::uint32_t b0 = bins.offsets[size_t(tile)], b1 = bins.offsets[size_t(tile) + 1];
+      const std::uint32_t b0 = bins.begin(tile), b1 = bins.end(tile);
       for (std::uint32_t b = b0; b < b1; ++b) {
         const std::uint32_t pi = bins.items[b].index;
         const float opacity = ps.opacityOf(pi);

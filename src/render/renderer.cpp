@@ -136,6 +136,38 @@ glm::vec4 overBackground(const glm::vec4& c, const glm::vec4& bg) {
   return glm::vec4(glm::vec3(c) + t * glm::vec3(bg) * bg.w, c.w + t * bg.w);
 }
 
+// Bands of tile rows to bin and draw one after another, so that a dense scene's items (several
+// a hair: one per tile it crosses) are not all held at once beside its primitives. A band holds
+// at most a quarter of the primitives' bytes in items, or kOneBand bytes where that is more (a
+// scene whose items fit it is drawn as one band), or one tile row where a row alone holds more;
+// and no more than the memory budget leaves beside the primitives and the counts (a row that
+// does not fit is binPrimitives' error). The image is the same for any bands: each tile's items
+// are the same, in the same order.
+constexpr size_t kOneBand = size_t(4) << 20;
+std::vector<std::pair<int, int>> binBands(const PreparedScene& ps, const BinCounts& c, size_t memoryBudget,
+                                          std::uint64_t& largest) {
+  double cap = std::max(double(ps.bytes()) / 4.0, double(kOneBand));
+  if (memoryBudget) {  // (checkBinsFit's sum)
+    const double offsets = double(c.tilesX) * (c.rowEnd - c.rowBegin + 1) * sizeof(std::uint32_t) * (1.0 + double(c.chunks));
+    cap = std::min(cap, double(memoryBudget) - double(ps.bytes()) - double(c.bytes()) - offsets);
+  }
+  std::vector<std::pair<int, int>> bands;
+  std::uint64_t items = 0;
+  largest = 0;
+  for (int row = c.rowBegin; row < c.rowEnd; ++row) {
+    const std::uint64_t here = c.rowItems(row);
+    if (!bands.empty() && bands.back().second == row && double(items + here) * sizeof(TileBins::Item) <= cap) {
+      bands.back().second = row + 1;
+      items += here;
+    } else {
+      bands.emplace_back(row, row + 1);
+      items = here;
+    }
+    largest = std::max(largest, items);
+  }
+  return bands;
+}
+
 
 }  // namespace
 
@@ -154,224 +186,242 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
     if (options.shadingCache) options.shadingCache->beginFrame();
     PreparedScene ps = prepareScene(scene, options, st);
     if (options.shadingCache) options.shadingCache->endFrame();  // tables in use are held by ps too
-    const TileBins bins = binPrimitives(ps, options.tileSize, st, options.memoryBudget);
+    // The tile rows drawn: all, or those holding the band's rows (another process draws the
+    // rest: their items are not even formed).
+    const int tileRows = (options.height + options.tileSize - 1) / options.tileSize;
+    const bool band = options.rowEnd > options.rowBegin;
+    const int rowLo = band ? options.rowBegin / options.tileSize : 0;
+    const int rowHi = band ? (options.rowEnd + options.tileSize - 1) / options.tileSize : tileRows;
+    const auto tb = std::chrono::steady_clock::now();
+    const BinCounts binCounts = countBins(ps, options.tileSize, rowLo, rowHi);
+    st.binning += secondsSince(tb);
+    std::uint64_t largestBand = 0;
+    const std::vector<std::pair<int, int>> bands = binBands(ps, binCounts, options.memoryBudget, largestBand);
+    st.binBands = bands.size();
+    checkBinsFit(ps, binCounts, largestBand, options.memoryBudget);  // before any band is drawn
+    TileBins bins;
+    bins.items.reserve(largestBand);  // once: every band's items fit it
+    size_t binBytes = 0;
     const PreparedFragmentSource source(ps);
-    const auto tr = std::chrono::steady_clock::now();
-    const int tilesX = bins.tilesX;
+    const int tilesX = binCounts.tilesX;
     tbb::enumerable_thread_specific<TileABuffer> buffers(
         [&] { return TileABuffer(options.mask, options.budget, float(options.occlusionEpsilon)); });
     tbb::enumerable_thread_specific<ABufferCounters> counters;
     tbb::enumerable_thread_specific<size_t> occludedPrims(0);
     tbb::enumerable_thread_specific<RenderStats::RasterWork> work;
-    const bool band = options.rowEnd > options.rowBegin;
-    tbb::parallel_for(0, bins.tilesX * bins.tilesY, [&](int tile) {
-      const int tx0 = (tile % tilesX) * options.tileSize, ty0 = (tile / tilesX) * options.tileSize;
-      const int tx1 = std::min(options.width, tx0 + options.tileSize);
-      const int ty1 = std::min(options.height, ty0 + options.tileSize);
-      if (band && (ty1 <= options.rowBegin || ty0 >= options.rowEnd)) return;  // another process's rows
-      const uint32_t b0 = bins.offsets[size_t(tile)], b1 = bins.offsets[size_t(tile) + 1];
-      if (b0 == b1) {
-        for (int y = ty0; y < ty1; ++y)
-          for (int x = tx0; x < tx1; ++x) result.image.at(x, y) = overBackground(glm::vec4(0), background);
-        return;
-      }
-      TileABuffer& buf = buffers.local();
-      buf.reset(tx1 - tx0, ty1 - ty0, tx0, ty0, &source);
-      // The external opaque depth (RenderOptions::opaqueDepth): its farthest value over the
-      // tile rejects whole primitives behind it, its per-pixel value single fragments.
-      const float* opaque = options.opaqueDepth ? options.opaqueDepth->data() : nullptr;
-      float opaqueTileMax = INFINITY;
-      if (opaque) {
-        opaqueTileMax = 0.0f;
-        for (int y = ty0; y < ty1 && opaqueTileMax < INFINITY; ++y)
-          for (int x = tx0; x < tx1; ++x) {
-            const float d = opaque[size_t(y) * size_t(options.width) + size_t(x)];
-            if (!(d <= opaqueTileMax)) opaqueTileMax = std::isnan(d) ? INFINITY : d;
-          }
-      }
-      auto opaqueAt = [&](int x, int y) {
-        const float d = opaque[size_t(y) * size_t(options.width) + size_t(x)];
-        return std::isnan(d) ? INFINITY : d;
-      };
-      // Front to back by each primitive's nearest depth in this tile (ties by primitive order: a
-      // strict order, so the same whatever the thread count), so that the occlusion tests
-      // discard most of what lies behind before it is rasterised.
-      thread_local std::vector<TileBins::Item> order, sortScratch;
-      order.assign(bins.items.begin() + b0, bins.items.begin() + b1);
-      sortTileItems(order, sortScratch);
-      const std::uint32_t n = std::uint32_t(order.size());
-      const std::uint32_t triangleCount = std::uint32_t(ps.triangles.size());
-      RenderStats::RasterWork& wk = work.local();
-      // Bands of rows culled whole count no fragments (like primitives culled whole per tile).
-      auto cullBand = [&](int x0, int y0, int x1, int y1, double z) {
-        return z >= buf.regionOcclusionDepth(x0 - tx0, y0 - ty0, x1 - tx0, y1 - ty0);
-      };
-      auto cullRow = [&](int y, int x0, int x1, double z) {
-        if (!(z >= buf.rowOcclusionDepth(y - ty0, x0 - tx0, x1 - tx0))) return false;
-        buf.countCulledRow(y - ty0, x0 - tx0, x1 - tx0);
-        return true;
-      };
-      auto cullPixel = [&](int x, int y, double z) {
-        if (!(z >= buf.occlusionDepth(x - tx0, y - ty0)) && !(opaque && z >= opaqueAt(x, y))) return false;
-        buf.countCulled(x - tx0, y - ty0);
-        return true;
-      };
-      auto hidden = [&](int x, int y, MaskBits mask, int subpixel, double z) {
-        if (!buf.maskHidden(x - tx0, y - ty0, mask, subpixel, float(z))) return false;
-        buf.countCulled(x - tx0, y - ty0);
-        return true;
-      };
-      ScreenPolygon poly;
-      for (std::uint32_t oi = 0; oi < n; ++oi) {
-        const TileBins::Item& item = order[oi];
-        // Hierarchical occlusion first, from the bin item alone: is the primitive behind
-        // everything over its rectangle in this tile?
-        // (A wire that draws its hidden parts still gives its x-ray copy.)
-        // (The external depth has no surface to judge an edge against at its axis: it culls all.)
-        const bool behindExternal = item.zlo >= opaqueTileMax;
-        bool occludedWhole = behindExternal || item.zlo >= buf.regionOcclusionDepth(item.x0, item.y0, item.x1, item.y1);
-        if (occludedWhole && !behindExternal && item.index >= triangleCount) {
-          // A wire resting on a surface is judged at its axis: culled whole only when its whole
-          // axis lies in this tile's part of its rectangle (then what hides it there hides its
-          // axis too; see cullAtAxis below). One that draws its hidden parts still gives its
-          // x-ray copy.
-          const ShaderSlot& ws = ps.shaderOf(item.index);
-          if (ws.restsOnSurface) {
-            const SegmentPrim& sg = ps.segments[item.index - triangleCount];
-            const double bx0 = tx0 + item.x0, by0 = ty0 + item.y0, bx1 = tx0 + item.x1 + 1.0, by1 = ty0 + item.y1 + 1.0;
-            auto in = [&](const glm::dvec2& q) { return q.x >= bx0 && q.x < bx1 && q.y >= by0 && q.y < by1; };
-            occludedWhole = in(sg.p0) && in(sg.p1);
-          }
-          if (!occludedWhole) {
-          } else if (ws.hidden.drawn()) {
-            ++occludedPrims.local();
-          } else {
+    for (const auto& [bandBegin, bandEnd] : bands) {
+      binPrimitives(ps, binCounts, bandBegin, bandEnd, st, options.memoryBudget, bins);
+      binBytes = std::max(binBytes, bins.bytes());
+      const auto tr = std::chrono::steady_clock::now();
+      tbb::parallel_for(bandBegin * tilesX, bandEnd * tilesX, [&](int tile) {
+        const int tx0 = (tile % tilesX) * options.tileSize, ty0 = (tile / tilesX) * options.tileSize;
+        const int tx1 = std::min(options.width, tx0 + options.tileSize);
+        const int ty1 = std::min(options.height, ty0 + options.tileSize);
+        const uint32_t b0 = bins.begin(tile), b1 = bins.end(tile);
+        if (b0 == b1) {
+          for (int y = ty0; y < ty1; ++y)
+            for (int x = tx0; x < tx1; ++x) result.image.at(x, y) = overBackground(glm::vec4(0), background);
+          return;
+        }
+        TileABuffer& buf = buffers.local();
+        buf.reset(tx1 - tx0, ty1 - ty0, tx0, ty0, &source);
+        // The external opaque depth (RenderOptions::opaqueDepth): its farthest value over the
+        // tile rejects whole primitives behind it, its per-pixel value single fragments.
+        const float* opaque = options.opaqueDepth ? options.opaqueDepth->data() : nullptr;
+        float opaqueTileMax = INFINITY;
+        if (opaque) {
+          opaqueTileMax = 0.0f;
+          for (int y = ty0; y < ty1 && opaqueTileMax < INFINITY; ++y)
+            for (int x = tx0; x < tx1; ++x) {
+              const float d = opaque[size_t(y) * size_t(options.width) + size_t(x)];
+              if (!(d <= opaqueTileMax)) opaqueTileMax = std::isnan(d) ? INFINITY : d;
+            }
+        }
+        auto opaqueAt = [&](int x, int y) {
+          const float d = opaque[size_t(y) * size_t(options.width) + size_t(x)];
+          return std::isnan(d) ? INFINITY : d;
+        };
+        // Front to back by each primitive's nearest depth in this tile (ties by primitive order: a
+        // strict order, so the same whatever the thread count), so that the occlusion tests
+        // discard most of what lies behind before it is rasterised.
+        thread_local std::vector<TileBins::Item> order, sortScratch;
+        order.assign(bins.items.begin() + b0, bins.items.begin() + b1);
+        sortTileItems(order, sortScratch);
+        const std::uint32_t n = std::uint32_t(order.size());
+        const std::uint32_t triangleCount = std::uint32_t(ps.triangles.size());
+        RenderStats::RasterWork& wk = work.local();
+        // Bands of rows culled whole count no fragments (like primitives culled whole per tile).
+        auto cullBand = [&](int x0, int y0, int x1, int y1, double z) {
+          return z >= buf.regionOcclusionDepth(x0 - tx0, y0 - ty0, x1 - tx0, y1 - ty0);
+        };
+        auto cullRow = [&](int y, int x0, int x1, double z) {
+          if (!(z >= buf.rowOcclusionDepth(y - ty0, x0 - tx0, x1 - tx0))) return false;
+          buf.countCulledRow(y - ty0, x0 - tx0, x1 - tx0);
+          return true;
+        };
+        auto cullPixel = [&](int x, int y, double z) {
+          if (!(z >= buf.occlusionDepth(x - tx0, y - ty0)) && !(opaque && z >= opaqueAt(x, y))) return false;
+          buf.countCulled(x - tx0, y - ty0);
+          return true;
+        };
+        auto hidden = [&](int x, int y, MaskBits mask, int subpixel, double z) {
+          if (!buf.maskHidden(x - tx0, y - ty0, mask, subpixel, float(z))) return false;
+          buf.countCulled(x - tx0, y - ty0);
+          return true;
+        };
+        ScreenPolygon poly;
+        for (std::uint32_t oi = 0; oi < n; ++oi) {
+          const TileBins::Item& item = order[oi];
+          // Hierarchical occlusion first, from the bin item alone: is the primitive behind
+          // everything over its rectangle in this tile?
+          // (A wire that draws its hidden parts still gives its x-ray copy.)
+          // (The external depth has no surface to judge an edge against at its axis: it culls all.)
+          const bool behindExternal = item.zlo >= opaqueTileMax;
+          bool occludedWhole = behindExternal || item.zlo >= buf.regionOcclusionDepth(item.x0, item.y0, item.x1, item.y1);
+          if (occludedWhole && !behindExternal && item.index >= triangleCount) {
+            // A wire resting on a surface is judged at its axis: culled whole only when its whole
+            // axis lies in this tile's part of its rectangle (then what hides it there hides its
+            // axis too; see cullAtAxis below). One that draws its hidden parts still gives its
+            // x-ray copy.
+            const ShaderSlot& ws = ps.shaderOf(item.index);
+            if (ws.restsOnSurface) {
+              const SegmentPrim& sg = ps.segments[item.index - triangleCount];
+              const double bx0 = tx0 + item.x0, by0 = ty0 + item.y0, bx1 = tx0 + item.x1 + 1.0, by1 = ty0 + item.y1 + 1.0;
+              auto in = [&](const glm::dvec2& q) { return q.x >= bx0 && q.x < bx1 && q.y >= by0 && q.y < by1; };
+              occludedWhole = in(sg.p0) && in(sg.p1);
+            }
+            if (!occludedWhole) {
+            } else if (ws.hidden.drawn()) {
+              ++occludedPrims.local();
+            } else {
+              ++occludedPrims.local();
+              continue;
+            }
+          } else if (occludedWhole) {
             ++occludedPrims.local();
             continue;
           }
-        } else if (occludedWhole) {
-          ++occludedPrims.local();
-          continue;
-        }
-        // Survivors are scattered through memory: fetch the next ones' data ahead.
-        for (std::uint32_t ahead = oi + 1; ahead < std::min(n, oi + 4); ++ahead) {
-          const std::uint32_t k = order[ahead].index;
-          if (k >= triangleCount) __builtin_prefetch(&ps.segments[k - triangleCount]);
-          else __builtin_prefetch(&ps.triangles[k]);
-        }
-        const std::uint32_t index = item.index;
-        const ShaderSlot& slot = ps.shaderOf(index);
-        const float opacity = slot.opacity;
-        std::uint32_t tag;
-        bool mayMerge;
-        const bool segment = index >= triangleCount;
-        if (!occludedWhole) ++wk.items;
-        // The fragment of a pixel's coverage (also the x-ray copy's, below).
-        auto fragmentOf = [&](const PixelCoverage& pc) {
-          Fragment f;
-          f.zmin = pc.zmin;
-          f.zmax = pc.zmax;
-          f.zkey = pc.zkey;
-          f.area = float(pc.area);
-          f.mask = pc.mask;
-          f.opacity = opacity;
-          f.tag = tag;
-          f.mayMerge = mayMerge;
-          f.occludesEarly = segment;
-          f.prim = index;
-          f.cx = Fragment::toPoint(pc.cx - pc.x);
-          f.cy = Fragment::toPoint(pc.cy - pc.y);
-          f.shaded = false;  // shaded only if it survives (PreparedFragmentSource)
-          f.holdout = slot.holdout;
-          f.onSurface = segment && slot.restsOnSurface;
-          return f;
-        };
-        auto emit = [&](const PixelCoverage& pc) {
-          if (opaque && !(pc.zkey < opaqueAt(pc.x, pc.y))) return;  // behind the external surface
-          buf.insert(pc.x - tx0, pc.y - ty0, fragmentOf(pc), pc.subpixel);
-        };
-        const int rx0 = tx0 + item.x0, ry0 = ty0 + item.y0, rx1 = tx0 + item.x1, ry1 = ty0 + item.y1;
-        screenPolygonOf(ps, index, poly);
-        if (index >= triangleCount) {
-          const SegmentPrim& s = ps.segments[index - triangleCount];
-          tag = s.tag;
-          mayMerge = s.flags & kSegmentMayMerge;
-          const SegmentDepth depth(ps.view, s, ps.wireDepth, segmentUsesCapsule(ps, index), segmentWidthInPixels(ps, index));
-          auto never = [](auto&&...) { return false; };
-          // A wire resting on a surface is judged at its axis (Fragment::onSurface): a plane in
-          // front over a pixel beside its axis may be behind it at the axis. So a pixel (a row) of
-          // it is culled only where that pixel (row) and the pixels of the axis points nearest to
-          // it are hidden in front of it, all in this tile; never a band at once (a tile only as
-          // above).
-          const SegmentFrame& fr = depth.frame;
-          auto axisAt = [&](double x, double y) {
-            const double t = fr.length > 0 ? std::clamp(fr.t(x, y), 0.0, 1.0) : 0.0;
-            return glm::dvec2(s.p0.x + t * (s.p1.x - s.p0.x), s.p0.y + t * (s.p1.y - s.p0.y));
+          // Survivors are scattered through memory: fetch the next ones' data ahead.
+          for (std::uint32_t ahead = oi + 1; ahead < std::min(n, oi + 4); ++ahead) {
+            const std::uint32_t k = order[ahead].index;
+            if (k >= triangleCount) __builtin_prefetch(&ps.segments[k - triangleCount]);
+            else __builtin_prefetch(&ps.triangles[k]);
+          }
+          const std::uint32_t index = item.index;
+          const ShaderSlot& slot = ps.shaderOf(index);
+          const float opacity = slot.opacity;
+          std::uint32_t tag;
+          bool mayMerge;
+          const bool segment = index >= triangleCount;
+          if (!occludedWhole) ++wk.items;
+          // The fragment of a pixel's coverage (also the x-ray copy's, below).
+          auto fragmentOf = [&](const PixelCoverage& pc) {
+            Fragment f;
+            f.zmin = pc.zmin;
+            f.zmax = pc.zmax;
+            f.zkey = pc.zkey;
+            f.area = float(pc.area);
+            f.mask = pc.mask;
+            f.opacity = opacity;
+            f.tag = tag;
+            f.mayMerge = mayMerge;
+            f.occludesEarly = segment;
+            f.prim = index;
+            f.cx = Fragment::toPoint(pc.cx - pc.x);
+            f.cy = Fragment::toPoint(pc.cy - pc.y);
+            f.shaded = false;  // shaded only if it survives (PreparedFragmentSource)
+            f.holdout = slot.holdout;
+            f.onSurface = segment && slot.restsOnSurface;
+            return f;
           };
-          // Every pixel the axis passes from a to b hidden in front of z (sampled at half pixels).
-          auto axisHidden = [&](const glm::dvec2& a, const glm::dvec2& b, double z) {
-            const int steps = 1 + int(2.0 * std::max(std::abs(b.x - a.x), std::abs(b.y - a.y)));
-            for (int k = 0; k <= steps; ++k) {
-              const glm::dvec2 q = a + (b - a) * (double(k) / steps);
-              const double qx = std::floor(q.x), qy = std::floor(q.y);
-              if (!(qx >= tx0 && qx < tx1 && qy >= ty0 && qy < ty1)) return false;
-              if (!(z >= buf.occlusionDepth(int(qx) - tx0, int(qy) - ty0))) return false;
-            }
-            return true;
+          auto emit = [&](const PixelCoverage& pc) {
+            if (opaque && !(pc.zkey < opaqueAt(pc.x, pc.y))) return;  // behind the external surface
+            buf.insert(pc.x - tx0, pc.y - ty0, fragmentOf(pc), pc.subpixel);
           };
-          auto cullAtAxis = [&](int x, int y, double z) {
-            if (opaque && z >= opaqueAt(x, y)) {
+          const int rx0 = tx0 + item.x0, ry0 = ty0 + item.y0, rx1 = tx0 + item.x1, ry1 = ty0 + item.y1;
+          screenPolygonOf(ps, index, poly);
+          if (index >= triangleCount) {
+            const SegmentPrim& s = ps.segments[index - triangleCount];
+            tag = s.tag;
+            mayMerge = s.flags & kSegmentMayMerge;
+            const SegmentDepth depth(ps.view, s, ps.wireDepth, segmentUsesCapsule(ps, index), segmentWidthInPixels(ps, index));
+            auto never = [](auto&&...) { return false; };
+            // A wire resting on a surface is judged at its axis (Fragment::onSurface): a plane in
+            // front over a pixel beside its axis may be behind it at the axis. So a pixel (a row) of
+            // it is culled only where that pixel (row) and the pixels of the axis points nearest to
+            // it are hidden in front of it, all in this tile; never a band at once (a tile only as
+            // above).
+            const SegmentFrame& fr = depth.frame;
+            auto axisAt = [&](double x, double y) {
+              const double t = fr.length > 0 ? std::clamp(fr.t(x, y), 0.0, 1.0) : 0.0;
+              return glm::dvec2(s.p0.x + t * (s.p1.x - s.p0.x), s.p0.y + t * (s.p1.y - s.p0.y));
+            };
+            // Every pixel the axis passes from a to b hidden in front of z (sampled at half pixels).
+            auto axisHidden = [&](const glm::dvec2& a, const glm::dvec2& b, double z) {
+              const int steps = 1 + int(2.0 * std::max(std::abs(b.x - a.x), std::abs(b.y - a.y)));
+              for (int k = 0; k <= steps; ++k) {
+                const glm::dvec2 q = a + (b - a) * (double(k) / steps);
+                const double qx = std::floor(q.x), qy = std::floor(q.y);
+                if (!(qx >= tx0 && qx < tx1 && qy >= ty0 && qy < ty1)) return false;
+                if (!(z >= buf.occlusionDepth(int(qx) - tx0, int(qy) - ty0))) return false;
+              }
+              return true;
+            };
+            auto cullAtAxis = [&](int x, int y, double z) {
+              if (opaque && z >= opaqueAt(x, y)) {
+                buf.countCulled(x - tx0, y - ty0);
+                return true;
+              }
+              if (!(z >= buf.occlusionDepth(x - tx0, y - ty0))) return false;
+              const glm::dvec2 a = axisAt(x + 0.5, y + 0.5);
+              if (!axisHidden(a, a, z)) return false;
               buf.countCulled(x - tx0, y - ty0);
               return true;
-            }
-            if (!(z >= buf.occlusionDepth(x - tx0, y - ty0))) return false;
-            const glm::dvec2 a = axisAt(x + 0.5, y + 0.5);
-            if (!axisHidden(a, a, z)) return false;
-            buf.countCulled(x - tx0, y - ty0);
-            return true;
-          };
-          auto cullRowAtAxis = [&](int y, int x0, int x1, double z) {
-            if (!(z >= buf.rowOcclusionDepth(y - ty0, x0 - tx0, x1 - tx0))) return false;
-            // t is linear along the row: the nearest axis points of its pixels lie between these
-            if (!axisHidden(axisAt(x0 + 0.5, y + 0.5), axisAt(x1 + 0.5, y + 0.5), z)) return false;
-            buf.countCulledRow(y - ty0, x0 - tx0, x1 - tx0);
-            return true;
-          };
-          if (slot.restsOnSurface)
-            rasterizePolygon(poly, depth, rx0, ry0, rx1, ry1, ty0, options.mask, wk, never, cullRowAtAxis, cullAtAxis, never,
-                             emit);
-          else if (!occludedWhole)
-            rasterizePolygon(poly, depth, rx0, ry0, rx1, ry1, ty0, options.mask, wk, cullBand, cullRow, cullPixel, hidden,
-                             emit);
-          if (slot.hidden.drawn()) {
-            // Its x-ray copy (hidden lines): every fragment, whatever hides it; the resolve
-            // draws it where an opaque surface in front does (TileABuffer::insertXray).
-            const bool dashed = slot.hidden.mode == HiddenLines::Mode::Dashed && !ps.dashPhase.empty();
-            const double phase = dashed ? ps.dashPhase[index - triangleCount] : 0.0;
-            const SegmentFrame& fr = depth.frame;
-            RenderStats::RasterWork xw;
-            auto emitXray = [&](const PixelCoverage& pc) {
-              float factor = slot.hidden.ghost;
-              if (dashed) {
-                const double t = fr.length > 0 ? std::clamp(fr.t(pc.cx, pc.cy), 0.0, 1.0) : 0.0;
-                factor = dashCoverage(phase + t * fr.length, slot.hidden.dash, slot.hidden.gap);
-              }
-              buf.insertXray(pc.x - tx0, pc.y - ty0, fragmentOf(pc), factor, pc.subpixel);
             };
-            rasterizePolygon(poly, depth, rx0, ry0, rx1, ry1, ty0, options.mask, xw, never, never, never, never,
-                             emitXray);
+            auto cullRowAtAxis = [&](int y, int x0, int x1, double z) {
+              if (!(z >= buf.rowOcclusionDepth(y - ty0, x0 - tx0, x1 - tx0))) return false;
+              // t is linear along the row: the nearest axis points of its pixels lie between these
+              if (!axisHidden(axisAt(x0 + 0.5, y + 0.5), axisAt(x1 + 0.5, y + 0.5), z)) return false;
+              buf.countCulledRow(y - ty0, x0 - tx0, x1 - tx0);
+              return true;
+            };
+            if (slot.restsOnSurface)
+              rasterizePolygon(poly, depth, rx0, ry0, rx1, ry1, ty0, options.mask, wk, never, cullRowAtAxis, cullAtAxis, never,
+                               emit);
+            else if (!occludedWhole)
+              rasterizePolygon(poly, depth, rx0, ry0, rx1, ry1, ty0, options.mask, wk, cullBand, cullRow, cullPixel, hidden,
+                               emit);
+            if (slot.hidden.drawn()) {
+              // Its x-ray copy (hidden lines): every fragment, whatever hides it; the resolve
+              // draws it where an opaque surface in front does (TileABuffer::insertXray).
+              const bool dashed = slot.hidden.mode == HiddenLines::Mode::Dashed && !ps.dashPhase.empty();
+              const double phase = dashed ? ps.dashPhase[index - triangleCount] : 0.0;
+              const SegmentFrame& fr = depth.frame;
+              RenderStats::RasterWork xw;
+              auto emitXray = [&](const PixelCoverage& pc) {
+                float factor = slot.hidden.ghost;
+                if (dashed) {
+                  const double t = fr.length > 0 ? std::clamp(fr.t(pc.cx, pc.cy), 0.0, 1.0) : 0.0;
+                  factor = dashCoverage(phase + t * fr.length, slot.hidden.dash, slot.hidden.gap);
+                }
+                buf.insertXray(pc.x - tx0, pc.y - ty0, fragmentOf(pc), factor, pc.subpixel);
+              };
+              rasterizePolygon(poly, depth, rx0, ry0, rx1, ry1, ty0, options.mask, xw, never, never, never, never,
+                               emitXray);
+            }
+          } else {
+            const TrianglePrim& t = ps.triangles[index];
+            tag = t.tag;
+            mayMerge = t.mayMerge;
+            rasterizePolygon(poly, TriangleDepth(ps.view, t), rx0, ry0, rx1, ry1, ty0, options.mask, wk,
+                             cullBand, cullRow, cullPixel, hidden, emit);
           }
-        } else {
-          const TrianglePrim& t = ps.triangles[index];
-          tag = t.tag;
-          mayMerge = t.mayMerge;
-          rasterizePolygon(poly, TriangleDepth(ps.view, t), rx0, ry0, rx1, ry1, ty0, options.mask, wk,
-                           cullBand, cullRow, cullPixel, hidden, emit);
         }
-      }
-      buf.resolveTile([&](int x, int y, const glm::vec4& c) { result.image.at(tx0 + x, ty0 + y) = overBackground(c, background); });
-      buf.finish(counters.local());
-    });
+        buf.resolveTile([&](int x, int y, const glm::vec4& c) { result.image.at(tx0 + x, ty0 + y) = overBackground(c, background); });
+        buf.finish(counters.local());
+      });
+      st.raster += secondsSince(tr);
+    }
     for (const ABufferCounters& c : counters) {
       const size_t peak = c.peakBytes;
       const std::uint64_t held = c.peakFragmentsHeld;
@@ -384,8 +434,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
     }
     for (size_t n : occludedPrims) st.primitivesOccluded += n;
     for (const RenderStats::RasterWork& w : work) st.work.add(w);
-    st.raster = secondsSince(tr);
-    st.peakBytes = ps.bytes() + bins.bytes() + st.abuffer.peakBytes;
+    st.peakBytes = ps.bytes() + binCounts.bytes() + binBytes + st.abuffer.peakBytes;
   });
   st.coverageQuantisation = 1.0 / options.mask.samples();
   st.occlusionEpsilon = options.occlusionEpsilon;

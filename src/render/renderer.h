@@ -105,8 +105,8 @@ struct RenderOptions {
   /// A band of rows: only the tiles that hold rows in [rowBegin, rowEnd) are rendered (the band
   /// of one process in a sort-first split of the image, vtkWireFurRenderPass under MPI); the
   /// band's pixels are those of the whole render bit for bit, and the rows of tiles wholly
-  /// outside it are left transparent black. Set-up and binning still see the whole scene (so
-  /// simplification and occlusion decide as for the whole image). 0, 0 (the default): all rows.
+  /// outside it are left transparent black. Set-up still sees the whole scene (so simplification
+  /// decides as for the whole image); only the band's tiles are binned. 0, 0 (the default): all rows.
   /// render() only.
   int rowBegin = 0, rowEnd = 0;
   int referenceSamples = 16;  ///< brute-force reference: n x n stratified samples per pixel
@@ -149,6 +149,7 @@ struct RenderStats {
   // what the A-buffer did
   ABufferCounters abuffer;
   size_t tiles = 0, tilesEmpty = 0;
+  size_t binBands = 0;  ///< bands of tile rows binned and drawn one after another (render: its items not all held at once)
   int pseudoReflectanceMaps = 0, reflectanceSpheres = 0;  ///< built for this render
   int viewGrid = 1;                                       ///< nodes per side of the view-direction grid
   size_t peakBytes = 0;                     ///< primitives + bins + tile buffers

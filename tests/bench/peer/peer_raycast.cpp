@@ -398,7 +398,8 @@ int main(int argc, char** argv) {
       abSeries.labels.push_back(mask);
       const double speedup = t > 0 ? te / t : 0;
       ja.push_back({{"mask", mask}, {"seconds", t}, {"seconds_all", times}, {"seconds_setup", r.stats.setup},
-                    {"seconds_maps", r.stats.maps}, {"seconds_raster_resolve", r.stats.raster},
+                    {"seconds_maps", r.stats.maps}, {"seconds_binning", r.stats.binning}, {"bin_bands", r.stats.binBands},
+                    {"seconds_raster_resolve", r.stats.raster},
                     {"fragments", r.stats.abuffer.fragments}, {"max_fragments_per_pixel", r.stats.abuffer.maxFragmentsPerPixel},
                     {"peak_bytes", r.stats.peakBytes}, {"peak_bytes_tile_buffers", r.stats.abuffer.peakBytes}, {"rgba_rms", e.rms}, {"rgba_max", e.max},
                     {"coverage_rms", e.coverageRms}, {"embree_seconds_at_equal_rms", te}, {"embree_how", how},

@@ -222,8 +222,11 @@ void renderFigures(const wf::Scene& scene, const wf::RenderOptions& opt, int rep
                             ps.triangleAttributes.capacity() * sizeof(wf::TriangleAttributes);
     j["tables_bytes"] = tables;
     j["prepared_bytes"] = ps.bytes();
-    j["bins_bytes"] = bins.bytes();
-    j["bin_items"] = bins.items.size();
+    // The render bins a band of tile rows at a time (docs/abuffer.md): what it held of them at
+    // its peak is the rest of peakBytes.
+    j["bins_bytes"] = st.peakBytes - std::min(st.peakBytes, ps.bytes() + st.abuffer.peakBytes);
+    j["bin_items"] = bins.items.size();  // over the whole grid
+    j["bin_bands"] = st.binBands;
   });
   size_t input = 0;
   for (const wf::SceneWire& w : scene.wires)
@@ -457,7 +460,7 @@ int main(int argc, char** argv) {
   fitLine("time (min)", fitMinTail, rangeTail);
   fitLine("fragments", fitFrag, rangeAll);
   md << "\n## Memory\n\nMiB unless stated. peak = RenderStats::peakBytes = prepared scene (primitives + vertices + "
-        "attributes + tables) + bins + tile buffers; not in it: the input scene and the output image ("
+        "attributes + tables) + bins (counts and the largest band's items) + tile buffers; not in it: the input scene and the output image ("
      << mib(double(pixels * sizeof(glm::vec4))) << " MiB, 16 B/pixel). held = most fragments the tile buffers held at once "
         "(list entries + solid fragments, summed over threads). A fragment is "
      << sizeof(wf::Fragment) << " B, a list entry " << bound["list_entry_bytes"].get<size_t>() << " B.\n\n";
