@@ -226,7 +226,7 @@ BinCounts countBins(const PreparedScene& ps, int tileSize, int rowBegin, int row
   const size_t first = size_t(c.rowBegin) * size_t(c.tilesX);
   const int tilesX = c.tilesX;
   tbb::parallel_for(size_t(0), c.chunks, [&](size_t k) {
-    std::uint32_t* cnt = &c.counts[k * tiles];
+    std::uint32_t* cnt = c.counts.data() + k * tiles;  // (no tiles: nothing is counted)
     const std::uint32_t end = std::uint32_t(std::min<size_t>(n, (k + 1) * c.perChunk));
     for (std::uint32_t i = std::uint32_t(std::min<size_t>(n, k * c.perChunk)); i < end;) {
       const size_t b = i / BinCounts::kBlock;
@@ -243,16 +243,21 @@ BinCounts countBins(const PreparedScene& ps, int tileSize, int rowBegin, int row
   return c;
 }
 
-void checkBinsFit(const PreparedScene& ps, const BinCounts& c, std::uint64_t items, size_t memoryBudget) {
-  if (items > std::numeric_limits<std::uint32_t>::max()) throw std::length_error("more than 4 billion tile items");
-  // The items are allocated while the primitives, the counts and a band's offsets are held.
+double binsHeldBeside(const PreparedScene& ps, const BinCounts& c, double alsoHeld) {
+  // The primitives, the counts, a band's offsets and places (at most all the counted rows'), and
+  // what the caller holds besides.
   const double offsets = double(c.tilesX) * (c.rowEnd - c.rowBegin + 1) * sizeof(std::uint32_t) * (1.0 + double(c.chunks));
-  const double held = double(ps.bytes()) + double(c.bytes()) + offsets;
+  return double(ps.bytes()) + double(c.bytes()) + offsets + alsoHeld;
+}
+
+void checkBinsFit(const PreparedScene& ps, const BinCounts& c, std::uint64_t items, size_t memoryBudget, double alsoHeld) {
+  if (items > std::numeric_limits<std::uint32_t>::max()) throw std::length_error("more than 4 billion tile items");
+  const double held = binsHeldBeside(ps, c, alsoHeld);
   if (memoryBudget && held + double(items) * sizeof(TileBins::Item) > double(memoryBudget))
-    throw std::length_error("the primitives fall into " + std::to_string(items) + " tile bins (" +
+    throw std::length_error("the primitives fall into " + std::to_string(items) + " tile bins in one band of tile rows (" +
                             std::to_string(items * sizeof(TileBins::Item) >> 20) + " MiB beside " +
                             std::to_string(size_t(held) >> 20) +
-                            " MiB of primitives), over the memory budget (RenderOptions::memoryBudget / --memory-budget)");
+                            " MiB of primitives, image and tile buffers), over the memory budget (RenderOptions::memoryBudget / --memory-budget)");
 }
 
 std::uint64_t BinCounts::rowItems(int row) const {
@@ -294,7 +299,7 @@ void binPrimitives(const PreparedScene& ps, const BinCounts& c, int rowBegin, in
   bins.offsets[tiles] = std::uint32_t(total);
   bins.items.resize(total);  // (within the capacity a previous band left: not moved)
   tbb::parallel_for(size_t(0), c.chunks, [&](size_t k) {
-    std::uint32_t* fill = &start[k * tiles];
+    std::uint32_t* fill = start.data() + k * tiles;
     const std::uint32_t end = std::uint32_t(std::min<size_t>(n, (k + 1) * c.perChunk));
     for (std::uint32_t i = std::uint32_t(std::min<size_t>(n, k * c.perChunk)); i < end;) {
       // A block none of whose primitives reaches these rows is passed over unread.

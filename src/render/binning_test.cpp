@@ -79,6 +79,89 @@ TEST(BinBands, EveryBandHoldsTheWholeGridsItemsOfItsTiles) {
     EXPECT_EQ(band.rowBegin, 5);
     EXPECT_EQ(band.rowEnd, 12);
     for (int t = 5 * whole.tilesX; t < 12 * whole.tilesX; ++t) same(band, t);
+    for (auto [r0, r1] : {std::pair{6, 8}, std::pair{8, 12}}) {  // bands inside rows counted from row 5
+      binPrimitives(ps, some, r0, r1, st, 0, band);
+      for (int t = r0 * whole.tilesX; t < r1 * whole.tilesX; ++t) same(band, t);
+    }
+  }
+}
+
+// Many chunks (over 65,536 primitives each way) and blocks that reach few rows (short hairs made
+// in screen order, as fur grown over a patch is), for 1, 3 and 7 threads: every band's tiles hold
+// what a serial pass over the primitives in order gives them, item by item. The serial
+// reference bins one primitive at a time (a scene of that primitive alone has one chunk), so it
+// shares only the per-tile geometry with the code under test, not its counting, places, chunks
+// or blocks.
+TEST(BinBands, ManyChunksAndSkippedBlocksKeepEveryTilesItemsInOrder) {
+  const int W = 256, H = 192;
+  Scene s = test::baseScene(W, H);
+  SceneWire w;
+  w.restsOnSurface = false;
+  w.thickness = 1.0;
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const int n = 150000;
+  for (int i = 0; i < n; ++i) {
+    // Row-major over the image: 256 consecutive hairs lie within about two rows of 8-pixel tiles.
+    const double y = double(i) / n * H, x = std::fmod(i * 0.37, double(W));
+    const test::V2 a(x, y), b(x + (u(rng) - 0.5) * 6, y + (u(rng) - 0.5) * 6);
+    w.lines.add({test::world(a, 20.0 + u(rng), W, H), test::world(b, 20.0 + u(rng), W, H)});
+  }
+  s.wires.push_back(w);
+  RenderOptions o = test::smallOptions(W, H);
+  o.tileSize = 8;
+  RenderStats st;
+  const PreparedScene ps = prepareScene(s, o, st);
+  ASSERT_GT(ps.segments.size(), size_t(140000));
+  // The serial reference: per tile, the items in primitive order.
+  const int tilesX = (W + 7) / 8, tilesY = (H + 7) / 8;
+  std::vector<std::vector<TileBins::Item>> want(size_t(tilesX) * tilesY);
+  {
+    PreparedScene one;
+    one.view = ps.view;
+    one.wireDepth = ps.wireDepth;
+    one.pixelScale = ps.pixelScale;
+    one.shaders = ps.shaders;
+    one.segments.resize(1);
+    for (std::uint32_t i = 0; i < ps.segments.size(); ++i) {
+      one.segments[0] = ps.segments[i];
+      RenderStats s1;
+      const TileBins b = binPrimitives(one, o.tileSize, s1);
+      for (int t = 0; t < tilesX * tilesY; ++t)
+        for (std::uint32_t k = b.begin(t); k < b.end(t); ++k) {
+          TileBins::Item it = b.items[k];
+          it.index = i;
+          want[size_t(t)].push_back(it);
+        }
+    }
+  }
+  for (int threads : {1, 3, 7}) {
+    inArena(threads, [&] {
+      const BinCounts counts = countBins(ps, o.tileSize);
+      EXPECT_GT(counts.chunks, 1u) << threads;
+      // A block lies in one chunk (its rows are written by one thread, from all its primitives).
+      EXPECT_EQ(counts.perChunk % BinCounts::kBlock, 0u) << threads;
+      // Most blocks reach at most three tile rows: the bands pass over the others unread.
+      size_t narrow = 0, blocks = counts.blockRows.size() / 2;
+      for (size_t b = 0; b < blocks; ++b) narrow += counts.blockRows[2 * b + 1] - counts.blockRows[2 * b] <= 2;
+      EXPECT_GT(narrow, blocks * 9 / 10) << threads;
+      for (int rows : {1, 5, tilesY}) {
+        TileBins band;
+        for (int r0 = 0; r0 < tilesY; r0 += rows) {
+          binPrimitives(ps, counts, r0, r0 + rows, st, 0, band);
+          for (int t = r0 * tilesX; t < std::min(r0 + rows, tilesY) * tilesX; ++t) {
+            const std::vector<TileBins::Item>& v = want[size_t(t)];
+            ASSERT_EQ(band.end(t) - band.begin(t), v.size()) << threads << " threads, tile " << t;
+            for (size_t k = 0; k < v.size(); ++k) {
+              const TileBins::Item& p = band.items[band.begin(t) + k];
+              ASSERT_TRUE(p.index == v[k].index && std::memcmp(&p.zlo, &v[k].zlo, sizeof(float)) == 0 &&
+                          p.x0 == v[k].x0 && p.y0 == v[k].y0 && p.x1 == v[k].x1 && p.y1 == v[k].y1)
+                  << threads << " threads, " << rows << " rows a band, tile " << t << " item " << k;
+            }
+          }
+        }
+      }
+    });
   }
 }
 

@@ -45,6 +45,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cassert>
 #include <limits>
 #include <memory>
 #include <new>
@@ -626,8 +627,12 @@ struct TileBins {
   int rowBegin = 0, rowEnd = 0;        ///< the tile rows binned
   std::vector<std::uint32_t> offsets;  ///< the band's k-th tile: items[offsets[k], offsets[k+1])
   /// Tile t's items (t numbered over the whole grid, in the rows binned): [begin, end).
-  std::uint32_t begin(int t) const { return offsets[size_t(t) - size_t(rowBegin) * size_t(tilesX)]; }
-  std::uint32_t end(int t) const { return offsets[size_t(t) - size_t(rowBegin) * size_t(tilesX) + 1]; }
+  std::uint32_t begin(int t) const { return offsets[local(t)]; }
+  std::uint32_t end(int t) const { return offsets[local(t) + 1]; }
+  size_t local(int t) const {
+    assert(t >= rowBegin * tilesX && t < rowEnd * tilesX);
+    return size_t(t) - size_t(rowBegin) * size_t(tilesX);
+  }
   /// One primitive in one tile: what the tile needs to order and cull it without touching the
   /// primitive itself (most are culled whole on dense scenes, and primitives are scattered).
   /// 12 bytes: a dense scene has several per segment (a hair 40 pixels long crosses about five
@@ -696,12 +701,17 @@ BinCounts countBins(const PreparedScene& ps, int tileSize, int rowBegin = 0,
 /// Stage "bins": fills `bins` (reusing its memory) with the items of tile rows [rowBegin,
 /// rowEnd) within those counted; each tile's items in primitive order, whatever the thread
 /// count. Throws std::length_error when the items would exceed `memoryBudget` bytes (0:
-/// unlimited) beside the primitives: many large primitives over small tiles multiply.
+/// unlimited) beside the primitives (checkBinsFit): many large primitives over small tiles
+/// multiply. Adds the band's tiles, empty tiles and time to `stats`.
 void binPrimitives(const PreparedScene& ps, const BinCounts& counts, int rowBegin, int rowEnd, RenderStats& stats,
                    size_t memoryBudget, TileBins& bins);
+/// What is held while a band's items are: the primitives, the counts, the band's offsets and
+/// `alsoHeld` (the renderer's image and tile buffers).
+double binsHeldBeside(const PreparedScene& ps, const BinCounts& counts, double alsoHeld = 0.0);
 /// Throws binPrimitives' std::length_error unless `items` items fit `memoryBudget` (0:
-/// unlimited) beside the primitives and the counts.
-void checkBinsFit(const PreparedScene& ps, const BinCounts& counts, std::uint64_t items, size_t memoryBudget);
+/// unlimited) beside binsHeldBeside.
+void checkBinsFit(const PreparedScene& ps, const BinCounts& counts, std::uint64_t items, size_t memoryBudget,
+                  double alsoHeld = 0.0);
 /// The whole grid at once.
 TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& stats, size_t memoryBudget = 0);
 /// Sorts one tile's items into TileBins::Item's order (zlo, then index) when they arrive in

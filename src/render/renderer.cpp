@@ -43,8 +43,10 @@ std::string describeBytes(double b) {
 }
 }  // namespace
 
-size_t estimateRenderBytes(const Scene& scene, const RenderOptions& o, bool reference) {
-  // In double: a 16384^2 image with millions of primitives must not wrap.
+namespace {
+// The image and the tile buffers of every thread (estimateRenderBytes' first terms): what a
+// render holds whatever its primitives.
+double imageAndTileBytes(const Scene& scene, const RenderOptions& o, bool reference) {
   const double w = std::max(o.width, 0), h = std::max(o.height, 0);
   double bytes = w * h * double(sizeof(glm::vec4));  // the image
   const int threads = o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
@@ -60,7 +62,17 @@ size_t estimateRenderBytes(const Scene& scene, const RenderOptions& o, bool refe
     tileBytes += double(tw) * th * double(TileABuffer::xrayBytesPerPixel());
   }
   const double tiles = std::ceil(w / tile) * std::ceil(h / tile);
-  bytes += std::min<double>(threads, std::max(tiles, 1.0)) * tileBytes;
+  return bytes + std::min<double>(threads, std::max(tiles, 1.0)) * tileBytes;
+}
+}  // namespace
+
+size_t estimateRenderBytes(const Scene& scene, const RenderOptions& o, bool reference) {
+  // In double: a 16384^2 image with millions of primitives must not wrap.
+  const double w = std::max(o.width, 0), h = std::max(o.height, 0);
+  const int threads = o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
+  const int tile = std::clamp(o.tileSize, 1, 4096);
+  const double tiles = std::ceil(w / tile) * std::ceil(h / tile);
+  double bytes = imageAndTileBytes(scene, o, reference);
   // Primitives: room for every input triangle with 5 screen vertices (the most near / far
   // clipping leaves) and every input segment, the bins at least one item each, and the per-chunk
   // tile counts of the binning.
@@ -140,23 +152,21 @@ glm::vec4 overBackground(const glm::vec4& c, const glm::vec4& bg) {
 // a hair: one per tile it crosses) are not all held at once beside its primitives. A band holds
 // at most a quarter of the primitives' bytes in items, or kOneBand bytes where that is more (a
 // scene whose items fit it is drawn as one band), or one tile row where a row alone holds more;
-// and no more than the memory budget leaves beside the primitives and the counts (a row that
-// does not fit is binPrimitives' error). The image is the same for any bands: each tile's items
-// are the same, in the same order.
+// and no more than the memory budget leaves beside the primitives, the counts, the image and the
+// tile buffers (`alsoHeld`; a row that does not fit is checkBinsFit's error, before any band is
+// drawn). The image is the same for any bands: each tile's items are the same, in the same order.
 constexpr size_t kOneBand = size_t(4) << 20;
 std::vector<std::pair<int, int>> binBands(const PreparedScene& ps, const BinCounts& c, size_t memoryBudget,
-                                          std::uint64_t& largest) {
+                                          double alsoHeld, std::uint64_t& largest) {
   double cap = std::max(double(ps.bytes()) / 4.0, double(kOneBand));
-  if (memoryBudget) {  // (checkBinsFit's sum)
-    const double offsets = double(c.tilesX) * (c.rowEnd - c.rowBegin + 1) * sizeof(std::uint32_t) * (1.0 + double(c.chunks));
-    cap = std::min(cap, double(memoryBudget) - double(ps.bytes()) - double(c.bytes()) - offsets);
-  }
+  if (memoryBudget) cap = std::min(cap, double(memoryBudget) - binsHeldBeside(ps, c, alsoHeld));
   std::vector<std::pair<int, int>> bands;
   std::uint64_t items = 0;
   largest = 0;
   for (int row = c.rowBegin; row < c.rowEnd; ++row) {
     const std::uint64_t here = c.rowItems(row);
-    if (!bands.empty() && bands.back().second == row && double(items + here) * sizeof(TileBins::Item) <= cap) {
+    if (!bands.empty() && bands.back().second == row && double(items + here) * sizeof(TileBins::Item) <= cap &&
+        items + here <= std::numeric_limits<std::uint32_t>::max()) {
       bands.back().second = row + 1;
       items += here;
     } else {
@@ -193,12 +203,15 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
     const int rowLo = band ? options.rowBegin / options.tileSize : 0;
     const int rowHi = band ? (options.rowEnd + options.tileSize - 1) / options.tileSize : tileRows;
     const auto tb = std::chrono::steady_clock::now();
-    const BinCounts binCounts = countBins(ps, options.tileSize, rowLo, rowHi);
+    BinCounts binCounts = countBins(ps, options.tileSize, rowLo, rowHi);
     st.binning += secondsSince(tb);
+    const size_t countBytes = binCounts.bytes();
     std::uint64_t largestBand = 0;
-    const std::vector<std::pair<int, int>> bands = binBands(ps, binCounts, options.memoryBudget, largestBand);
+    const double alsoHeld = imageAndTileBytes(scene, options, false);
+    const std::vector<std::pair<int, int>> bands =
+        binBands(ps, binCounts, options.memoryBudget, alsoHeld, largestBand);
     st.binBands = bands.size();
-    checkBinsFit(ps, binCounts, largestBand, options.memoryBudget);  // before any band is drawn
+    checkBinsFit(ps, binCounts, largestBand, options.memoryBudget, alsoHeld);  // before any band is drawn
     TileBins bins;
     bins.items.reserve(largestBand);  // once: every band's items fit it
     size_t binBytes = 0;
@@ -210,8 +223,9 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
     tbb::enumerable_thread_specific<size_t> occludedPrims(0);
     tbb::enumerable_thread_specific<RenderStats::RasterWork> work;
     for (const auto& [bandBegin, bandEnd] : bands) {
-      binPrimitives(ps, binCounts, bandBegin, bandEnd, st, options.memoryBudget, bins);
+      binPrimitives(ps, binCounts, bandBegin, bandEnd, st, 0, bins);  // (checked above)
       binBytes = std::max(binBytes, bins.bytes());
+      if (bandEnd == bands.back().second) binCounts = BinCounts{};  // the last band's: the counts are done with
       const auto tr = std::chrono::steady_clock::now();
       tbb::parallel_for(bandBegin * tilesX, bandEnd * tilesX, [&](int tile) {
         const int tx0 = (tile % tilesX) * options.tileSize, ty0 = (tile / tilesX) * options.tileSize;
@@ -434,7 +448,8 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
     }
     for (size_t n : occludedPrims) st.primitivesOccluded += n;
     for (const RenderStats::RasterWork& w : work) st.work.add(w);
-    st.peakBytes = ps.bytes() + binCounts.bytes() + binBytes + st.abuffer.peakBytes;
+    // (The counts are held through the rasterising of every band but the last.)
+    st.peakBytes = ps.bytes() + (bands.size() > 1 ? countBytes : 0) + binBytes + st.abuffer.peakBytes;
   });
   st.coverageQuantisation = 1.0 / options.mask.samples();
   st.occlusionEpsilon = options.occlusionEpsilon;

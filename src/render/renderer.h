@@ -148,11 +148,11 @@ struct RenderStats {
   } work;
   // what the A-buffer did
   ABufferCounters abuffer;
-  size_t tiles = 0, tilesEmpty = 0;
+  size_t tiles = 0, tilesEmpty = 0;  ///< tiles binned (a row band's only), those with no item
   size_t binBands = 0;  ///< bands of tile rows binned and drawn one after another (render: its items not all held at once)
   int pseudoReflectanceMaps = 0, reflectanceSpheres = 0;  ///< built for this render
   int viewGrid = 1;                                       ///< nodes per side of the view-direction grid
-  size_t peakBytes = 0;                     ///< primitives + bins + tile buffers
+  size_t peakBytes = 0;                     ///< primitives + bins (the largest band's items; the counts, with several bands) + tile buffers
   // error estimate (each an upper bound or a measurement, radiance units or coverage)
   double coverageQuantisation = 0;  ///< 1/N: one subpixel, where masks decide hiding
   double mapError = 0;              ///< max |map - exact| (orthographic) over a test set

@@ -487,7 +487,7 @@ TEST(WireFootprint, SolidStaysWithinTheCullingBoundsOfEveryHair) {
     const TileBins bins = binPrimitives(ps, kTile, st, size_t(1) << 30);
     auto tileZlo = [&](int col, int row) -> double {
       const int tile = (row / kTile) * bins.tilesX + col / kTile;
-      for (std::uint32_t b = bins.offsets[size_t(tile)]; b < bins.offsets[size_t(tile) + 1]; ++b)
+      for (std::uint32_t b = bins.begin(tile); b < bins.end(tile); ++b)
         if (bins.items[b].index == prim) return double(bins.items[b].zlo);
       return INFINITY;  // not binned there: a covered pixel would be lost
     };

@@ -209,7 +209,11 @@ void renderFigures(const wf::Scene& scene, const wf::RenderOptions& opt, int rep
   wf::inArena(opt.threads, [&] {
     wf::RenderStats s2;
     const wf::PreparedScene ps = wf::prepareScene(scene, opt, s2);
-    const wf::TileBins bins = wf::binPrimitives(ps, opt.tileSize, s2);
+    // (Counted, not binned: binning the whole grid at once would hold more than the render did,
+    // and this process's peak RSS is reported.)
+    const wf::BinCounts counts = wf::countBins(ps, opt.tileSize);
+    std::uint64_t items = 0;
+    for (int row = counts.rowBegin; row < counts.rowEnd; ++row) items += counts.rowItems(row);
     size_t tables = 0;
     for (const wf::ShaderSlot& s : ps.shaders) {
       if (s.wireTables) tables += s.wireTables->bytes();
@@ -225,7 +229,7 @@ void renderFigures(const wf::Scene& scene, const wf::RenderOptions& opt, int rep
     // The render bins a band of tile rows at a time (docs/abuffer.md): what it held of them at
     // its peak is the rest of peakBytes.
     j["bins_bytes"] = st.peakBytes - std::min(st.peakBytes, ps.bytes() + st.abuffer.peakBytes);
-    j["bin_items"] = bins.items.size();  // over the whole grid
+    j["bin_items"] = items;  // over the whole grid
     j["bin_bands"] = st.binBands;
   });
   size_t input = 0;
