@@ -4,9 +4,11 @@
 // one and far in another; ordering and culling it by its depth in each tile, not by its nearest
 // point anywhere, lets each tile take it where it belongs in front-to-back order.
 //
-// In parallel and deterministic: chunks of primitives count their items per tile, the counts
-// give every (chunk, tile) its place, and the chunks fill them, so each tile's items are in
-// primitive order whatever the thread count.
+// In parallel and deterministic: chunks of primitives count their items per tile (countBins),
+// the counts give every (chunk, tile) its place, and the chunks fill them (binPrimitives), so
+// each tile's items are in primitive order whatever the thread count. The filling takes a band
+// of tile rows at a time: the renderer bins and draws a dense scene's bands one after another
+// (renderer.cpp, binBands), so that its items are not all held at once.
 #include "render/pipeline.h"
 
 #include <tbb/parallel_for.h>

@@ -7,7 +7,8 @@
 //         -> primitives      prepare_scene.cpp   prepareScene: the stages above, then clipping and
 //                            triangle_setup.cpp    projection of triangles and wire segments into
 //                            segment_setup.cpp     convex screen polygons
-//         -> bins            binning.cpp         binPrimitives: primitives into screen tiles
+//         -> bins            binning.cpp         countBins, binPrimitives: primitives into screen tiles,
+//                                                a band of tile rows at a time (renderer.cpp)
 //         -> fragments       rasterize.h         rasterizePolygon: exact area, mask, depth per pixel
 //         -> resolve         abuffer/abuffer.cpp TileABuffer: depth order, coverage, tails
 //         -> image
