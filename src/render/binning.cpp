@@ -245,10 +245,16 @@ BinCounts countBins(const PreparedScene& ps, int tileSize, int rowBegin, int row
   return c;
 }
 
+void TileBins::outsideBand(int t) const {
+  throw std::out_of_range("tile " + std::to_string(t) + " outside the tile rows binned, " + std::to_string(rowBegin) +
+                          " ... " + std::to_string(rowEnd - 1));
+}
+
 double binsHeldBeside(const PreparedScene& ps, const BinCounts& c, double alsoHeld) {
   // The primitives, the counts, a band's offsets and places (at most all the counted rows'), and
   // what the caller holds besides.
-  const double offsets = double(c.tilesX) * (c.rowEnd - c.rowBegin + 1) * sizeof(std::uint32_t) * (1.0 + double(c.chunks));
+  const double tiles = double(c.tilesX) * double(c.rowEnd - c.rowBegin);
+  const double offsets = (tiles + 1.0) * sizeof(std::uint32_t) * (1.0 + double(c.chunks));
   return double(ps.bytes()) + double(c.bytes()) + offsets + alsoHeld;
 }
 
@@ -256,10 +262,10 @@ void checkBinsFit(const PreparedScene& ps, const BinCounts& c, std::uint64_t ite
   if (items > std::numeric_limits<std::uint32_t>::max()) throw std::length_error("more than 4 billion tile items");
   const double held = binsHeldBeside(ps, c, alsoHeld);
   if (memoryBudget && held + double(items) * sizeof(TileBins::Item) > double(memoryBudget))
-    throw std::length_error("the primitives fall into " + std::to_string(items) + " tile bins in one band of tile rows (" +
+    throw std::length_error("the primitives fall into " + std::to_string(items) + " tile bins at once (" +
                             std::to_string(items * sizeof(TileBins::Item) >> 20) + " MiB beside " +
                             std::to_string(size_t(held) >> 20) +
-                            " MiB of primitives, image and tile buffers), over the memory budget (RenderOptions::memoryBudget / --memory-budget)");
+                            " MiB already held), over the memory budget (RenderOptions::memoryBudget / --memory-budget)");
 }
 
 std::uint64_t BinCounts::rowItems(int row) const {

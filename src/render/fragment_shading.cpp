@@ -286,6 +286,12 @@ void PreparedFragmentSource::capsuleRay(const WireDepthBasis& b, int x, int y, S
   }
 }
 
+namespace {
+constexpr std::size_t kBasisEntries = 2048;
+}
+
+std::size_t PreparedFragmentSource::cacheBytesPerThread() { return kBasisEntries * sizeof(WireDepthBasis); }
+
 const PreparedFragmentSource::WireDepthBasis& PreparedFragmentSource::wireDepthBasis(std::uint32_t prim) const {
   // Direct-mapped, per thread (a resolving thread asks of the segments near the pixels it
   // resolves, and the same segment again in the next pixels), on the heap: 2048 entries of
@@ -293,8 +299,9 @@ const PreparedFragmentSource::WireDepthBasis& PreparedFragmentSource::wireDepthB
   // its first wire). A tile of dense fur asks of more segments than 256 entries held: on the
   // 700,000-hair torus 3.06M fills of 9.99M asks with 256, 1.86M with 1024, 0.71M (about one a
   // segment shown) with 2048. An entry holds the source's serial, so a later render never reads
-  // an earlier render's segment of the same number.
-  constexpr std::size_t kEntries = 2048;
+  // an earlier render's segment of the same number. The reference returned is good until the
+  // thread's next call (the callers copy what they need from it at once).
+  constexpr std::size_t kEntries = kBasisEntries;
   static_assert(sizeof(WireDepthBasis) <= 320);
   thread_local std::vector<WireDepthBasis> cache;
   if (cache.empty()) cache.resize(kEntries);

@@ -46,7 +46,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <cassert>
 #include <limits>
 #include <memory>
 #include <new>
@@ -631,9 +630,10 @@ struct TileBins {
   std::uint32_t begin(int t) const { return offsets[local(t)]; }
   std::uint32_t end(int t) const { return offsets[local(t) + 1]; }
   size_t local(int t) const {
-    assert(t >= rowBegin * tilesX && t < rowEnd * tilesX);
+    if (t < rowBegin * tilesX || t >= rowEnd * tilesX) outsideBand(t);
     return size_t(t) - size_t(rowBegin) * size_t(tilesX);
   }
+  [[noreturn]] void outsideBand(int t) const;
   /// One primitive in one tile: what the tile needs to order and cull it without touching the
   /// primitive itself (most are culled whole on dense scenes, and primitives are scattered).
   /// 12 bytes: a dense scene has several per segment (a hair 40 pixels long crosses about five

@@ -596,6 +596,12 @@ class PreparedFragmentSource final : public FragmentSource {
   /// the pixel's centre (SurfaceDepth::capsule; fragment_shading.cpp).
   void capsuleRay(const WireDepthBasis& b, int x, int y, SurfaceDepth& d) const;
   static std::uint64_t nextSerial();
+ public:
+  /// The per-thread cache of wire depth bases, allocated on a thread's first wire and kept:
+  /// its bytes (the renderer's peak and estimate count it for every thread that resolves).
+  static std::size_t cacheBytesPerThread();
+
+ private:
   const PreparedScene& ps_;
   const std::uint64_t serial_;  ///< tells this render's cache entries from an earlier one's
 };

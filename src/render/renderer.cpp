@@ -61,6 +61,10 @@ double imageAndTileBytes(const Scene& scene, const RenderOptions& o, bool refere
   if (xray && !reference) {
     tileBytes += double(tw) * th * double(TileABuffer::xrayBytesPerPixel());
   }
+  // A thread resolving wires keeps a cache of their depth bases (PreparedFragmentSource).
+  bool wires = false;
+  for (const SceneWire& wr : scene.wires) wires = wires || wr.lines.points.size() >= 2;
+  if (wires && !reference) tileBytes += double(PreparedFragmentSource::cacheBytesPerThread());
   const double tiles = std::ceil(w / tile) * std::ceil(h / tile);
   return bytes + std::min<double>(threads, std::max(tiles, 1.0)) * tileBytes;
 }
@@ -84,8 +88,10 @@ size_t estimateRenderBytes(const Scene& scene, const RenderOptions& o, bool refe
   const double perSegment = sizeof(SegmentPrim) + sizeof(SegmentShading) + sizeof(SegmentColours);  // (colours when kept)
   // The binning's per-chunk tile counts (binning.cpp: up to 4 chunks a thread, 65,536 primitives each).
   const double chunks = std::clamp(std::ceil((triangles + segments) / 65536.0), 1.0, 4.0 * threads);
+  // (and the counts' rows per block of primitives)
   bytes += triangles * perTriangle + segments * perSegment + (triangles + segments) * sizeof(TileBins::Item) +
-           (tiles + 1) * sizeof(std::uint32_t) * (1 + 2 * chunks);
+           (tiles + 1) * sizeof(std::uint32_t) * (1 + 2 * chunks) +
+           std::ceil((triangles + segments) / double(BinCounts::kBlock)) * 2 * sizeof(int);
   // Shading tables (maps path): a pair of pseudo-reflectance maps per wire material, a
   // reflectance sphere per surface material, for every node of the view grid.
   if (o.shading == ShadingPath::Maps) {
@@ -206,6 +212,9 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
     BinCounts binCounts = countBins(ps, options.tileSize, rowLo, rowHi);
     st.binning += secondsSince(tb);
     const size_t countBytes = binCounts.bytes();
+    // A band's places while it is filled (binPrimitives: a 32-bit start per chunk and tile).
+    const size_t placeBytes = binCounts.chunks * size_t(binCounts.tilesX) *
+                              size_t(binCounts.rowEnd - binCounts.rowBegin) * sizeof(std::uint32_t);
     std::uint64_t largestBand = 0;
     const double alsoHeld = imageAndTileBytes(scene, options, false);
     const std::vector<std::pair<int, int>> bands =
@@ -448,8 +457,13 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
     }
     for (size_t n : occludedPrims) st.primitivesOccluded += n;
     for (const RenderStats::RasterWork& w : work) st.work.add(w);
-    // (The counts are held through the rasterising of every band but the last.)
-    st.peakBytes = ps.bytes() + (bands.size() > 1 ? countBytes : 0) + binBytes + st.abuffer.peakBytes;
+    // The counts are held through the rasterising of every band but the last; a band's places
+    // only while it is filled, the depth caches of the threads that resolved wires from then on.
+    size_t caches = 0;
+    if (!ps.segments.empty()) caches = buffers.size() * PreparedFragmentSource::cacheBytesPerThread();
+    const size_t held = bands.size() > 1 ? countBytes + std::max(placeBytes, st.abuffer.peakBytes + caches)
+                                         : std::max(countBytes + placeBytes, st.abuffer.peakBytes + caches);
+    st.peakBytes = ps.bytes() + binBytes + held;
   });
   st.coverageQuantisation = 1.0 / options.mask.samples();
   st.occlusionEpsilon = options.occlusionEpsilon;
