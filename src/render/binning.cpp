@@ -203,6 +203,19 @@ class Binner {
   int rowLo_ = 0, rowHi_ = 1;
 };
 
+// Calls f(b, begin, end) for the blocks of BinCounts::kBlock primitives of chunk k, in order
+// ([begin, end): block b's primitives, whole: a chunk holds whole blocks).
+template <class F>
+void forEachBlock(const BinCounts& c, size_t k, std::uint32_t n, F&& f) {
+  const std::uint32_t end = std::uint32_t(std::min<size_t>(n, (k + 1) * c.perChunk));
+  for (std::uint32_t i = std::uint32_t(std::min<size_t>(n, k * c.perChunk)); i < end;) {
+    const size_t b = i / BinCounts::kBlock;
+    const std::uint32_t blockEnd = std::uint32_t(std::min<size_t>(end, (b + 1) * BinCounts::kBlock));
+    f(b, i, blockEnd);
+    i = blockEnd;
+  }
+}
+
 }  // namespace
 
 BinCounts countBins(const PreparedScene& ps, int tileSize, int rowBegin, int rowEnd) {
@@ -229,18 +242,16 @@ BinCounts countBins(const PreparedScene& ps, int tileSize, int rowBegin, int row
   const int tilesX = c.tilesX;
   tbb::parallel_for(size_t(0), c.chunks, [&](size_t k) {
     std::uint32_t* cnt = c.counts.data() + k * tiles;  // (no tiles: nothing is counted)
-    const std::uint32_t end = std::uint32_t(std::min<size_t>(n, (k + 1) * c.perChunk));
-    for (std::uint32_t i = std::uint32_t(std::min<size_t>(n, k * c.perChunk)); i < end;) {
-      const size_t b = i / BinCounts::kBlock;
-      const std::uint32_t blockEnd = std::uint32_t(std::min<size_t>(end, (b + 1) * BinCounts::kBlock));
+    forEachBlock(c, k, n, [&](size_t b, std::uint32_t begin, std::uint32_t end) {
       int lo = std::numeric_limits<int>::max(), hi = -1;
-      for (; i < blockEnd; ++i)
+      for (std::uint32_t i = begin; i < end; ++i)
         binner.forEachTile(i, [&](int tile) {
           ++cnt[size_t(tile) - first];
-          lo = std::min(lo, tile / tilesX), hi = std::max(hi, tile / tilesX);
+          const int row = tile / tilesX;
+          lo = std::min(lo, row), hi = std::max(hi, row);
         });
       c.blockRows[2 * b] = lo, c.blockRows[2 * b + 1] = hi;
-    }
+    });
   });
   return c;
 }
@@ -308,18 +319,12 @@ void binPrimitives(const PreparedScene& ps, const BinCounts& c, int rowBegin, in
   bins.items.resize(total);  // (within the capacity a previous band left: not moved)
   tbb::parallel_for(size_t(0), c.chunks, [&](size_t k) {
     std::uint32_t* fill = start.data() + k * tiles;
-    const std::uint32_t end = std::uint32_t(std::min<size_t>(n, (k + 1) * c.perChunk));
-    for (std::uint32_t i = std::uint32_t(std::min<size_t>(n, k * c.perChunk)); i < end;) {
+    forEachBlock(c, k, n, [&](size_t b, std::uint32_t begin, std::uint32_t end) {
       // A block none of whose primitives reaches these rows is passed over unread.
-      const size_t b = i / BinCounts::kBlock;
-      const std::uint32_t blockEnd = std::uint32_t(std::min<size_t>(end, (b + 1) * BinCounts::kBlock));
-      if (c.blockRows[2 * b + 1] < rowBegin || c.blockRows[2 * b] >= rowEnd) {
-        i = blockEnd;
-        continue;
-      }
-      for (; i < blockEnd; ++i)
+      if (c.blockRows[2 * b + 1] < rowBegin || c.blockRows[2 * b] >= rowEnd) return;
+      for (std::uint32_t i = begin; i < end; ++i)
         binner.forEachItem(i, [&](int tile, const TileBins::Item& item) { bins.items[fill[size_t(tile) - first]++] = item; });
-    }
+    });
   });
   st.tiles += tiles;
   for (size_t t = 0; t < tiles; ++t) st.tilesEmpty += bins.offsets[t] == bins.offsets[t + 1];

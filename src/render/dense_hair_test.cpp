@@ -254,14 +254,23 @@ using test::V2;
 
 // Curved, crossing, interpenetrating hairs over a surface, round wires, simplified and not: the
 // same image bit for bit for 1, 2 and 7 threads.
-TEST(DenseHair, SameImageForAnyThreadCount) {
-  const int W = 120, H = 90;
+// A brown surface 10 pixels in from the image's edges at `depth`, and fur over it: its last wire,
+// hairs of `thickness` world units, for the caller to fill.
+Scene furOverRect(int W, int H, double depth, double thickness) {
   Scene s = test::baseScene(W, H);
-  s.surfaces.push_back(test::screenRect(10, 10, 110, 80, 30.0, W, H, glm::vec3(0.5f, 0.3f, 0.2f)));
+  s.surfaces.push_back(test::screenRect(10, 10, W - 10, H - 10, depth, W, H, glm::vec3(0.5f, 0.3f, 0.2f)));
   SceneWire w;
   w.aggregate = true;
   w.restsOnSurface = false;
-  w.thickness = 1.7;
+  w.thickness = thickness;
+  s.wires.push_back(w);
+  return s;
+}
+
+TEST(DenseHair, SameImageForAnyThreadCount) {
+  const int W = 120, H = 90;
+  Scene s = furOverRect(W, H, 30.0, 1.7);
+  SceneWire& w = s.wires.back();
   w.roundEnds = true;
   for (int i = 0; i < 3000; ++i) {
     HashRandom r(11, 0, std::uint64_t(i));
@@ -274,7 +283,6 @@ TEST(DenseHair, SameImageForAnyThreadCount) {
     }
     w.lines.add(pts);
   }
-  s.wires.push_back(w);
   for (bool simplify : {false, true}) {
     RenderOptions o = test::smallOptions(W, H);
     o.simplify.enabled = simplify;
@@ -295,19 +303,14 @@ TEST(DenseHair, SameImageForAnyThreadCount) {
 // the same order), and the bins held at the peak are smaller.
 TEST(DenseHair, BandsOfTileRowsGiveTheSameImage) {
   const int W = 160, H = 120;
-  Scene s = test::baseScene(W, H);
-  s.surfaces.push_back(test::screenRect(10, 10, 150, 110, 40.0, W, H, glm::vec3(0.5f, 0.3f, 0.2f)));
-  SceneWire w;
-  w.aggregate = true;
-  w.restsOnSurface = false;
-  w.thickness = 1.2;
+  Scene s = furOverRect(W, H, 40.0, 1.2);
+  SceneWire& fur = s.wires.back();
   for (int i = 0; i < 12000; ++i) {
     HashRandom r(13, 0, std::uint64_t(i));
     const V2 root(r.uniform(0, W), r.uniform(0, H));
     const double a = r.uniform(0, 6.2832), len = r.uniform(40, 120);
-    w.lines.add({test::world(root, 30.0, W, H), test::world(root + len * V2(std::cos(a), std::sin(a)), 25.0, W, H)});
+    fur.lines.add({test::world(root, 30.0, W, H), test::world(root + len * V2(std::cos(a), std::sin(a)), 25.0, W, H)});
   }
-  s.wires.push_back(w);
   RenderOptions o = test::smallOptions(W, H);
   o.tileSize = 8;
   o.threads = 2;
@@ -329,8 +332,6 @@ TEST(DenseHair, BandsOfTileRowsGiveTheSameImage) {
   EXPECT_EQ(banded.stats.tiles, one.stats.tiles);
   EXPECT_EQ(banded.stats.tilesEmpty, one.stats.tilesEmpty);
   EXPECT_EQ(banded.stats.work.emitted, one.stats.work.emitted);
-  std::printf("bands %zu, peak %zu -> %zu bytes (budget %zu)\n", banded.stats.binBands, one.stats.peakBytes,
-              banded.stats.peakBytes, o.memoryBudget);
   // A band of image rows (RenderOptions::rowBegin / rowEnd) bins only its tile rows, in bands
   // of them under the budget too: its pixels are the whole render's.
   o.rowBegin = 37;

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <vector>
 
@@ -287,7 +288,8 @@ void PreparedFragmentSource::capsuleRay(const WireDepthBasis& b, int x, int y, S
 }
 
 namespace {
-constexpr std::size_t kBasisEntries = 2048;
+constexpr std::size_t kBasisEntries = 2048;  // (a power of two: the index is a hash's top bits)
+static_assert(std::has_single_bit(kBasisEntries));
 }
 
 std::size_t PreparedFragmentSource::cacheBytesPerThread() { return kBasisEntries * sizeof(WireDepthBasis); }
@@ -301,11 +303,10 @@ const PreparedFragmentSource::WireDepthBasis& PreparedFragmentSource::wireDepthB
   // segment shown) with 2048. An entry holds the source's serial, so a later render never reads
   // an earlier render's segment of the same number. The reference returned is good until the
   // thread's next call (the callers copy what they need from it at once).
-  constexpr std::size_t kEntries = kBasisEntries;
   static_assert(sizeof(WireDepthBasis) <= 320);
   thread_local std::vector<WireDepthBasis> cache;
-  if (cache.empty()) cache.resize(kEntries);
-  WireDepthBasis& b = cache[(prim * 2654435761u) >> 21];
+  if (cache.empty()) cache.resize(kBasisEntries);
+  WireDepthBasis& b = cache[std::uint32_t(prim * 2654435761u) >> (32 - std::countr_zero(kBasisEntries))];
   if (b.serial != serial_ || b.prim != prim) {
     fillWireDepthBasis(prim, b);
     b.serial = serial_;

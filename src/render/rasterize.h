@@ -542,6 +542,9 @@ void rasterizePolygon(const ScreenPolygon& poly, const Depth& depth, int rx0, in
 class PreparedFragmentSource final : public FragmentSource {
  public:
   explicit PreparedFragmentSource(const PreparedScene& ps) : ps_(ps), serial_(nextSerial()) {}
+  /// The per-thread cache of wire depth bases, allocated on a thread's first wire and kept:
+  /// its bytes (the renderer's peak and estimate count it for every thread that resolves).
+  static std::size_t cacheBytesPerThread();
   glm::vec3 shade(const Fragment& f, int x, int y) const override {
     if (f.prim == Fragment::kNoPrimitive) return f.colour;
     return shadeFragment(ps_, f.prim, x + f.pointX(), y + f.pointY(), f.zkey);
@@ -596,12 +599,6 @@ class PreparedFragmentSource final : public FragmentSource {
   /// the pixel's centre (SurfaceDepth::capsule; fragment_shading.cpp).
   void capsuleRay(const WireDepthBasis& b, int x, int y, SurfaceDepth& d) const;
   static std::uint64_t nextSerial();
- public:
-  /// The per-thread cache of wire depth bases, allocated on a thread's first wire and kept:
-  /// its bytes (the renderer's peak and estimate count it for every thread that resolves).
-  static std::size_t cacheBytesPerThread();
-
- private:
   const PreparedScene& ps_;
   const std::uint64_t serial_;  ///< tells this render's cache entries from an earlier one's
 };

@@ -184,7 +184,6 @@ std::vector<std::pair<int, int>> binBands(const PreparedScene& ps, const BinCoun
   return bands;
 }
 
-
 }  // namespace
 
 RenderResult render(const Scene& scene, const RenderOptions& options) {
@@ -204,10 +203,9 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
     if (options.shadingCache) options.shadingCache->endFrame();  // tables in use are held by ps too
     // The tile rows drawn: all, or those holding the band's rows (another process draws the
     // rest: their items are not even formed).
-    const int tileRows = (options.height + options.tileSize - 1) / options.tileSize;
     const bool band = options.rowEnd > options.rowBegin;
     const int rowLo = band ? options.rowBegin / options.tileSize : 0;
-    const int rowHi = band ? (options.rowEnd + options.tileSize - 1) / options.tileSize : tileRows;
+    const int rowHi = band ? (options.rowEnd + options.tileSize - 1) / options.tileSize : std::numeric_limits<int>::max();
     const auto tb = std::chrono::steady_clock::now();
     BinCounts binCounts = countBins(ps, options.tileSize, rowLo, rowHi);
     st.binning += secondsSince(tb);

@@ -152,7 +152,9 @@ struct RenderStats {
   size_t binBands = 0;  ///< bands of tile rows binned and drawn one after another (render: its items not all held at once)
   int pseudoReflectanceMaps = 0, reflectanceSpheres = 0;  ///< built for this render
   int viewGrid = 1;                                       ///< nodes per side of the view-direction grid
-  size_t peakBytes = 0;                     ///< primitives + bins (the largest band's items; the counts, with several bands) + tile buffers
+  /// Primitives + bins (the largest band's items, the counts while any band is left to bin) +
+  /// tile buffers and the threads' depth caches (as render() holds them over time).
+  size_t peakBytes = 0;
   // error estimate (each an upper bound or a measurement, radiance units or coverage)
   double coverageQuantisation = 0;  ///< 1/N: one subpixel, where masks decide hiding
   double mapError = 0;              ///< max |map - exact| (orthographic) over a test set
