@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <cstring>
 #include <random>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -84,6 +85,31 @@ TEST(BinBands, EveryBandHoldsTheWholeGridsItemsOfItsTiles) {
       for (int t = r0 * whole.tilesX; t < r1 * whole.tilesX; ++t) same(band, t);
     }
   }
+}
+
+// Degenerate rows: a range empty, reversed or beyond the grid counts and bins nothing (and reads
+// nothing out of range); a tile outside the rows binned is refused, not read.
+TEST(BinBands, EmptyOrOutsideRowRangesBinNothing) {
+  const int W = 64, H = 48;
+  Scene s = test::baseScene(W, H);
+  s.surfaces.push_back(test::screenRect(5, 5, 60, 40, 30.0, W, H, glm::vec3(0.5f)));
+  RenderOptions o = test::smallOptions(W, H);
+  o.tileSize = 8;
+  RenderStats st;
+  const PreparedScene ps = prepareScene(s, o, st);
+  for (auto [r0, r1] : {std::pair{3, 3}, std::pair{4, 2}, std::pair{6, 100}, std::pair{-5, 0}, std::pair{1000, 2000}}) {
+    const BinCounts c = countBins(ps, o.tileSize, r0, r1);
+    EXPECT_TRUE(c.counts.empty()) << r0 << " ... " << r1;
+    TileBins band;
+    binPrimitives(ps, c, r0, r1, st, 0, band);
+    EXPECT_TRUE(band.items.empty()) << r0 << " ... " << r1;
+    EXPECT_EQ(band.rowBegin, band.rowEnd);
+    EXPECT_THROW(band.begin(0), std::out_of_range);
+  }
+  const TileBins whole = binPrimitives(ps, o.tileSize, st);
+  EXPECT_THROW(whole.begin(-1), std::out_of_range);
+  EXPECT_THROW(whole.end(whole.tilesX * whole.tilesY), std::out_of_range);
+  EXPECT_GT(whole.end(whole.tilesX * whole.tilesY - 1), 0u);
 }
 
 // Many chunks (over 65,536 primitives each way) and blocks that reach few rows (short hairs made
