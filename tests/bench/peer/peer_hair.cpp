@@ -7,7 +7,10 @@
 // a table and, with --json, writes the figures.
 //
 //   peer_hair [--segments N] [--frames F] [--samples S] [--threads T] [--no-vtk] [--json FILE]
-//             [--simplify 3,6]
+//             [--simplify 3,6] [--vtk-msaa 4,8]
+//
+// VTK is also run with multisample antialiasing (--vtk-msaa): its error against time, so that
+// the A-buffer is compared with it at equal coverage error as well as with its aliased default.
 //
 // Under CI it runs with a small N as a smoke test; the full comparison is
 //   xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" build/peer_hair --json out/peer_hair.json
@@ -25,6 +28,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <utility>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -45,6 +49,7 @@ struct Args {
   bool vtk = true;
   std::string jsonPath;
   std::vector<double> simplify{3.0, 6.0};
+  std::vector<int> vtkMsaa{2, 4, 8};  ///< --vtk-msaa: VTK's antialiased runs (MSAA samples), beside its aliased one
 };
 
 using wfbench::median;
@@ -117,6 +122,9 @@ int main(int argc, char** argv) {
   app.add_flag("--no-vtk", noVtk, "leave out VTK's tubes");
   app.add_option("--json", a.jsonPath, "write the report here");
   app.add_option("--simplify", simplify, "stochastic simplification's densities to measure, or off")->delimiter(',');
+  app.add_option("--vtk-msaa", a.vtkMsaa, "VTK's antialiased runs: multisamples per pixel for each (empty: none)")
+      ->delimiter(',')
+      ->check(CLI::Range(2, 64));
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -203,17 +211,24 @@ int main(int argc, char** argv) {
     for (size_t i = 0; i < pixels; ++i) cov[i] = r.image.pixels[i].w;
   });
   bool okV = false;
-  if (a.vtk)
-    okV = measure(tmp + "_vtk", jv, cv, pixels, [&](json& j, std::vector<float>& cov) {
+  auto vtkRun = [&](int multiSamples) {
+    return [&, multiSamples](json& j, std::vector<float>& cov) {
       const auto segs = wfbench::hairTorus(a.segments);
       const wfbench::VtkTubesResult v = wfbench::renderVtkTubes(segs, wfbench::HairCamera{}, W, H,
-                                                                wfbench::kHairWidthPixels, a.frames);
+                                                                wfbench::kHairWidthPixels, a.frames, multiSamples);
+      j["multisamples"] = v.multiSamples;
       j["frame_seconds"] = v.frameSeconds;
       j["median_seconds"] = v.medianSeconds;
       j["setup_seconds"] = v.setupSeconds;
       j["renderer"] = v.renderer;
       cov = v.coverage;
-    });
+    };
+  };
+  if (a.vtk) okV = measure(tmp + "_vtk", jv, cv, pixels, vtkRun(0));
+  std::vector<json> msaa(a.vtk ? a.vtkMsaa.size() : 0);
+  std::vector<std::vector<float>> cm(msaa.size());
+  for (size_t k = 0; k < msaa.size(); ++k)
+    if (!measure(tmp + "_vtk_msaa", msaa[k], cm[k], pixels, vtkRun(a.vtkMsaa[k]))) cm[k].clear();
 
   if (!okA || !okR) {
     std::cerr << "peer_hair: the WireFur renders failed\n";
@@ -235,6 +250,40 @@ int main(int argc, char** argv) {
     jv["coverage_error"] = coverageError(cv, cr);
     report["vtk_render_lines_as_tubes"] = jv;
     report["speedup_vs_vtk"] = jv["median_seconds"].get<double>() / ja["median_seconds"].get<double>();
+    // VTK's error against time: its aliased run and each antialiased one. At equal coverage
+    // error: VTK's time interpolated (log time against log RMS) between the two of its runs
+    // whose errors bracket the A-buffer's, or "not reached" when every run of VTK's is worse.
+    std::vector<std::pair<double, double>> curve;  // (rms, seconds)
+    curve.emplace_back(jv["coverage_error"]["rms_all_pixels"].get<double>(), jv["median_seconds"].get<double>());
+    json jm = json::array();
+    for (size_t k = 0; k < msaa.size(); ++k) {
+      if (cm[k].empty()) continue;
+      msaa[k]["coverage_error"] = coverageError(cm[k], cr);
+      curve.emplace_back(msaa[k]["coverage_error"]["rms_all_pixels"].get<double>(), msaa[k]["median_seconds"].get<double>());
+      jm.push_back(msaa[k]);
+    }
+    report["vtk_msaa"] = jm;
+    const double rmsA = ja["coverage_error"]["rms_all_pixels"].get<double>();
+    std::sort(curve.begin(), curve.end());
+    json eq;
+    eq["abuffer_rms"] = rmsA;
+    eq["vtk_best_rms"] = curve.front().first;
+    eq["vtk_best_seconds"] = curve.front().second;
+    if (rmsA < curve.front().first) {
+      eq["vtk_seconds_at_abuffer_rms"] = "not reached: every VTK run has a larger coverage error";
+      eq["speedup_vs_vtk_best"] = curve.front().second / ja["median_seconds"].get<double>();
+    } else if (rmsA > curve.back().first) {
+      eq["vtk_seconds_at_abuffer_rms"] = "below: every VTK run has a smaller coverage error";
+    } else {
+      for (size_t k = 0; k + 1 < curve.size(); ++k)
+        if (rmsA >= curve[k].first && rmsA <= curve[k + 1].first) {
+          const double u = std::log(rmsA / curve[k].first) / std::log(curve[k + 1].first / curve[k].first);
+          const double t = std::exp(std::log(curve[k].second) + u * std::log(curve[k + 1].second / curve[k].second));
+          eq["vtk_seconds_at_abuffer_rms"] = t;
+          eq["speedup_vs_vtk_at_equal_rms"] = t / ja["median_seconds"].get<double>();
+        }
+    }
+    report["vtk_at_equal_error"] = eq;
   } else if (a.vtk) {
     report["vtk_render_lines_as_tubes"] = "failed (no display? run under xvfb-run)";
   }

@@ -68,6 +68,7 @@ struct Args {
   int repeats = 3;
   int threads = 0;
   double epsilon = -1.0;  ///< --epsilon: occlusion culling's bound per pixel (< 0: the renderer's default)
+  int budget = 0;         ///< --budget: fragments kept exactly per pixel (0: the renderer's default)
   bool vtk = true;
   bool check = false;
   bool reference = false;
@@ -238,6 +239,8 @@ int main(int argc, char** argv) {
   app.add_option("--masks", masks, "A-buffer mask layouts, e.g. 4x4,8x4,8x8");
   app.add_option("--repeats", a.repeats, "timed runs per measurement (the median is reported)")->check(CLI::Range(1, 1000));
   app.add_option("--threads", a.threads, "worker threads (0: all cores)")->check(CLI::Range(0, 4096));
+  app.add_option("--budget", a.budget, "fragments kept exactly per pixel before the rest blend into a tail (default: the renderer's)")
+      ->check(CLI::Range(1, 65535));
   CLI::Option* epsilon = app.add_option("--epsilon", a.epsilon, "occlusion culling's error bound per pixel, 0 ... 0.1 (default: the renderer's)");
   app.add_flag("--no-vtk", noVtk, "leave out VTK's tubes");
   app.add_flag("--check", a.check, "exit 1 when a scene misses its --floors speed-up or an error does not fall as it should");
@@ -307,6 +310,7 @@ int main(int argc, char** argv) {
     base.height = H;
     base.threads = a.threads;
     if (a.epsilon >= 0.0) base.occlusionEpsilon = a.epsilon;
+    if (a.budget > 0) base.budget = a.budget;
     json js;
     js["scene"] = name;
     js["description"] = b.description;

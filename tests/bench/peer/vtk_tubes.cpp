@@ -41,9 +41,10 @@ std::string rendererLine(vtkRenderWindow* window) {
 }  // namespace
 
 VtkTubesResult renderVtkTubes(const std::vector<HairSegment>& segments, const HairCamera& camera,
-                              int width, int height, double lineWidthPixels, int timedFrames) {
-  if (timedFrames < 1 || width < 1 || height < 1) throw std::invalid_argument("renderVtkTubes");
+                              int width, int height, double lineWidthPixels, int timedFrames, int multiSamples) {
+  if (timedFrames < 1 || width < 1 || height < 1 || multiSamples < 0) throw std::invalid_argument("renderVtkTubes");
   VtkTubesResult result;
+  result.multiSamples = multiSamples;
   const auto setupStart = std::chrono::steady_clock::now();
 
   // Double points keep the segments bit-identical to ours; VTK shifts/scales them to float VBOs.
@@ -103,7 +104,7 @@ VtkTubesResult renderVtkTubes(const std::vector<HairSegment>& segments, const Ha
   renderer->SetActiveCamera(cam);
   vtkNew<vtkRenderWindow> window;
   window->SetOffScreenRendering(1);
-  window->SetMultiSamples(0);  // VTK's default aliased look is what the benchmark measures
+  window->SetMultiSamples(multiSamples);  // 0: VTK's default aliased look
   window->SetSize(width, height);
   window->AddRenderer(renderer);
 

@@ -24,10 +24,13 @@ struct VtkTubesResult {
   long peakRssBytes = 0;             // getrusage ru_maxrss of the whole process after rendering
   std::vector<float> coverage;       // width * height, row 0 = top of the image, values in [0, 1]
   std::string renderer;              // the "OpenGL renderer string" line, e.g. "llvmpipe (LLVM ...)"
+  int multiSamples = 0;              // the MSAA samples asked for (vtkRenderWindow::SetMultiSamples)
 };
 
-// Renders `segments` with `timedFrames` >= 1 timed frames after one warm-up frame.
+// Renders `segments` with `timedFrames` >= 1 timed frames after one warm-up frame. `multiSamples`:
+// the window's MSAA samples (0: VTK's default aliased look; the driver may give fewer than asked,
+// see VtkTubesResult::multiSamples).
 VtkTubesResult renderVtkTubes(const std::vector<HairSegment>& segments, const HairCamera& camera,
-                              int width, int height, double lineWidthPixels, int timedFrames);
+                              int width, int height, double lineWidthPixels, int timedFrames, int multiSamples = 0);
 
 }  // namespace wfbench
