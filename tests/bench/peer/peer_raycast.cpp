@@ -10,7 +10,7 @@
 //   peer_raycast [--scenes torus7k,torus70k,torus700k,spider,curved1m] [--size WxH]
 //                [--samples 1,2,4,8] [--truth 12] [--masks 4x4,8x4,8x8] [--repeats R]
 //                [--threads T] [--no-vtk] [--reference] [--out DIR] [--check]
-//                [--floors SCENE=RATIO,...]
+//                [--floors SCENE=RATIO,...] [--epsilon E] [--budget K] [--dump]
 //
 // The full comparison (under Xvfb for the VTK peer): scripts/bench_peers.sh. `--check` (the CI
 // smoke test) fails, exit 3, when an error that must fall does not: Embree's error must fall
@@ -31,6 +31,7 @@
 #include "render_command.h"
 #include "scene_file.h"
 
+#include "core/limits.h"
 #include "render/pipeline.h"
 #include "render/renderer.h"
 
@@ -240,7 +241,7 @@ int main(int argc, char** argv) {
   app.add_option("--repeats", a.repeats, "timed runs per measurement (the median is reported)")->check(CLI::Range(1, 1000));
   app.add_option("--threads", a.threads, "worker threads (0: all cores)")->check(CLI::Range(0, 4096));
   app.add_option("--budget", a.budget, "fragments kept exactly per pixel before the rest blend into a tail (default: the renderer's)")
-      ->check(CLI::Range(1, 65535));
+      ->check(CLI::Range(1, wf::kMaxListBudget));
   CLI::Option* epsilon = app.add_option("--epsilon", a.epsilon, "occlusion culling's error bound per pixel, 0 ... 0.1 (default: the renderer's)");
   app.add_flag("--no-vtk", noVtk, "leave out VTK's tubes");
   app.add_flag("--check", a.check, "exit 1 when a scene misses its --floors speed-up or an error does not fall as it should");
@@ -317,6 +318,7 @@ int main(int argc, char** argv) {
     js["width"] = W;
     js["height"] = H;
     js["segments"] = segments;
+    js["list_budget"] = base.budget;
 
     // Ground truth: Embree, truth x truth rays per pixel, exact cylinder integral and Phong.
     wf::RenderOptions exactOpt = base;

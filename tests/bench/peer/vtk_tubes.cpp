@@ -9,6 +9,7 @@
 #include <vtkFloatArray.h>
 #include <vtkIdTypeArray.h>
 #include <vtkNew.h>
+#include <vtkOpenGLFramebufferObject.h>
 #include <vtkOpenGLRenderWindow.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
@@ -44,7 +45,7 @@ VtkTubesResult renderVtkTubes(const std::vector<HairSegment>& segments, const Ha
                               int width, int height, double lineWidthPixels, int timedFrames, int multiSamples) {
   if (timedFrames < 1 || width < 1 || height < 1 || multiSamples < 0) throw std::invalid_argument("renderVtkTubes");
   VtkTubesResult result;
-  result.multiSamples = multiSamples;
+  result.multiSamplesAsked = multiSamples;
   const auto setupStart = std::chrono::steady_clock::now();
 
   // Double points keep the segments bit-identical to ours; VTK shifts/scales them to float VBOs.
@@ -104,7 +105,7 @@ VtkTubesResult renderVtkTubes(const std::vector<HairSegment>& segments, const Ha
   renderer->SetActiveCamera(cam);
   vtkNew<vtkRenderWindow> window;
   window->SetOffScreenRendering(1);
-  window->SetMultiSamples(multiSamples);  // 0: VTK's default aliased look
+  window->SetMultiSamples(multiSamples);  // 0: aliased (VTK's own default would be 8)
   window->SetSize(width, height);
   window->AddRenderer(renderer);
 
@@ -112,6 +113,9 @@ VtkTubesResult renderVtkTubes(const std::vector<HairSegment>& segments, const Ha
   window->WaitForCompletion();
   result.setupSeconds = secondsSince(setupStart);
   result.renderer = rendererLine(window);
+  // What the framebuffer got: VTK lowers the window's samples to the implementation's maximum.
+  if (auto* gl = vtkOpenGLRenderWindow::SafeDownCast(window); gl && gl->GetRenderFramebuffer())
+    result.multiSamples = gl->GetRenderFramebuffer()->GetMultiSamples();
 
   for (int f = 0; f < timedFrames; ++f) {
     cam->Modified();  // forces a full redraw without invalidating the mapper's VBOs

@@ -24,12 +24,14 @@ struct VtkTubesResult {
   long peakRssBytes = 0;             // getrusage ru_maxrss of the whole process after rendering
   std::vector<float> coverage;       // width * height, row 0 = top of the image, values in [0, 1]
   std::string renderer;              // the "OpenGL renderer string" line, e.g. "llvmpipe (LLVM ...)"
-  int multiSamples = 0;              // the MSAA samples asked for (vtkRenderWindow::SetMultiSamples)
+  int multiSamplesAsked = 0;         // the MSAA samples asked for (vtkRenderWindow::SetMultiSamples)
+  int multiSamples = -1;             // the samples VTK's render framebuffer has (-1: unknown)
 };
 
 // Renders `segments` with `timedFrames` >= 1 timed frames after one warm-up frame. `multiSamples`:
-// the window's MSAA samples (0: VTK's default aliased look; the driver may give fewer than asked,
-// see VtkTubesResult::multiSamples).
+// the MSAA samples to ask the window for (0: aliased, the benchmark's usual choice; VTK's own
+// default on Linux is 8). VTK lowers what it is asked to what the OpenGL implementation offers
+// (llvmpipe: 4): VtkTubesResult::multiSamples is what its framebuffer got.
 VtkTubesResult renderVtkTubes(const std::vector<HairSegment>& segments, const HairCamera& camera,
                               int width, int height, double lineWidthPixels, int timedFrames, int multiSamples = 0);
 
