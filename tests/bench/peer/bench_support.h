@@ -1,5 +1,5 @@
 // What the peer and scaling benchmarks (peer_hair, peer_raycast, bench_scaling) share: the
-// median of repeated timings, the peak resident memory, the hair benchmark's camera and
+// median of repeated timings, a peer's time at a given error, the peak resident memory, the hair benchmark's camera and
 // segments as a WireFur scene's parts, and running one measurement in a forked child so that its
 // peak memory (ru_maxrss) is its own.
 #pragma once
@@ -16,12 +16,14 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <exception>
 #include <fstream>
 #include <iostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace wfbench {
@@ -29,6 +31,37 @@ namespace wfbench {
 inline double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.empty() ? 0.0 : (v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]));
+}
+
+/// A peer's time at error e, from its (time, error) curve, time rising and error falling (its
+/// settings from the fastest to the most accurate): log-log interpolation between the two
+/// points that bracket e (`how` "interpolated"); the fastest point's time where e is at or above
+/// its error ("above the fastest run's error"); extrapolation along the last two points where e
+/// is below them all ("extrapolated"); "n/a" (0) for no curve, or one point above e.
+inline double timeAtError(const std::vector<std::pair<double, double>>& curve, double e, std::string& how) {
+  for (size_t k = 0; k + 1 < curve.size(); ++k) {
+    const auto [t0, e0] = curve[k];
+    const auto [t1, e1] = curve[k + 1];
+    if (e <= e0 && e >= e1 && e0 > e1) {
+      how = "interpolated";
+      const double f = std::log(e0 / e) / std::log(e0 / e1);
+      return std::exp(std::log(t0) + f * std::log(t1 / t0));
+    }
+  }
+  if (!curve.empty() && e >= curve.front().second) {
+    how = "above the fastest run's error";
+    return curve.front().first;
+  }
+  if (curve.size() < 2) {
+    how = "n/a";
+    return 0;
+  }
+  const auto [t0, e0] = curve[curve.size() - 2];
+  const auto [t1, e1] = curve.back();
+  how = "extrapolated";
+  if (!(e0 > e1)) return t1;
+  const double p = std::log(t1 / t0) / std::log(e0 / e1);  // time ~ error^-p
+  return t1 * std::pow(e1 / e, p);
 }
 
 /// Peak resident memory of this process so far, bytes.

@@ -158,34 +158,6 @@ size_t countSegments(const wf::Scene& s) {
   return n;
 }
 
-// Embree's time at error e, from its (time, error) curve: log-log interpolation between the two
-// sample counts that bracket e, or extrapolation along the last two when e is below them all.
-double embreeTimeAt(const std::vector<std::pair<double, double>>& curve, double e, std::string& how) {
-  if (curve.size() < 2) {
-    how = "n/a";
-    return 0;
-  }
-  for (size_t k = 0; k + 1 < curve.size(); ++k) {
-    const auto [t0, e0] = curve[k];
-    const auto [t1, e1] = curve[k + 1];
-    if (e <= e0 && e >= e1 && e0 > e1) {
-      how = "interpolated";
-      const double f = std::log(e0 / e) / std::log(e0 / e1);
-      return std::exp(std::log(t0) + f * std::log(t1 / t0));
-    }
-  }
-  if (e > curve.front().second) {
-    how = "above 1 ray's error";
-    return curve.front().first;
-  }
-  const auto [t0, e0] = curve[curve.size() - 2];
-  const auto [t1, e1] = curve.back();
-  how = "extrapolated";
-  if (!(e0 > e1)) return t1;
-  const double p = std::log(t1 / t0) / std::log(e0 / e1);  // time ~ error^-p
-  return t1 * std::pow(e1 / e, p);
-}
-
 wf::ImageRGBA coverageImage(const std::vector<float>& cov, int W, int H) {
   wf::ImageRGBA img(W, H);
   for (size_t i = 0; i < img.pixels.size() && i < cov.size(); ++i) img.pixels[i] = glm::vec4(cov[i], cov[i], cov[i], cov[i]);
@@ -396,7 +368,7 @@ int main(int argc, char** argv) {
       const wfapp::ImageError e = wfapp::imageError(r.image, truth.image);
       const double t = median(times);
       std::string how;
-      const double te = embreeTimeAt(curve, e.rms, how);
+      const double te = wfbench::timeAtError(curve, e.rms, how);
       const std::string mask = std::to_string(m.w) + "x" + std::to_string(m.h);
       if (a.dump) dumpImage(r.image, a.out + "/peer_" + name + "_abuffer_" + mask + ".vti");
       abSeries.x.push_back(t);
