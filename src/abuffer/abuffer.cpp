@@ -143,7 +143,14 @@ template <bool Perspective>
 WF_ALWAYS_INLINE void capsuleDepths(const SurfaceDepth& m, const float* sx, const float* sy, int n, float* out) {
   const float lo = std::max(m.nearPlane, m.lo), hi = m.hi;
   const float u0 = m.cu0, u1 = m.cu1, u2 = m.cu2, len = m.clen, r0 = m.cr0, dr = m.cdr;
-  const float invLen = len > 0.0f ? 1.0f / len : 0.0f;
+  // The body: the cone tangent to both spheres (WireCapsule::coneBand: radius rho0 + kc h at
+  // axial position h, between h0 and h1; a cylinder when dr = 0). None where one sphere holds
+  // the other, or the segment has no length.
+  const float sine = len > 0.0f ? dr / len : 0.0f;
+  const bool body = len > 0.0f && std::abs(sine) < 1.0f;
+  const float cosine = body ? std::sqrt(1.0f - sine * sine) : 1.0f;
+  const float kc = body ? sine / cosine : 0.0f, rho0 = r0 / cosine;
+  const float h0 = -r0 * sine, h1 = len - (r0 + dr) * sine;
   for (int k = 0; k < n; ++k) {
     const float wx = m.cw0 + m.cwx * sx[k], wy = m.cw1 + m.cwy * sy[k], wz = m.cw2;
     const float dx = m.cd0 + m.cdx * sx[k], dy = m.cd1 + m.cdy * sy[k], dz = m.cd2;
@@ -155,7 +162,8 @@ WF_ALWAYS_INLINE void capsuleDepths(const SurfaceDepth& m, const float* sx, cons
     const float disc0 = b0 * b0 - dd * c0, disc1 = b1 * b1 - dd * c1;
     float best = disc0 >= 0.0f ? (-b0 - std::sqrt(std::max(disc0, 0.0f))) * idd : INFINITY;
     best = disc1 >= 0.0f ? std::min(best, (-b1 - std::sqrt(std::max(disc1, 0.0f))) * idd) : best;
-    // The body: the ray's distance from the axis line is the radius where it passes nearest.
+    // The body: where the ray enters the cone, |q + sigma p| = rho + kc du sigma (q, p: the
+    // ray's origin and direction across the axis), the root (-B - sqrt(B^2 - A C)) / A.
     const float du = dx * u0 + dy * u1 + dz * u2, wu = wx * u0 + wy * u1 + wz * u2;
     const float px = dx - u0 * du, py = dy - u1 * du, pz = dz - u2 * du;
     const float qx = wx - u0 * wu, qy = wy - u1 * wu, qz = wz - u2 * wu;
@@ -163,11 +171,12 @@ WF_ALWAYS_INLINE void capsuleDepths(const SurfaceDepth& m, const float* sx, cons
     const bool line = a > 0.0f;
     const float ia = line ? 1.0f / a : 0.0f;
     const float sNear = -b * ia, hNear = wu + sNear * du;
-    const float tc = std::min(1.0f, std::max(0.0f, hNear * invLen));
-    const float r = r0 + dr * tc;
-    const float disc = b * b - a * (qx * qx + qy * qy + qz * qz - r * r);
-    const float sig = (-b - std::sqrt(std::max(disc, 0.0f))) * ia, h = wu + sig * du;
-    best = line && disc >= 0.0f && h >= 0.0f && h <= len ? std::min(best, sig) : best;
+    const float rho = rho0 + kc * wu;
+    const float A = a - kc * kc * du * du, B = b - kc * du * rho;
+    const float disc = B * B - A * (qx * qx + qy * qy + qz * qz - rho * rho);
+    const float iA = A != 0.0f ? 1.0f / A : 0.0f;
+    const float sig = (-B - std::sqrt(std::max(disc, 0.0f))) * iA, h = wu + sig * du;
+    best = body && A != 0.0f && disc >= 0.0f && h >= h0 && h <= h1 && rho0 + kc * h >= 0.0f ? std::min(best, sig) : best;
     // Missed: where it passes the solid nearest (the body's axis, or the nearer end's centre).
     const float near0 = -b0 * idd, near1 = -b1 * idd;
     const float nearest = !(line && len > 0.0f) ? std::min(near0, near1) : hNear < 0.0f ? near0 : hNear > len ? near1 : sNear;

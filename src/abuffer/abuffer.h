@@ -126,8 +126,8 @@ struct SurfaceDepth {
   /// seen at a grazing angle would otherwise be half hidden by that very face, whose depth
   /// changes by more than the wire's radius across the wire's width.
   bool onSurface = false;
-  /// wire: its exact solid (render/pipeline.h, WireCapsule: a cylinder with a sphere at each
-  /// end), or where the ray through a sample passes it nearest when it misses. In the frame of
+  /// wire: its exact solid (render/pipeline.h, WireCapsule: a sphere at each end and the cone
+  /// tangent to both), or where the ray through a sample passes it nearest when it misses. In the frame of
   /// the solid's p0 end, the ray through sample (sx, sy) passes (cw0 + cwx sx, cw1 + cwy sy,
   /// cw2) at view depth zref and runs (cd0 + cdx sx, cd1 + cdy sy, cd2) per unit of depth beyond
   /// it: every term of the size of the segment's world length, not of its distance from the eye,

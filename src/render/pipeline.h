@@ -403,9 +403,10 @@ inline double wireDepthScale(const ViewTransform& v, const glm::dvec3& e, const 
   return wireDepthScale(v, e, glm::length(e), wireUnitAxis(axis));
 }
 
-/// A wire segment as a ray caster sees it: the cylinder about its eye-space axis of the radius
-/// its half widths stand for (linear along it), with a sphere about each end (docs/abuffer.md,
-/// "The exact solid at the ends"). The round model (segmentDepthAt) is within a few hundredths
+/// A wire segment as a ray caster sees it: the balls about its eye-space axis of the radius its
+/// half widths stand for (linear along it), that is a sphere about each end and the cone tangent
+/// to both (a cylinder where the radii are equal; docs/abuffer.md, "The exact solid at the
+/// ends"). The round model (segmentDepthAt) is within a few hundredths
 /// of a radius of it along the body but not near the ends, where the end's sphere, not the
 /// slanting body, is what a ray meets first (up to two radii farther than the model there).
 /// Hairs (wires that do not rest on a surface) take their depth from this near their ends (or
@@ -451,9 +452,8 @@ struct WireCapsule {
   }
   /// The view depth where the ray through screen point (x, y) enters the solid (the ray's own
   /// parameter: its direction has z = -1); where it misses (`hit` false), where it passes the
-  /// solid nearest (its outline's depth where it grazes it, so continuous across the outline).
-  /// The body's radius is taken at the axis point the ray passes nearest (a cone's, to first
-  /// order in the taper).
+  /// solid nearest (its outline's depth where it grazes it, so continuous across the outline;
+  /// taken where it passes the axis nearest, or the nearer end's centre).
   double depthAt(const ViewTransform& v, double x, double y, bool* hit = nullptr) const {
     glm::dvec3 o, d;
     if (v.perspective) o = glm::dvec3(0.0), d = glm::dvec3((x - v.cx) / v.focal, -(y - v.cy) / v.focal, -1.0);
@@ -474,16 +474,24 @@ struct WireCapsule {
       const double a = glm::dot(dp, dp), b = glm::dot(dp, wp);
       if (a > 0.0) {
         const double sNear = -b / a, hNear = wu + sNear * du;  // where it passes the axis line nearest
-        const double tc = std::clamp(hNear / length, 0.0, 1.0);
         nearest = hNear < 0.0 ? nearest : hNear > length ? near1 : sNear;
-        const double r = r0 + (r1 - r0) * tc;
-        const double disc = b * b - a * (glm::dot(wp, wp) - r * r);
-        if (disc >= 0.0) {
-          const double sigma = (-b - std::sqrt(disc)) / a, h = wu + sigma * du;
-          if (h >= 0.0 && h <= length) best = std::min(best, sigma);
-        }
       } else {
         nearest = std::min(nearest, near1);  // along the axis: its nearer end
+      }
+      // The body: the cone tangent to both end spheres (a cylinder when r0 = r1), between the
+      // circles where it touches them (coneBand). Its radius at axial position h is rho0 + k h;
+      // the ray meets it where |wp + sigma dp| = rho0 + k (wu + sigma du), a quadratic whose
+      // root (-B - sqrt(B^2 - A C)) / A is where the ray enters the cone's inside (the smaller
+      // root when A > 0, the larger when the ray is steeper than the cone, A < 0).
+      double k, rho0, h0, h1;
+      if (coneBand(k, rho0, h0, h1)) {
+        const double rho = rho0 + k * wu;
+        const double A = a - k * k * du * du, B = b - k * du * rho, C = glm::dot(wp, wp) - rho * rho;
+        const double disc = B * B - A * C;
+        if (disc >= 0.0 && A != 0.0) {
+          const double sigma = (-B - std::sqrt(disc)) / A, h = wu + sigma * du;
+          if (h >= h0 && h <= h1 && rho0 + k * h >= 0.0) best = std::min(best, sigma);
+        }
       }
     }
     const bool in = best < INFINITY && best > 0.0;
@@ -492,6 +500,19 @@ struct WireCapsule {
   }
   /// The largest world radius.
   double radius() const { return std::max(r0, r1); }
+  /// The body of a solid of some length: the cone (the union of the balls of radius r0 + (r1 -
+  /// r0) t about the axis points e0 + t length u, the ends' spheres and what lies between) has
+  /// radius rho0 + k h at axial position h from e0 (k the tangent of its half angle, whose sine
+  /// is (r1 - r0) / length; rho0 = r0 / its cosine) and touches the spheres on the circles at h0
+  /// = -r0 sin and h1 = length - r1 sin. False where one sphere holds the other (no body).
+  bool coneBand(double& k, double& rho0, double& h0, double& h1) const {
+    if (!(length > 0)) return false;
+    const double s = (r1 - r0) / length;
+    if (!(std::abs(s) < 1.0)) return false;
+    const double c = std::sqrt(1.0 - s * s);
+    k = s / c, rho0 = r0 / c, h0 = -r0 * s, h1 = length - r1 * s;
+    return true;
+  }
   /// How far from either end (pixels along the axis) the solid may differ from the round model
   /// by more than kCapsuleSlack radii: the half width times the depth radius's scale over the
   /// world radius (where the end's sphere stands out of the slanting body; half of this measured
