@@ -1,6 +1,7 @@
 // The memory budget (issue 7: "an image of 16384x16384, refused with a clear message if over the
 // memory budget"). A 16384^2 image is never allocated here: the refusals are checked to happen
 // before any allocation (the process's peak resident memory does not grow by the image's 4 GiB).
+#include "abuffer/abuffer.h"
 #include "render/renderer.h"
 #include "render/pipeline.h"
 
@@ -103,6 +104,27 @@ TEST(RobustMemory, SceneSharePrimitivesCountInTheEstimate) {
   EXPECT_EQ(o.problem(), "");
   EXPECT_THROW(render(big, o), std::length_error);
   EXPECT_NO_THROW(render(tinyScene(), o));
+}
+
+// A wire drawn with dashed hidden lines makes prepareScene keep a dash phase (a float) for every
+// segment of the scene (PreparedScene::dashPhase): the estimate counts them, per segment of every
+// wire (it did not before), and nothing for a scene without a dashed wire.
+TEST(RobustMemory, DashPhasesCountInTheEstimate) {
+  RenderOptions o;
+  o.width = o.height = 64;
+  o.threads = 1;  // one tile buffer (of 32 x 32 pixels)
+  Scene plain = tinyScene();
+  SceneWire edges, hairs;
+  for (int k = 0; k < 5000; ++k) edges.lines.add({glm::dvec3(0.01 * k, 0.0, -5.0), glm::dvec3(0.01 * k, 1.0, -5.0)});
+  for (int k = 0; k < 3000; ++k) hairs.lines.add({glm::dvec3(0.0, 0.01 * k, -5.0), glm::dvec3(1.0, 0.01 * k, -5.0)});
+  plain.wires = {edges, hairs};
+  // Ghosted and dashed hidden lines both keep the tile's x-ray fragments; dashes keep phases too.
+  Scene ghost = plain, dashed = plain;
+  ghost.wires[0].hidden.mode = HiddenLines::Mode::Ghost;
+  dashed.wires[0].hidden.mode = HiddenLines::Mode::Dashed;
+  const size_t xray = size_t(32) * 32 * TileABuffer::xrayBytesPerPixel();
+  EXPECT_EQ(estimateRenderBytes(ghost, o) - estimateRenderBytes(plain, o), xray);
+  EXPECT_EQ(estimateRenderBytes(dashed, o) - estimateRenderBytes(ghost, o), 8000 * sizeof(float));
 }
 
 // Within the budget a large image renders, and the estimate is honest: within a factor 2 of what
