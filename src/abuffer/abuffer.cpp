@@ -155,31 +155,36 @@ WF_ALWAYS_INLINE void capsuleDepths(const SurfaceDepth& m, const float* sx, cons
     const float wx = m.cw0 + m.cwx * sx[k], wy = m.cw1 + m.cwy * sy[k], wz = m.cw2;
     const float dx = m.cd0 + m.cdx * sx[k], dy = m.cd1 + m.cdy * sy[k], dz = m.cd2;
     const float dd = dx * dx + dy * dy + dz * dz, idd = 1.0f / dd;
-    // The spheres about the ends: |w + s d| = r.
-    const float b0 = dx * wx + dy * wy + dz * wz, c0 = wx * wx + wy * wy + wz * wz - r0 * r0;
+    // The spheres about the ends: |w + s d| = r, entered at -b / dd less the half chord, whose
+    // square (r^2 - m^2) / dd is formed from m, the ray's distance from the centre where it passes
+    // it nearest (not b^2 - dd (w^2 - r^2), which cancels at a graze: w is of the segment's length).
+    const float b0 = dx * wx + dy * wy + dz * wz, near0 = -b0 * idd;
+    const float m0x = wx + near0 * dx, m0y = wy + near0 * dy, m0z = wz + near0 * dz;
+    const float disc0 = r0 * r0 - (m0x * m0x + m0y * m0y + m0z * m0z);
     const float e1x = wx - u0 * len, e1y = wy - u1 * len, e1z = wz - u2 * len, r1 = r0 + dr;
-    const float b1 = dx * e1x + dy * e1y + dz * e1z, c1 = e1x * e1x + e1y * e1y + e1z * e1z - r1 * r1;
-    const float disc0 = b0 * b0 - dd * c0, disc1 = b1 * b1 - dd * c1;
-    float best = disc0 >= 0.0f ? (-b0 - std::sqrt(std::max(disc0, 0.0f))) * idd : INFINITY;
-    best = disc1 >= 0.0f ? std::min(best, (-b1 - std::sqrt(std::max(disc1, 0.0f))) * idd) : best;
+    const float b1 = dx * e1x + dy * e1y + dz * e1z, near1 = -b1 * idd;
+    const float m1x = e1x + near1 * dx, m1y = e1y + near1 * dy, m1z = e1z + near1 * dz;
+    const float disc1 = r1 * r1 - (m1x * m1x + m1y * m1y + m1z * m1z);
+    float best = disc0 >= 0.0f ? near0 - std::sqrt(std::max(disc0, 0.0f) * idd) : INFINITY;
+    best = disc1 >= 0.0f ? std::min(best, near1 - std::sqrt(std::max(disc1, 0.0f) * idd)) : best;
     // The body: where the ray enters the cone, |q + sigma p| = rho + kc du sigma (q, p: the
-    // ray's origin and direction across the axis), the root (-B - sqrt(B^2 - A C)) / A.
+    // ray's origin and direction across the axis), A sigma^2 + 2 B sigma + C = 0: the root
+    // (-B - sqrt(B^2 - A C)) / A, as C / (-B + sqrt(B^2 - A C)) where B < 0 (WireCapsule::depthAt).
     const float du = dx * u0 + dy * u1 + dz * u2, wu = wx * u0 + wy * u1 + wz * u2;
     const float px = dx - u0 * du, py = dy - u1 * du, pz = dz - u2 * du;
     const float qx = wx - u0 * wu, qy = wy - u1 * wu, qz = wz - u2 * wu;
     const float a = px * px + py * py + pz * pz, b = px * qx + py * qy + pz * qz;
-    const bool line = a > 0.0f;
-    const float ia = line ? 1.0f / a : 0.0f;
-    const float sNear = -b * ia, hNear = wu + sNear * du;
     const float rho = rho0 + kc * wu;
-    const float A = a - kc * kc * du * du, B = b - kc * du * rho;
-    const float disc = B * B - A * (qx * qx + qy * qy + qz * qz - rho * rho);
-    const float iA = A != 0.0f ? 1.0f / A : 0.0f;
-    const float sig = (-B - std::sqrt(std::max(disc, 0.0f))) * iA, h = wu + sig * du;
-    best = body && A != 0.0f && disc >= 0.0f && h >= h0 && h <= h1 && rho0 + kc * h >= 0.0f ? std::min(best, sig) : best;
-    // Missed: where it passes the solid nearest (the body's axis, or the nearer end's centre).
-    const float near0 = -b0 * idd, near1 = -b1 * idd;
-    const float nearest = !(line && len > 0.0f) ? std::min(near0, near1) : hNear < 0.0f ? near0 : hNear > len ? near1 : sNear;
+    const float A = a - kc * kc * du * du, B = b - kc * du * rho, C = qx * qx + qy * qy + qz * qz - rho * rho;
+    const float disc = B * B - A * C, root = std::sqrt(std::max(disc, 0.0f));
+    const bool stable = B < 0.0f;
+    const float num = stable ? C : -B - root, den = stable ? root - B : A;
+    const float sig = den != 0.0f ? num / den : 0.0f, h = wu + sig * du;
+    best = body && den != 0.0f && disc >= 0.0f && h >= h0 && h <= h1 ? std::min(best, sig) : best;
+    // Missed: where it grazes the cone (the quadratic's vertex -B / A, A > 0) where that lies on
+    // its band, else the nearer end's centre.
+    const float sv = A > 0.0f ? -B / A : 0.0f, hv = wu + sv * du;
+    const float nearest = !(body && A > 0.0f) ? std::min(near0, near1) : hv < h0 ? near0 : hv > h1 ? near1 : sv;
     const float s = best < INFINITY && m.zref + best > 0.0f ? best : nearest;  // (s from the depth zref)
     out[k] = std::min(hi, std::max(lo, m.zref + s));
   }

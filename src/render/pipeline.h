@@ -452,8 +452,8 @@ struct WireCapsule {
   }
   /// The view depth where the ray through screen point (x, y) enters the solid (the ray's own
   /// parameter: its direction has z = -1); where it misses (`hit` false), where it passes the
-  /// solid nearest (its outline's depth where it grazes it, so continuous across the outline;
-  /// taken where it passes the axis nearest, or the nearer end's centre).
+  /// solid nearest (its outline's depth where it grazes it, so continuous across the outline:
+  /// where it grazes the body's cone, or the nearer end's centre).
   double depthAt(const ViewTransform& v, double x, double y, bool* hit = nullptr) const {
     glm::dvec3 o, d;
     if (v.perspective) o = glm::dvec3(0.0), d = glm::dvec3((x - v.cx) / v.focal, -(y - v.cy) / v.focal, -1.0);
@@ -466,31 +466,36 @@ struct WireCapsule {
       return -b / dd;  // where it passes the centre nearest
     };
     const glm::dvec3 w = o - e0;
-    double nearest = sphere(w, r0);
+    const double near0 = sphere(w, r0);
+    double nearest = near0;
     if (length > 0) {
       const double near1 = sphere(w - u * length, r1);
       const double du = glm::dot(d, u), wu = glm::dot(w, u);
       const glm::dvec3 dp = d - u * du, wp = w - u * wu;
       const double a = glm::dot(dp, dp), b = glm::dot(dp, wp);
-      if (a > 0.0) {
-        const double sNear = -b / a, hNear = wu + sNear * du;  // where it passes the axis line nearest
-        nearest = hNear < 0.0 ? nearest : hNear > length ? near1 : sNear;
-      } else {
-        nearest = std::min(nearest, near1);  // along the axis: its nearer end
-      }
+      nearest = std::min(near0, near1);  // (along the axis, or no body: its nearer end)
       // The body: the cone tangent to both end spheres (a cylinder when r0 = r1), between the
       // circles where it touches them (coneBand). Its radius at axial position h is rho0 + k h;
-      // the ray meets it where |wp + sigma dp| = rho0 + k (wu + sigma du), a quadratic whose
-      // root (-B - sqrt(B^2 - A C)) / A is where the ray enters the cone's inside (the smaller
-      // root when A > 0, the larger when the ray is steeper than the cone, A < 0).
+      // the ray meets it where |wp + sigma dp| = rho0 + k (wu + sigma du), the quadratic
+      // A sigma^2 + 2 B sigma + C = 0 (negative inside), whose root (-B - sqrt(B^2 - A C)) / A is
+      // where the ray enters the cone's inside (the smaller root when A > 0, the larger when the
+      // ray is steeper than the cone, A < 0); as C / (-B + sqrt(B^2 - A C)) where B < 0, the same
+      // root without cancellation (and the linear one when A = 0). A ray that misses grazes it
+      // nearest at the quadratic's vertex -B / A (A > 0: continuous with the entry at the
+      // outline, where the root is double).
       double k, rho0, h0, h1;
       if (coneBand(k, rho0, h0, h1)) {
         const double rho = rho0 + k * wu;
         const double A = a - k * k * du * du, B = b - k * du * rho, C = glm::dot(wp, wp) - rho * rho;
         const double disc = B * B - A * C;
-        if (disc >= 0.0 && A != 0.0) {
-          const double sigma = (-B - std::sqrt(disc)) / A, h = wu + sigma * du;
-          if (h >= h0 && h <= h1 && rho0 + k * h >= 0.0) best = std::min(best, sigma);
+        if (disc >= 0.0 && (B < 0.0 || A != 0.0)) {
+          const double q = std::sqrt(disc);
+          const double sigma = B < 0.0 ? C / (-B + q) : (-B - q) / A, h = wu + sigma * du;
+          if (h >= h0 && h <= h1) best = std::min(best, sigma);
+        }
+        if (A > 0.0) {
+          const double sv = -B / A, hv = wu + sv * du;
+          nearest = hv < h0 ? near0 : hv > h1 ? near1 : sv;
         }
       }
     }
