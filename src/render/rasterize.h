@@ -432,7 +432,7 @@ void rasterizePolygon(const ScreenPolygon& poly, const Depth& depth, int rx0, in
       const double ca = std::clamp(ya, y0, y1), cb = std::clamp(yb, y0, y1);
       const double xca = ca == ya ? xa : xAt(ca), xcb = cb == yb ? xb : xAt(cb);
       const double lo = std::min(xca, xcb), hi = std::max(xca, xcb);
-      sub[ns++] = {xca, xcb, cb - ca, lo, hi, 0.5 * (xca + xcb) * (cb - ca), xcb != xca ? 1.0 / (xcb - xca) : 0.0};
+      sub[ns++] = {xca, xcb, cb - ca, lo, hi, 0.0, 0.0};  // (whole and invDx at the row's first partial pixel)
       xmin = std::min(xmin, lo);
       xmax = std::max(xmax, hi);
       // Oriented downwards the contour runs along the polygon's right side, upwards its left.
@@ -457,6 +457,7 @@ void rasterizePolygon(const ScreenPolygon& poly, const Depth& depth, int rx0, in
     }
     std::int64_t spanLo[8], spanHi[8];  // the polygon's sample runs on this row's sample rows
     bool spansDone = false;              // computed at the row's first partial pixel that survives culling
+    bool subDone = false;                // the sub-edges' integrals and slopes: the same
     double left = 0;                     // area of the band left of x = leftAt
     int leftAt = INT_MIN;
     for (int col = c0; col <= c1; ++col) {
@@ -483,6 +484,15 @@ void rasterizePolygon(const ScreenPolygon& poly, const Depth& depth, int rx0, in
         pc.cx = col + 0.5;
         pc.cy = row + 0.5;
       } else {
+        if (!subDone) {
+          // (a division per sub-edge: most rows, or all their pixels, are culled before this)
+          for (int k = 0; k < ns; ++k) {
+            SubEdge& e = sub[k];
+            e.whole = 0.5 * (e.xa + e.xb) * e.dy;
+            e.invDx = e.xb != e.xa ? 1.0 / (e.xb - e.xa) : 0.0;
+          }
+          subDone = true;
+        }
         if (leftAt != col) {
           left = 0;
           for (int k = 0; k < ns; ++k) left += leftOf(sub[k], col);
