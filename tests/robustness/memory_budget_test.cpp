@@ -112,7 +112,8 @@ TEST(RobustMemory, SceneSharePrimitivesCountInTheEstimate) {
 TEST(RobustMemory, DashPhasesCountInTheEstimate) {
   RenderOptions o;
   o.width = o.height = 64;
-  o.threads = 1;  // one tile buffer (of 32 x 32 pixels)
+  o.threads = 1;  // one tile buffer
+  o.tileSize = 32;  // of 32 x 32 pixels
   Scene plain = tinyScene();
   SceneWire edges, hairs;
   for (int k = 0; k < 5000; ++k) edges.lines.add({glm::dvec3(0.01 * k, 0.0, -5.0), glm::dvec3(0.01 * k, 1.0, -5.0)});
