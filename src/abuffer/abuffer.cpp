@@ -143,14 +143,9 @@ template <bool Perspective>
 WF_ALWAYS_INLINE void capsuleDepths(const SurfaceDepth& m, const float* sx, const float* sy, int n, float* out) {
   const float lo = std::max(m.nearPlane, m.lo), hi = m.hi;
   const float u0 = m.cu0, u1 = m.cu1, u2 = m.cu2, len = m.clen, r0 = m.cr0, dr = m.cdr;
-  // The body: the cone tangent to both spheres (WireCapsule::coneBand: radius rho0 + kc h at
-  // axial position h, between h0 and h1; a cylinder when dr = 0). None where one sphere holds
-  // the other, or the segment has no length.
-  const float sine = len > 0.0f ? dr / len : 0.0f;
-  const bool body = len > 0.0f && std::abs(sine) < 1.0f;
-  const float cosine = body ? std::sqrt(1.0f - sine * sine) : 1.0f;
-  const float kc = body ? sine / cosine : 0.0f, rho0 = r0 / cosine;
-  const float h0 = -r0 * sine, h1 = len - (r0 + dr) * sine;
+  // The body: the cone tangent to both spheres (SurfaceDepth::cbody, from WireCapsule::coneBand).
+  const bool body = m.cbody;
+  const float kc = m.ck, rho0 = m.crho0, h0 = m.ch0, h1 = m.ch1;
   for (int k = 0; k < n; ++k) {
     const float wx = m.cw0 + m.cwx * sx[k], wy = m.cw1 + m.cwy * sy[k], wz = m.cw2;
     const float dx = m.cd0 + m.cdx * sx[k], dy = m.cd1 + m.cdy * sy[k], dz = m.cd2;

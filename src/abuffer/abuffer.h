@@ -142,6 +142,10 @@ struct SurfaceDepth {
   float cw0 = 0, cw1 = 0, cw2 = 0, cwx = 0, cwy = 0;
   float cd0 = 0, cd1 = 0, cd2 = -1, cdx = 0, cdy = 0;
   float cu0 = 0, cu1 = 0, cu2 = 0, clen = 0, cr0 = 0, cdr = 0;  ///< unit axis, length, radius at p0 and its change to p1 (world)
+  /// The body, the cone tangent to both end spheres (WireCapsule::coneBand): radius crho0 + ck h
+  /// at axial position h, between ch0 and ch1; none (cbody false) where one sphere holds the other.
+  bool cbody = false;
+  float ck = 0, crho0 = 0, ch0 = 0, ch1 = 0;
   /// plane: its depth at (sx, sy) extended beyond the primitive (no [lo, hi] clamp: the axis point
   /// an edge is judged at may lie outside this triangle, whose own depth range would then put it
   /// in front of a line lying on its plane), clamped to the near plane only.

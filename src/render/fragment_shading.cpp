@@ -253,6 +253,9 @@ void PreparedFragmentSource::fillWireDepthBasis(std::uint32_t prim, WireDepthBas
       b.e0 = c.e0;
       d.cu0 = float(c.u.x), d.cu1 = float(c.u.y), d.cu2 = float(c.u.z);
       d.clen = float(c.length), d.cr0 = float(c.r0), d.cdr = float(c.r1 - c.r0);
+      double k, rho0, h0, h1;
+      d.cbody = c.coneBand(k, rho0, h0, h1);
+      if (d.cbody) d.ck = float(k), d.crho0 = float(rho0), d.ch0 = float(h0), d.ch1 = float(h1);
     }
   }
 }

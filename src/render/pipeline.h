@@ -403,6 +403,14 @@ inline double wireDepthScale(const ViewTransform& v, const glm::dvec3& e, const 
   return wireDepthScale(v, e, glm::length(e), wireUnitAxis(axis));
 }
 
+/// Whether prepareScene keeps a dash phase for every segment (PreparedScene::dashPhase): some
+/// wire draws its hidden parts dashed.
+inline bool keepsDashPhases(const Scene& scene) {
+  for (const SceneWire& w : scene.wires)
+    if (w.hidden.mode == HiddenLines::Mode::Dashed) return true;
+  return false;
+}
+
 /// A wire segment as a ray caster sees it: the balls about its eye-space axis of the radius its
 /// half widths stand for (linear along it), that is a sphere about each end and the cone tangent
 /// to both (a cylinder where the radii are equal; docs/abuffer.md, "The exact solid at the

@@ -276,8 +276,7 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
   for (size_t w = 0; w < scene.wires.size(); ++w)
     colours = colours || wireKeepsColours(ps, scene.wires[w], std::uint32_t(wireShader[w]));
   if (colours) ps.segmentColours.resize(segmentRoom);
-  bool dashed = false;
-  for (const SceneWire& w : scene.wires) dashed = dashed || w.hidden.mode == HiddenLines::Mode::Dashed;
+  const bool dashed = keepsDashPhases(scene);
   if (dashed) ps.dashPhase.resize(segmentRoom);
   tbb::parallel_for(size_t(0), jobs.size(), [&](size_t i) {
     Job& j = jobs[i];

@@ -87,9 +87,8 @@ size_t estimateRenderBytes(const Scene& scene, const RenderOptions& o, bool refe
   const double perTriangle = sizeof(TrianglePrim) + 5 * sizeof(glm::dvec2) + sizeof(TriangleAttributes);
   // (colours when kept; a dashed wire's phases, PreparedScene::dashPhase, for every segment of a
   // scene with one: prepareScene keeps them for all or none)
-  bool dashed = false;
-  for (const SceneWire& wr : scene.wires) dashed = dashed || wr.hidden.mode == HiddenLines::Mode::Dashed;
-  const double perSegment = sizeof(SegmentPrim) + sizeof(SegmentShading) + sizeof(SegmentColours) + (dashed ? sizeof(float) : 0);
+  const double perSegment =
+      sizeof(SegmentPrim) + sizeof(SegmentShading) + sizeof(SegmentColours) + (keepsDashPhases(scene) ? sizeof(float) : 0);
   // The binning's per-chunk tile counts (binning.cpp: up to 4 chunks a thread, 65,536 primitives each).
   const double chunks = std::clamp(std::ceil((triangles + segments) / 65536.0), 1.0, 4.0 * threads);
   // (and the counts' rows per block of primitives)

@@ -471,14 +471,9 @@ TEST(WireFootprint, TaperedCapsuleDepthIsWhereTheRayMeetsTheCone) {
       const double ratio = 1.2 + 2.3 * U(rng);
       e1 = v.eyePoint(200 + 400 * U(rng), 150 + 300 * U(rng), k % 2 ? d0 * ratio : d0 / ratio);
     }
-    Scene s = test::baseScene(W, H);
-    s.camera = wideCamera();
-    SceneWire wire;
-    wire.thickness = 2.0 * halfWidth;
-    wire.thicknessInPixels = true;
-    wire.restsOnSurface = false;
-    wire.lines.add({e0, e1});
-    s.wires.push_back(wire);
+    Scene s = oneWireScene(e0, e1, 0.0);
+    s.wires[0].thickness = 2.0 * halfWidth;  // pixels
+    s.wires[0].thicknessInPixels = true;
     RenderStats st;
     const PreparedScene ps = prepareScene(s, test::smallOptions(W, H), st);
     ASSERT_EQ(ps.segments.size(), 1u);
