@@ -238,6 +238,7 @@ void TileABuffer::reset(int w, int h, int x0, int y0, const FragmentSource* sour
   subpixelDepth_.clear();
   subpixelDepth_.reserve(2 * size_t(w) * size_t(h) * size_t(layout_.samples()));  // no regrowth while filling
   solids_.clear();
+  farCache_.clear();
   xray_.clear();
   if (!xrayCount_.empty()) xrayCount_.assign(size_t(w) * size_t(h), 0);
 }
@@ -246,11 +247,12 @@ std::size_t TileABuffer::bytesFor(int w, int h, const MaskLayout& layout, int en
   const std::size_t n = std::size_t(std::max(w, 0)) * std::size_t(std::max(h, 0));
   const std::size_t blocks = std::size_t((std::max(w, 0) + 3) / 4) * std::size_t((std::max(h, 0) + 3) / 4);
   // Per pixel: its record, occlusion and offered counts, the subpixel depths and transmittances,
-  // the list entries (nodes, free-list slots, the resolve's gathered pointers), a solid fragment
-  // and a tail; vectors grow by doubling, so up to twice the entries are reserved at a peak.
+  // the list entries (nodes, free-list slots, the resolve's gathered pointers), a solid fragment,
+  // a tail and a far cache; vectors grow by doubling, so up to twice the entries are reserved at a peak.
   const std::size_t entries = std::size_t(std::max(entriesPerPixel, 0));
   return n * (sizeof(Pixel) + 3 * sizeof(float) + 2 * std::size_t(layout.samples()) * sizeof(float) +
-              2 * entries * (sizeof(Node) + sizeof(std::int32_t) + sizeof(void*)) + sizeof(Fragment) + sizeof(Tail)) +
+              2 * entries * (sizeof(Node) + sizeof(std::int32_t) + sizeof(void*)) + sizeof(Fragment) + sizeof(Tail) +
+              2 * sizeof(FarCache)) +
          blocks * sizeof(float);
 }
 
@@ -264,7 +266,7 @@ std::size_t TileABuffer::bytes() const {
   return pixels_.capacity() * sizeof(Pixel) + nodes_.capacity() * sizeof(Node) +
          freeNodes_.capacity() * sizeof(std::int32_t) + tails_.capacity() * sizeof(Tail) +
          (subpixelDepth_.capacity() + occlusion_.capacity() + blockOcclusion_.capacity() + offered_.capacity()) * sizeof(float) +
-         solids_.capacity() * sizeof(Fragment) + xray_.capacity() * sizeof(XrayNode) + xrayCount_.capacity();
+         solids_.capacity() * sizeof(Fragment) + farCache_.capacity() * sizeof(FarCache) + xray_.capacity() * sizeof(XrayNode) + xrayCount_.capacity();
 }
 
 bool TileABuffer::isSolid(const Fragment& f) const {
@@ -492,6 +494,8 @@ void TileABuffer::pruneHidden(Pixel& p, float depth) {
   // that depth (a flat fragment, often the occluder itself) arrived earlier and sorts first.
   if (!(depth < p.prunedAt)) return;
   p.prunedAt = depth;
+  if (!(p.zminBound > depth)) return;  // nothing lies wholly behind it
+  float bound = -INFINITY;
   // (wires resting on a surface are kept within the depth span of the pixel's solid and of
   // themselves: see insert)
   const float slack = p.hasSolid() ? solids_[size_t(p.solid)].zmax - solids_[size_t(p.solid)].zmin : 0.0f;
@@ -503,12 +507,78 @@ void TileABuffer::pruneHidden(Pixel& p, float depth) {
       *link = n.next;
       freeNode(dead);
       --p.length;
-      p.far = -1;
+      forgetFar(p);
       ++local_.culled;
     } else {
+      bound = std::max(bound, n.f.zmin);
       link = &n.next;
     }
   }
+  p.zminBound = bound;
+}
+
+std::int32_t TileABuffer::scanFar(Pixel& p) {
+  // The farthest by the plain scan's rule (of equal keys the last met, the earliest entry) and,
+  // on the way, the kFarCache largest keys (equal ones in any order: cut off below) and the
+  // largest of the others.
+  std::int32_t far = -1;
+  std::int32_t node[kFarCache];
+  float key[kFarCache];
+  int m = 0;
+  float rest = -INFINITY;
+  bool finite = true;
+  for (std::int32_t i = p.head; i >= 0; i = nodes_[size_t(i)].next) {
+    const float z = nodes_[size_t(i)].f.zkey;
+    if (far < 0 || z >= nodes_[size_t(far)].f.zkey) far = i;
+    finite = finite && z == z;
+    if (m == kFarCache && !(z > key[kFarCache - 1])) {
+      rest = std::max(rest, z);
+      continue;
+    }
+    if (m == kFarCache) rest = std::max(rest, key[--m]);
+    int j = m++;
+    for (; j > 0 && key[j - 1] < z; --j) key[j] = key[j - 1], node[j] = node[j - 1];
+    key[j] = z;
+    node[j] = i;
+  }
+  // Cached: the longest run from the farthest with keys strictly decreasing and above all else.
+  int keep = 0;
+  if (finite)
+    while (keep < m && key[keep] > (keep + 1 < m ? key[keep + 1] : rest)) ++keep;
+  if (p.farCache < 0 && keep > 0) {
+    p.farCache = std::int32_t(farCache_.size());
+    farCache_.push_back(FarCache{});
+  }
+  if (p.farCache >= 0) {
+    FarCache& c = farCache_[size_t(p.farCache)];
+    c.count = keep;
+    c.rest = keep < m ? key[keep] : rest;
+    std::copy(node, node + keep, c.node);
+    std::copy(key, key + keep, c.key);
+  }
+  return far;
+}
+
+std::int32_t TileABuffer::nextFar(Pixel& p, std::int32_t slot) {
+  if (p.farCache < 0) return -1;
+  FarCache& c = farCache_[size_t(p.farCache)];
+  if (c.count == 0 || c.node[0] != slot) return c.count = 0, -1;
+  // The slot's key is nearer than it was: it leaves the head of the cache, and enters it again
+  // where it lies above everything outside it.
+  std::copy(c.node + 1, c.node + c.count, c.node);
+  std::copy(c.key + 1, c.key + c.count, c.key);
+  if (--c.count == 0) return -1;
+  const float z = nodes_[size_t(slot)].f.zkey;
+  if (!(z <= c.rest)) {
+    if (z != z) return c.count = 0, -1;
+    int j = c.count;
+    for (; j > 0 && c.key[j - 1] < z; --j) c.key[j] = c.key[j - 1], c.node[j] = c.node[j - 1];
+    if (j > 0 && c.key[j - 1] == z) return c.count = 0, -1;  // a tie: the list's order decides it
+    c.key[j] = z;
+    c.node[j] = slot;
+    ++c.count;
+  }
+  return c.node[0];
 }
 
 TileABuffer::Placement TileABuffer::pushList(Pixel& p, const Fragment& f) {
@@ -516,9 +586,7 @@ TileABuffer::Placement TileABuffer::pushList(Pixel& p, const Fragment& f) {
   if (p.length >= budget_ && occ < INFINITY) pruneHidden(p, occ);
   if (p.length >= budget_) {
     // Keep the nearest `budget` exactly: the farthest of list + f goes to the tail.
-    if (p.far < 0)
-      for (std::int32_t i = p.head; i >= 0; i = nodes_[size_t(i)].next)
-        if (p.far < 0 || nodes_[size_t(i)].f.zkey >= nodes_[size_t(p.far)].f.zkey) p.far = i;
+    if (p.far < 0) p.far = scanFar(p);
     const std::int32_t far = p.far;
     if (f.zkey >= nodes_[size_t(far)].f.zkey) {
       toTail(p, f, false);
@@ -527,7 +595,8 @@ TileABuffer::Placement TileABuffer::pushList(Pixel& p, const Fragment& f) {
     toTail(p, nodes_[size_t(far)].f, true);
     nodes_[size_t(far)].f = f;
     nodes_[size_t(far)].seq = p.seq++;
-    p.far = -1;  // the next farthest is found again when needed
+    p.zminBound = std::max(p.zminBound, f.zmin);
+    p.far = nextFar(p, far);  // -1: found again by a scan when needed
     return Placement::Evicted;
   }
   const size_t pixelIndex = size_t(&p - pixels_.data());
@@ -535,7 +604,9 @@ TileABuffer::Placement TileABuffer::pushList(Pixel& p, const Fragment& f) {
   // (Of equal keys the scan keeps the earliest entry: a new one replaces it only when farther.)
   if (p.length == 0) p.far = n;
   else if (p.far >= 0 && f.zkey > nodes_[size_t(p.far)].f.zkey) p.far = n;
+  if (p.farCache >= 0) farCache_[size_t(p.farCache)].count = 0;  // (rebuilt by the next scan)
   p.head = n;
+  p.zminBound = std::max(p.zminBound, f.zmin);
   ++p.length;
   local_.maxListLength = std::max<std::uint32_t>(local_.maxListLength, p.length);
   return Placement::Listed;
@@ -602,7 +673,7 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
       const float hideBefore = hideOf(n.f);
       const MaskBits newlySampled = f.mask & ~f.standInBits;  // disjoint from n's sampled bits
       mergeInto(n.f, f);
-      p.far = -1;  // its depth may have moved
+      forgetFar(p);  // its depth may have moved
       ++local_.merged;
       // Occlusion counted the piece already here at its hide; the merged fragment never hides
       // less (Fragment::hideFloor), and the new piece's sampled subpixels count at its hide.

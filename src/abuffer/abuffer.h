@@ -353,6 +353,22 @@ class TileABuffer {
     /// tail, so that a full list costs O(1) per fragment that is not nearer than all it holds
     /// (thousands of coincident layers); forgotten when an entry is evicted, merged or pruned.
     std::int32_t far = -1;
+    std::int32_t farCache = -1;   ///< index into farCache_ once a full list was scanned, or -1
+    /// No list entry begins behind this depth (an upper bound, exact after each pruneHidden walk):
+    /// pruning at a depth not nearer finds nothing to drop, and skips the walk.
+    float zminBound = -INFINITY;
+  };
+  /// The entries next to the farthest of a full list, found by the scan that finds it, so that
+  /// evicting the farthest need not scan the list again (pushList). Exact by construction: it
+  /// holds the farthest `count` entries only while their keys are distinct and all larger than
+  /// every other entry's (`rest`); a tie, a NaN or any other change to the list empties it, and
+  /// the scan answers as before.
+  static constexpr int kFarCache = 8;
+  struct FarCache {
+    std::int32_t node[kFarCache];
+    float key[kFarCache];  ///< strictly decreasing
+    std::int32_t count = 0;
+    float rest = -INFINITY;  ///< no entry outside the cache is farther than this
   };
   /// The resolve's scratch space (one buffer per thread: no thread_local lookups per pixel).
   struct ResolveScratch {
@@ -392,6 +408,16 @@ class TileABuffer {
   /// its solid fragment hides from then on.
   void loseOcclusion(Pixel& p, size_t pixelIndex);
   void pruneHidden(Pixel& p, float depth);
+  /// The farthest entry of p's list by a scan (largest zkey; of equal ones the earliest), filling
+  /// its far cache on the way.
+  std::int32_t scanFar(Pixel& p);
+  /// After the farthest entry `slot` took a nearer fragment: the list's farthest from the far
+  /// cache, or -1 where the cache cannot say (the next eviction scans).
+  std::int32_t nextFar(Pixel& p, std::int32_t slot);
+  void forgetFar(Pixel& p) {
+    p.far = -1;
+    if (p.farCache >= 0) farCache_[size_t(p.farCache)].count = 0;
+  }
   void updateBlock(size_t pixelIndex);
   std::int32_t allocNode(const Node& node);  ///< a free slot (or a new one) holding `node`
   void freeNode(std::int32_t i);
@@ -414,6 +440,7 @@ class TileABuffer {
   int bw_ = 0;
   std::vector<float> subpixelDepth_;  ///< per pixel with occluders: N depths D then N transmittances T (see occlude)
   std::vector<Fragment> solids_;
+  std::vector<FarCache> farCache_;    ///< per pixel whose full list was scanned (Pixel::farCache)
   std::vector<XrayNode> xray_;        ///< hidden-line copies (insertXray): empty unless a wire asks for them
   std::vector<std::uint8_t> xrayCount_;  ///< per pixel, once a wire asks for x-ray copies
   std::size_t peakBytes_ = 0;

@@ -210,6 +210,138 @@ TEST(TileABuffer, BudgetKeepsTheNearestAndBlendsTheRestIntoTheTail) {
   }
 }
 
+TEST(TileABuffer, BudgetKeepsTheNearestWhateverTheOrderAndTheTies) {
+  // The same rule as above at the sizes where a full list remembers its farthest entries
+  // (TileABuffer::FarCache: 8 of them, refilled by a scan): budgets 4, 32 and 64, 600
+  // full-coverage layers of opacity 0.1, the budget's nearest red and the rest blue, inserted
+  // front to back (no eviction), back to front (each layer evicts the farthest) and in five
+  // random orders. Equal depths come in pairs among the red and in threes among the blue, so
+  // evictions meet ties; which of equal layers stays is then a matter of arrival, but both are
+  // the same colour. Expected, as above: red sum_{i<K} 0.1 * 0.9^i, blue (1 - 0.9^(600-K))
+  // 0.9^K, alpha 1 - 0.9^600. A red layer wrongly evicted moves at least 0.1 * 0.9^63 = 1.3e-4
+  // of red into the tail's blue; the tolerance, float rounding over ~1,200 operations, is 2e-5.
+  const int M = 600;
+  for (int K : {4, 32, 64}) {
+    std::vector<float> depth(static_cast<size_t>(M));
+    for (int i = 0; i < M; ++i) depth[size_t(i)] = i < K ? 1.0f + 0.01f * float(i / 2) : 2.0f + 0.01f * float((i - K) / 3);
+    std::vector<std::vector<int>> orders(7, std::vector<int>(size_t(M)));
+    std::iota(orders[0].begin(), orders[0].end(), 0);
+    orders[1].assign(orders[0].rbegin(), orders[0].rend());
+    std::mt19937 rng{std::uint32_t(K)};
+    for (size_t o = 2; o < orders.size(); ++o) {
+      orders[o] = orders[0];
+      std::shuffle(orders[o].begin(), orders[o].end(), rng);
+    }
+    double red = 0;
+    for (int i = 0; i < K; ++i) red += 0.1 * std::pow(0.9, i);
+    const double blue = (1 - std::pow(0.9, M - K)) * std::pow(0.9, K);
+    for (size_t o = 0; o < orders.size(); ++o) {
+      TileABuffer buf(kL, K);
+      buf.reset(1, 1);
+      for (int i : orders[o])
+        buf.insert(0, 0, frag(depth[size_t(i)], 1.0f, 0.1f, i < K ? kRed : kBlue, kFull, std::uint32_t(10 + i)), 0);
+      const glm::vec4 got = buf.resolve(0, 0);
+      EXPECT_NEAR(got.x, red, 2e-5) << "budget " << K << ", order " << o;
+      EXPECT_NEAR(got.y, 0.0, 1e-7) << "budget " << K << ", order " << o;
+      EXPECT_NEAR(got.z, blue, 2e-5) << "budget " << K << ", order " << o;
+      EXPECT_NEAR(got.w, 1 - std::pow(0.9, M), 2e-5) << "budget " << K << ", order " << o;
+      ABufferCounters c;
+      buf.finish(c);
+      EXPECT_EQ(c.tail, std::uint64_t(M - K));
+    }
+  }
+}
+
+TEST(TileABuffer, BudgetEvictsTheFarthestByTheListRuleAmongTies) {
+  // Which of equal farthest entries a full list evicts is a rule (the farthest scanning from
+  // the newest end of the list, of equal ones the last met), and the far cache must keep it:
+  // 600 layers of random colours whose depths take 12 or 400 values, budgets 4, 32 and 64,
+  // five random orders. The reference replays the rule on a plain array, then feeds a second
+  // buffer the entries it kept (front to back: nothing evicted) and then what it sent to the
+  // tail. The two differ only by the tail's sums taken in another order (1e-6); one layer
+  // evicted in place of another differs by at least 0.1 * 0.9^63 times a colour difference.
+  const int M = 600;
+  std::mt19937 rng{7};
+  std::uniform_real_distribution<float> U(0.0f, 1.0f);
+  for (int levels : {12, 400})
+    for (int K : {4, 32, 64})
+      for (int trial = 0; trial < 5; ++trial) {
+        std::vector<Fragment> fs;
+        for (int i = 0; i < M; ++i)
+          fs.push_back(frag(1.0f + 0.01f * float(rng() % std::uint32_t(levels)), 1.0f, 0.1f, glm::vec3(U(rng), U(rng), U(rng)), kFull,
+                            std::uint32_t(10 + i)));
+        std::vector<int> list, tail;  // list: newest first, as the buffer links it
+        for (int i = 0; i < M; ++i) {
+          if (int(list.size()) < K) {
+            list.insert(list.begin(), i);
+            continue;
+          }
+          size_t far = 0;
+          for (size_t j = 0; j < list.size(); ++j)
+            if (fs[size_t(list[j])].zkey >= fs[size_t(list[far])].zkey) far = j;
+          if (fs[size_t(i)].zkey >= fs[size_t(list[far])].zkey) {
+            tail.push_back(i);
+          } else {
+            tail.push_back(list[far]);
+            list[far] = i;
+          }
+        }
+        TileABuffer buf(kL, K), ref(kL, K);
+        buf.reset(1, 1);
+        ref.reset(1, 1);
+        for (const Fragment& f : fs) buf.insert(0, 0, f, 0);
+        std::sort(list.begin(), list.end(), [&](int a, int b) {
+          return fs[size_t(a)].zkey < fs[size_t(b)].zkey || (fs[size_t(a)].zkey == fs[size_t(b)].zkey && a < b);
+        });
+        for (int i : list) ref.insert(0, 0, fs[size_t(i)], 0);
+        for (int i : tail) ref.insert(0, 0, fs[size_t(i)], 0);
+        expectRGBA(buf.resolve(0, 0), ref.resolve(0, 0), 1e-6f, "evictions by the rule");
+      }
+}
+
+TEST(TileABuffer, AFullListDropsWhatIsHiddenBeforeItEvicts) {
+  // Pruning (TileABuffer::pruneHidden), which skips its walk when no entry begins behind the
+  // depth it prunes at: what the list holds wholly behind an occluder is dropped (counted as
+  // culled) rather than evicted into a tail.
+  {
+    // (Objects of one piece each: they count for occlusion on arrival.)
+    // Budget 6: four translucent layers at z = 10 ... 13, then two opaque halves at z = 5 that
+    // hide every subpixel between them. The next fragment (z = 1) finds the list full and the
+    // pixel hidden behind 5: the four are dropped, nothing goes to the tail.
+    TileABuffer buf(kL, 6);
+    buf.reset(1, 1);
+    for (int i = 0; i < 4; ++i) buf.insert(0, 0, frag(10.0f + float(i), 1.0f, 0.5f, kBlue, kFull, std::uint32_t(1 + i), false), 0);
+    buf.insert(0, 0, frag(5.0f, 0.5f, 1.0f, kGreen, kLeftHalf, 10, false), 0);
+    buf.insert(0, 0, frag(5.0f, 0.5f, 1.0f, kGreen, kRightHalf, 11, false), 0);
+    EXPECT_EQ(buf.occlusionDepth(0, 0), 5.0f);
+    buf.insert(0, 0, frag(1.0f, 1.0f, 0.5f, kRed, kFull, 12, false), 0);
+    // Red at half, then the green halves through the red's half: no blue.
+    expectRGBA(buf.resolve(0, 0), glm::vec4(0.5f, 0.5f, 0.0f, 1.0f), 1e-6f, "pruned");
+    ABufferCounters c;
+    buf.finish(c);
+    EXPECT_EQ(c.tail, 0u);
+    EXPECT_EQ(c.culled, 4u);
+  }
+  {
+    // Budget 2: two layers whose depth ranges begin near (z 1 ... 30 and 2 ... 28), then a flat
+    // one at z = 10 that evicts the farther (keyed 15.5): it begins behind both. A solid
+    // fragment at z = 5 then drops it from the list (it lies wholly behind) and keeps the other.
+    TileABuffer buf(kL, 2);
+    buf.reset(1, 1);
+    Fragment a = frag(15.5f, 1.0f, 0.5f, kBlue, kFull, 1, false), b = frag(15.0f, 1.0f, 0.5f, kBlue, kFull, 2, false);
+    a.zmin = 1.0f, a.zmax = 30.0f;
+    b.zmin = 2.0f, b.zmax = 28.0f;
+    buf.insert(0, 0, a, 0);
+    buf.insert(0, 0, b, 0);
+    buf.insert(0, 0, frag(10.0f, 1.0f, 0.5f, kRed, kFull, 3, false), 0);
+    buf.insert(0, 0, frag(5.0f, 1.0f, 1.0f, kGreen, kFull, 4, false), 0);
+    ABufferCounters c;
+    buf.finish(c);
+    EXPECT_EQ(c.tail, 1u);    // the evicted one
+    EXPECT_EQ(c.culled, 1u);  // the flat one, dropped behind the solid
+  }
+}
+
 TEST(TileABuffer, BudgetTailInFrontOfASolidFragmentStillShows) {
   // Regression test: against 523d985 resolve() composited the tail after *everything*,
   // including the solid fragment, so a tail of fragments lying in front of the solid was
