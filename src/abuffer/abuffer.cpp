@@ -526,11 +526,11 @@ std::int32_t TileABuffer::scanFar(Pixel& p) {
   float key[kFarCache];
   int m = 0;
   float rest = -INFINITY;
-  bool finite = true;
+  bool ordered = true;  // no NaN key
   for (std::int32_t i = p.head; i >= 0; i = nodes_[size_t(i)].next) {
     const float z = nodes_[size_t(i)].f.zkey;
     if (far < 0 || z >= nodes_[size_t(far)].f.zkey) far = i;
-    finite = finite && z == z;
+    ordered = ordered && z == z;
     if (m == kFarCache && !(z > key[kFarCache - 1])) {
       rest = std::max(rest, z);
       continue;
@@ -543,7 +543,7 @@ std::int32_t TileABuffer::scanFar(Pixel& p) {
   }
   // Cached: the longest run from the farthest with keys strictly decreasing and above all else.
   int keep = 0;
-  if (finite)
+  if (ordered)
     while (keep < m && key[keep] > (keep + 1 < m ? key[keep + 1] : rest)) ++keep;
   if (p.farCache < 0 && keep > 0) {
     p.farCache = std::int32_t(farCache_.size());

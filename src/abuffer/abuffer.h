@@ -351,7 +351,8 @@ class TileABuffer {
     /// The list's farthest entry (largest zkey; of equal ones the earliest), or -1: not known,
     /// found by a scan when next needed. Kept through appends and through fragments sent to the
     /// tail, so that a full list costs O(1) per fragment that is not nearer than all it holds
-    /// (thousands of coincident layers); forgotten when an entry is evicted, merged or pruned.
+    /// (thousands of coincident layers); after an eviction, taken from the far cache where it
+    /// can tell (FarCache); forgotten when an entry is merged or pruned.
     std::int32_t far = -1;
     std::int32_t farCache = -1;   ///< index into farCache_ once a full list was scanned, or -1
     /// No list entry begins behind this depth (an upper bound, exact after each pruneHidden walk):
