@@ -117,6 +117,7 @@ struct SegmentDepth {
         capsuleReach = wf::capsuleReach(v, capsule.radius(), std::min(double(s.d0), double(s.d1)));
         sphereFar0 = double(s.d0) + capsule.r0 * sinRay + pad;
         sphereFar1 = double(s.d1) + capsule.r1 * sinRay + pad;
+        ballFar = capsule.radius() * sinRay + pad;
       }
     }
   }
@@ -124,6 +125,7 @@ struct SegmentDepth {
   double pad = 0.0;       // the bounds' growth for the solid (kCapsuleSlack radii)
   double endMargin = 0.0; // pixels from either end within which the solid's end may show (WireCapsule::endMargin)
   double sphereFar0 = 0.0, sphereFar1 = 0.0;  // the farthest the end spheres' surfaces lie where rays enter them
+  double ballFar = 0.0;  // the farthest a ray enters any of the solid's balls behind its centre (capsuleFarthest)
   double capsuleReach = 0.0;  // pixels: how far from a point of the solid the axis points within its radius project (capsuleNearest)
   /// Whether the solid may give a depth somewhere in the rectangle (the resolve's and the
   /// rasteriser's choice: WireCapsule::nearEnd).
@@ -148,6 +150,17 @@ struct SegmentDepth {
     const bool big = view->perspective;
     const double k = aa * ((aa > 0) == big ? x1 : x0) + ab * ((ab > 0) == big ? y1 : y0) + ac;
     return std::max(view->nearPlane, std::clamp(view->depthFromKey(k), alo, ahi) - rc);
+  }
+  /// The far side of the same: where a ray first meets the solid it enters the ball of some
+  /// axis point, no farther than that point's depth and ballFar, and the point projects within
+  /// capsuleReach pixels (the axis's farthest over the rectangle grown by that). Along a hair
+  /// seen nearly end-on, axis points well beyond the pixel's own part of the axis show in it.
+  double capsuleFarthest(double x0, double y0, double x1, double y1) const {
+    if (!(frame.length > 0) || capsuleReach == INFINITY) return ahi + ballFar;
+    x0 -= capsuleReach, y0 -= capsuleReach, x1 += capsuleReach, y1 += capsuleReach;
+    const bool big = view->perspective;
+    const double k = aa * ((aa > 0) == big ? x0 : x1) + ab * ((ab > 0) == big ? y0 : y1) + ac;
+    return std::clamp(view->depthFromKey(k), alo, ahi) + ballFar;
   }
   double slide;  // how far along the axis (pixels) the round model takes its axis depth (SegmentTilt)
   double reach;  // how far the polygon lies from the axis (segmentReach)
@@ -274,9 +287,10 @@ struct SegmentDepth {
         }
         b = std::max(a, std::min(b, round));
       }
-      // The round range is the model's; where the solid may give the depth, its own bound holds
-      // its near side (the model's depth radius may be capped, ramped or end-on).
+      // The round range is the model's; where the solid may give the depth, its own bounds hold
+      // its sides (the model's depth radius may be capped, ramped or end-on).
       a = std::min(a, n.solid);
+      if (n.solid < INFINITY && endMargin == INFINITY) b = std::max(b, capsuleFarthest(col, row, col + 1.0, row + 1.0));
     }
     zmin = float(a);
     zmax = float(b);

@@ -584,21 +584,26 @@ TEST(WireFootprint, SolidStaysWithinTheCullingBoundsOfEveryHair) {
   ortho.orthoHeight = 1.5;
   std::mt19937_64 rng(47);
   std::uniform_real_distribution<double> U(0.0, 1.0);
-  int checked = 0, everywhere = 0, missed = 0;
-  for (int k = 0; k < 240; ++k) {
-    const bool isOrtho = k % 2 == 1;
+  int checked = 0, everywhere = 0, missed = 0, taperedChecked = 0;
+  for (int k = 0; k < 330; ++k) {
+    // The last 90: steep, short and end-on hairs a pixel or a few wide (a width in pixels is a
+    // cone in the world), up to ten times their distance from the eye long (the far end 1.3 ...
+    // 4 times as deep as the near one), seen in perspective away from the image's edges.
+    const bool tapered = k >= 240;
+    const bool isOrtho = !tapered && k % 2 == 1;
     const Camera cam = isOrtho ? ortho : wideCamera();
     const ViewTransform v = ViewTransform::make(cam, W, H);
-    const double d = 2.0 + 3.0 * U(rng);
+    const double d = tapered ? 0.5 + 1.5 * U(rng) : 2.0 + 3.0 * U(rng);
     // a third of them at the image's edges, where the projection stretches the solid most
-    const bool edge = k % 3 == 2;
+    const bool edge = !tapered && k % 3 == 2;
     const double ex = edge ? (U(rng) < 0.5 ? 8 + 20 * U(rng) : 772 + 20 * U(rng)) : 100 + 600 * U(rng);
     const double ey = edge ? 8 + 584 * U(rng) : 100 + 400 * U(rng);
     const glm::dvec3 e0 = v.eyePoint(ex, ey, d);
     const glm::dvec3 ray = isOrtho ? glm::dvec3(0, 0, -1) : glm::normalize(e0);  // away from the eye
     glm::dvec3 side = glm::normalize(glm::cross(ray, glm::dvec3(U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.5)));
-    const double r = 0.006 * d * (isOrtho ? 0.3 : 1.0), L = 0.3;
-    const int kind = (k / 2) % 5;
+    const double r = 0.006 * d * (isOrtho ? 0.3 : 1.0) * (tapered ? 0.3 + 1.2 * U(rng) : 1.0);
+    const double L = tapered ? d * (0.3 + 2.7 * U(rng)) : 0.3;
+    const int kind = tapered ? k % 3 : (k / 2) % 5;
     // the angle to the ray: steep, short on screen (about 1.5 half widths), end-on, any
     double angle = kind == 0 ? 0.02 + 0.08 * U(rng) : kind == 1 ? 0.0 : kind == 2 ? 0.0 : 0.3 + 1.2 * U(rng);
     const double pxPerWorld = v.pixelsPerWorld(d);
@@ -612,8 +617,8 @@ TEST(WireFootprint, SolidStaysWithinTheCullingBoundsOfEveryHair) {
     SceneWire wire;
     wire.restsOnSurface = false;
     wire.roundEnds = true;
-    wire.thicknessInPixels = kind == 4;
-    wire.thickness = kind == 4 ? 2.0 * r * pxPerWorld : 2.0 * r;
+    wire.thicknessInPixels = kind == 4 || tapered;
+    wire.thickness = wire.thicknessInPixels ? 2.0 * r * pxPerWorld : 2.0 * r;
     wire.lines.add({e0, e1});
     s.wires.push_back(wire);
     RenderStats st;
@@ -684,14 +689,16 @@ TEST(WireFootprint, SolidStaysWithinTheCullingBoundsOfEveryHair) {
             ASSERT_GE(z, itemZlo - tol) << k << " kind " << kind << " " << col << "," << row;
           }
           ++checked;
+          taperedChecked += tapered;
         }
         ASSERT_GE(double(zkey), double(zmin));
         ASSERT_LE(double(zkey), double(zmax));
       }
   }
-  std::printf("[ measured ] %d sample depths checked (%d rays missing the solid left out), %d segments with the solid everywhere\n",
-              checked, missed, everywhere);
+  std::printf("[ measured ] %d sample depths checked (%d on tapered hairs; %d rays missing the solid left out), %d segments with the solid everywhere\n",
+              checked, taperedChecked, missed, everywhere);
   EXPECT_GT(checked, 20000);
+  EXPECT_GT(taperedChecked, 5000);
   EXPECT_GT(everywhere, 30);
 }
 
