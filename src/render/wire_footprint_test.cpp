@@ -576,7 +576,8 @@ TEST(WireFootprint, TaperedCapsuleDepthIsWhereTheRayMeetsTheCone) {
 // and the reference take where the polygon covers a pixel lies within the pixel's range [zmin,
 // zmax], behind the nearest depth the rasteriser culls the pixel, its row and its band by, and
 // behind binning's nearest depth of the whole segment and of its item in the pixel's tile (what
-// culling trusts).
+// culling trusts). Then the same for long hairs, tapered (a width in pixels) and foreshortened,
+// whose far side the solid may bound itself (SegmentDepth::capsuleFarthest).
 TEST(WireFootprint, SolidStaysWithinTheCullingBoundsOfEveryHair) {
   const int W = 800, H = 600;
   Camera ortho = wideCamera();
@@ -584,11 +585,17 @@ TEST(WireFootprint, SolidStaysWithinTheCullingBoundsOfEveryHair) {
   ortho.orthoHeight = 1.5;
   std::mt19937_64 rng(47);
   std::uniform_real_distribution<double> U(0.0, 1.0);
-  int checked = 0, everywhere = 0, missed = 0, taperedChecked = 0;
-  for (int k = 0; k < 330; ++k) {
-    // The last 90: steep, short and end-on hairs a pixel or a few wide (a width in pixels is a
-    // cone in the world), up to ten times their distance from the eye long (the far end 1.3 ...
-    // 4 times as deep as the near one), seen in perspective away from the image's edges.
+  int checked = 0, everywhere = 0, missed = 0;
+  int longChecked[2] = {0, 0};     // samples on the long hairs without, with the solid everywhere
+  int farFromSolid = 0;            // pixels whose far bound is the solid's own (capsuleFarthest)
+  for (int k = 0; k < 540; ++k) {
+    // The last 300: long hairs, 0.3 ... 3 times as long as their near end's distance from the
+    // eye (the far end 1.3 ... 4 times as deep), either end first, seen in perspective away from
+    // the image's edges: steep, short on screen (two fifths: their far side is where the solid
+    // may lie behind the round model's) and end-on ones a pixel or a few wide (a width
+    // in pixels is a cone in the world; off the view axis the solid is their depth everywhere),
+    // and foreshortened ones of one world radius at 17 ... 34 degrees to the ray (the solid
+    // mostly near their ends only: there the round model bounds the body).
     const bool tapered = k >= 240;
     const bool isOrtho = !tapered && k % 2 == 1;
     const Camera cam = isOrtho ? ortho : wideCamera();
@@ -603,12 +610,15 @@ TEST(WireFootprint, SolidStaysWithinTheCullingBoundsOfEveryHair) {
     glm::dvec3 side = glm::normalize(glm::cross(ray, glm::dvec3(U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.5)));
     const double r = 0.006 * d * (isOrtho ? 0.3 : 1.0) * (tapered ? 0.3 + 1.2 * U(rng) : 1.0);
     const double L = tapered ? d * (0.3 + 2.7 * U(rng)) : 0.3;
-    const int kind = tapered ? k % 3 : (k / 2) % 5;
-    // the angle to the ray: steep, short on screen (about 1.5 half widths), end-on, any
-    double angle = kind == 0 ? 0.02 + 0.08 * U(rng) : kind == 1 ? 0.0 : kind == 2 ? 0.0 : 0.3 + 1.2 * U(rng);
+    const int kind = tapered ? (k % 5 == 4 ? 5 : k % 5 == 3 ? 2 : k % 5 == 2 ? 1 : k % 5) : (k / 2) % 5;
+    // the angle to the ray: steep, short on screen (about 1.5 half widths; tapered, 0.4 ... 1.2),
+    // end-on, any; foreshortened
+    double angle = kind == 0 ? 0.02 + 0.08 * U(rng) : kind == 1 ? 0.0 : kind == 2 ? 0.0 : kind == 5 ? 0.3 + 0.3 * U(rng) : 0.3 + 1.2 * U(rng);
     const double pxPerWorld = v.pixelsPerWorld(d);
-    if (kind == 1) angle = std::asin(std::min(1.0, 1.5 * r / L * (isOrtho ? 1.0 : 1.0)));  // ~1.5 half widths
-    const double sign = k % 4 < 2 ? 1.0 : -1.0;  // p0 the nearer end, or the farther
+    if (kind == 1) angle = std::asin(std::min(1.0, 1.5 * r / L));
+    // p0 the nearer end, or the farther (tapered: the same hair with its points swapped)
+    const double sign = tapered || k % 4 < 2 ? 1.0 : -1.0;
+    const bool swapEnds = tapered && (k / 5) % 2 == 1;
     glm::dvec3 e1 = e0 + sign * L * (std::cos(angle) * ray + std::sin(angle) * side);
     if (kind == 2 && !isOrtho) e1 = e0 * (1.0 + sign * L / glm::length(e0));  // exactly along the ray
     if (e1.z > -0.05) continue;
@@ -617,9 +627,13 @@ TEST(WireFootprint, SolidStaysWithinTheCullingBoundsOfEveryHair) {
     SceneWire wire;
     wire.restsOnSurface = false;
     wire.roundEnds = true;
-    wire.thicknessInPixels = kind == 4 || tapered;
+    wire.thicknessInPixels = kind == 4 || (tapered && kind != 5);
     wire.thickness = wire.thicknessInPixels ? 2.0 * r * pxPerWorld : 2.0 * r;
-    wire.lines.add({e0, e1});
+    if (swapEnds) {
+      wire.lines.add({e1, e0});
+    } else {
+      wire.lines.add({e0, e1});
+    }
     s.wires.push_back(wire);
     RenderStats st;
     const PreparedScene ps = prepareScene(s, test::smallOptions(W, H), st);
@@ -629,7 +643,7 @@ TEST(WireFootprint, SolidStaysWithinTheCullingBoundsOfEveryHair) {
     const SegmentPrim& p = ps.segments[0];
     const SegmentDepth depth(v, p, WireDepth::Round, true, segmentWidthInPixels(ps, prim));
     ASSERT_TRUE(depth.capsule.valid) << k;
-    everywhere += depth.capsule.everywhere;
+    if (!tapered) everywhere += depth.capsule.everywhere;
     const double zlo = segmentZlo(v, p, true);
     // Binning's nearest depth of the segment in each tile it covers (what culls it there whole).
     constexpr int kTile = 32;
@@ -653,6 +667,8 @@ TEST(WireFootprint, SolidStaysWithinTheCullingBoundsOfEveryHair) {
         const auto pn = depth.pixelNearest(col, row);
         float zmin, zmax, zkey;
         depth.range(col, row, col + 0.5, row + 0.5, pn, zmin, zmax, zkey);
+        farFromSolid += pn.solid < INFINITY && depth.endMargin == INFINITY &&
+                        float(depth.capsuleFarthest(col, row, col + 1.0, row + 1.0)) == zmax;
         const double itemZlo = tileZlo(col, row);
         const double rowNear = depth.nearest(std::max(0, col - 3), row, col + 4.0, row + 1.0);
         const double bandNear = depth.nearest(std::max(0, col - 5), row & ~3, col + 6.0, (row & ~3) + 4.0);
@@ -689,16 +705,19 @@ TEST(WireFootprint, SolidStaysWithinTheCullingBoundsOfEveryHair) {
             ASSERT_GE(z, itemZlo - tol) << k << " kind " << kind << " " << col << "," << row;
           }
           ++checked;
-          taperedChecked += tapered;
+          if (tapered) ++longChecked[depth.capsule.everywhere ? 1 : 0];
         }
         ASSERT_GE(double(zkey), double(zmin));
         ASSERT_LE(double(zkey), double(zmax));
       }
   }
-  std::printf("[ measured ] %d sample depths checked (%d on tapered hairs; %d rays missing the solid left out), %d segments with the solid everywhere\n",
-              checked, taperedChecked, missed, everywhere);
+  std::printf("[ measured ] %d sample depths checked (on the long hairs %d with the solid everywhere, %d without; %d rays missing "
+              "the solid left out), %d of the first 240 segments with the solid everywhere; %d pixels bounded far by the solid itself\n",
+              checked, longChecked[1], longChecked[0], missed, everywhere, farFromSolid);
   EXPECT_GT(checked, 20000);
-  EXPECT_GT(taperedChecked, 5000);
+  EXPECT_GT(longChecked[0], 5000);
+  EXPECT_GT(longChecked[1], 5000);
+  EXPECT_GT(farFromSolid, 100);
   EXPECT_GT(everywhere, 30);
 }
 
