@@ -604,7 +604,7 @@ TileABuffer::Placement TileABuffer::pushList(Pixel& p, const Fragment& f) {
   // (Of equal keys the scan keeps the earliest entry: a new one replaces it only when farther.)
   if (p.length == 0) p.far = n;
   else if (p.far >= 0 && f.zkey > nodes_[size_t(p.far)].f.zkey) p.far = n;
-  if (p.farCache >= 0) farCache_[size_t(p.farCache)].count = 0;  // (rebuilt by the next scan)
+  emptyFarCache(p);  // (rebuilt by the next scan)
   p.head = n;
   p.zminBound = std::max(p.zminBound, f.zmin);
   ++p.length;

@@ -415,9 +415,12 @@ class TileABuffer {
   /// After the farthest entry `slot` took a nearer fragment: the list's farthest from the far
   /// cache, or -1 where the cache cannot say (the next eviction scans).
   std::int32_t nextFar(Pixel& p, std::int32_t slot);
+  void emptyFarCache(Pixel& p) {
+    if (p.farCache >= 0) farCache_[size_t(p.farCache)].count = 0;
+  }
   void forgetFar(Pixel& p) {
     p.far = -1;
-    if (p.farCache >= 0) farCache_[size_t(p.farCache)].count = 0;
+    emptyFarCache(p);
   }
   void updateBlock(size_t pixelIndex);
   std::int32_t allocNode(const Node& node);  ///< a free slot (or a new one) holding `node`

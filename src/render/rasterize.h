@@ -146,10 +146,7 @@ struct SegmentDepth {
   double capsuleNearest(double x0, double y0, double x1, double y1) const {
     const double rc = capsule.radius() * (1.0 + kCapsuleSlack);
     if (!(frame.length > 0) || capsuleReach == INFINITY) return std::max(view->nearPlane, alo - rc);
-    x0 -= capsuleReach, y0 -= capsuleReach, x1 += capsuleReach, y1 += capsuleReach;
-    const bool big = view->perspective;
-    const double k = aa * ((aa > 0) == big ? x1 : x0) + ab * ((ab > 0) == big ? y1 : y0) + ac;
-    return std::max(view->nearPlane, std::clamp(view->depthFromKey(k), alo, ahi) - rc);
+    return std::max(view->nearPlane, axisNearestGrown(x0, y0, x1, y1, capsuleReach) - rc);
   }
   /// The far side of the same: where a ray first meets the solid it enters the ball of some
   /// axis point, no farther than that point's depth and ballFar, and the point projects within
@@ -157,10 +154,7 @@ struct SegmentDepth {
   /// seen nearly end-on, axis points well beyond the pixel's own part of the axis show in it.
   double capsuleFarthest(double x0, double y0, double x1, double y1) const {
     if (!(frame.length > 0) || capsuleReach == INFINITY) return ahi + ballFar;
-    x0 -= capsuleReach, y0 -= capsuleReach, x1 += capsuleReach, y1 += capsuleReach;
-    const bool big = view->perspective;
-    const double k = aa * ((aa > 0) == big ? x0 : x1) + ab * ((ab > 0) == big ? y0 : y1) + ac;
-    return std::clamp(view->depthFromKey(k), alo, ahi) + ballFar;
+    return axisFarthestGrown(x0, y0, x1, y1, capsuleReach) + ballFar;
   }
   double slide;  // how far along the axis (pixels) the round model takes its axis depth (SegmentTilt)
   double reach;  // how far the polygon lies from the axis (segmentReach)
@@ -195,14 +189,24 @@ struct SegmentDepth {
     const double k = fa * ((fa > 0) == big ? x1 : x0) + fb * ((fb > 0) == big ? y1 : y0) + fc;
     return std::clamp(view->depthFromKey(k), flo, fhi);
   }
-  /// The axis's nearest depth over the rectangle (its key plane at the corner of the largest key
-  /// under perspective, of the smallest when orthographic).
-  double nearestAxis(double x0, double y0, double x1, double y1) const {
-    x0 -= slide, y0 -= slide, x1 += slide, y1 += slide;
+  /// The axis's nearest depth over the rectangle grown by `grow` pixels on every side (its key
+  /// plane at the corner of the largest key under perspective, of the smallest when
+  /// orthographic), and its farthest (the opposite corner).
+  double axisNearestGrown(double x0, double y0, double x1, double y1, double grow) const {
+    x0 -= grow, y0 -= grow, x1 += grow, y1 += grow;
     const bool big = view->perspective;
     const double k = aa * ((aa > 0) == big ? x1 : x0) + ab * ((ab > 0) == big ? y1 : y0) + ac;
     return std::clamp(view->depthFromKey(k), alo, ahi);
   }
+  double axisFarthestGrown(double x0, double y0, double x1, double y1, double grow) const {
+    x0 -= grow, y0 -= grow, x1 += grow, y1 += grow;
+    const bool big = view->perspective;
+    const double k = aa * ((aa > 0) == big ? x0 : x1) + ab * ((ab > 0) == big ? y0 : y1) + ac;
+    return std::clamp(view->depthFromKey(k), alo, ahi);
+  }
+  /// The axis's nearest depth over the rectangle, where the round model may take it (grown by
+  /// the slide along the axis).
+  double nearestAxis(double x0, double y0, double x1, double y1) const { return axisNearestGrown(x0, y0, x1, y1, slide); }
   /// The farthest depth over the rectangle: the axis where farthest (Flat: the front plane lies
   /// before it), farther by the tilt (Round: the side of a wire towards the image centre).
   double farthest(double x0, double y0, double x1, double y1) const { return farthestFromAxis(farthestAxis(x0, y0, x1, y1)); }
@@ -210,12 +214,7 @@ struct SegmentDepth {
   /// farthest depths over the same rectangle.
   double nearestFromAxis(double axis) const { return std::max(view->nearPlane, axis * (1.0 - tilt.bound) - rmax); }
   double farthestFromAxis(double axis) const { return model == WireDepth::Round ? axis * (1.0 + tilt.bound) + pad : axis; }
-  double farthestAxis(double x0, double y0, double x1, double y1) const {
-    x0 -= slide, y0 -= slide, x1 += slide, y1 += slide;
-    const bool big = view->perspective;
-    const double k = aa * ((aa > 0) == big ? x0 : x1) + ab * ((ab > 0) == big ? y0 : y1) + ac;
-    return std::clamp(view->depthFromKey(k), alo, ahi);
-  }
+  double farthestAxis(double x0, double y0, double x1, double y1) const { return axisFarthestGrown(x0, y0, x1, y1, slide); }
   /// A pixel's nearest depth (nearest() over it) and, for the round model, the axis's nearest
   /// depth it came from, which range() needs again.
   struct Near {
