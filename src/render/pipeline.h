@@ -237,6 +237,9 @@ struct PreparedScene {
   /// wire draws dashed hidden lines.
   PodVector<float> dashPhase;
   bool anyXray = false;  ///< some wire draws its hidden parts (HiddenLines::drawn)
+  /// Some wire rests on a surface (ShaderSlot::restsOnSurface): without one, and without an
+  /// x-ray wire, a segment culled whole in a tile is passed over without reading its shader.
+  bool anyResting = false;
   double cueNear = 0, cueFar = 1;  ///< depth range of the wires (depth cueing)
   /// Textures and grooves box-filtered over the pixel's footprint (the A-buffer), or point
   /// sampled (the reference renderer, which averages its sub-samples instead).

@@ -302,11 +302,12 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
           // (The external depth has no surface to judge an edge against at its axis: it culls all.)
           const bool behindExternal = item.zlo >= opaqueTileMax;
           bool occludedWhole = behindExternal || item.zlo >= buf.regionOcclusionDepth(item.x0, item.y0, item.x1, item.y1);
-          if (occludedWhole && !behindExternal && item.index >= triangleCount) {
+          if (occludedWhole && !behindExternal && item.index >= triangleCount && (ps.anyResting || ps.anyXray)) {
             // A wire resting on a surface is judged at its axis: culled whole only when its whole
             // axis lies in this tile's part of its rectangle (then what hides it there hides its
             // axis too; see cullAtAxis below). One that draws its hidden parts still gives its
-            // x-ray copy.
+            // x-ray copy. (Asked only where some wire does either: the shader is read through the
+            // segment, a cache miss for each of the many items a dense scene culls whole.)
             const ShaderSlot& ws = ps.shaderOf(item.index);
             if (ws.restsOnSurface) {
               const SegmentPrim& sg = ps.segments[item.index - triangleCount];

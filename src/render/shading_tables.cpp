@@ -203,6 +203,7 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
     if (!(h.gap >= 0.0 && h.gap <= 1e4)) h.gap = HiddenLines{}.gap;
     if (!(h.ghost >= 0.0f && h.ghost <= 1.0f)) h.ghost = HiddenLines{}.ghost;
     if (slot.hidden.drawn() && w.lines.points.size() >= 2) ps.anyXray = true;
+    if (slot.restsOnSurface && w.lines.points.size() >= 2) ps.anyResting = true;
     slot.kind = w.style == WireStyle::Shaded  ? ShaderSlot::Kind::WireShaded
                 : w.style == WireStyle::Plain ? ShaderSlot::Kind::WirePlain
                                               : ShaderSlot::Kind::WireDepthCued;
