@@ -595,14 +595,15 @@ TEST(WireFootprint, SolidStaysWithinTheCullingBoundsOfEveryHair) {
     // may lie behind the round model's) and end-on ones a pixel or a few wide (a width
     // in pixels is a cone in the world; off the view axis the solid is their depth everywhere),
     // and foreshortened ones of one world radius at 17 ... 34 degrees to the ray (the solid
-    // mostly near their ends only: there the round model bounds the body).
+    // mostly near their ends only: there the round model bounds the body); a seventh of them at
+    // the image's edges and a seventh seen orthographically (capsuleReach's other branch).
     const bool tapered = k >= 240;
-    const bool isOrtho = !tapered && k % 2 == 1;
+    const bool isOrtho = tapered ? k % 7 == 6 : k % 2 == 1;
     const Camera cam = isOrtho ? ortho : wideCamera();
     const ViewTransform v = ViewTransform::make(cam, W, H);
     const double d = tapered ? 0.5 + 1.5 * U(rng) : 2.0 + 3.0 * U(rng);
     // a third of them at the image's edges, where the projection stretches the solid most
-    const bool edge = !tapered && k % 3 == 2;
+    const bool edge = tapered ? k % 7 == 5 : k % 3 == 2;
     const double ex = edge ? (U(rng) < 0.5 ? 8 + 20 * U(rng) : 772 + 20 * U(rng)) : 100 + 600 * U(rng);
     const double ey = edge ? 8 + 584 * U(rng) : 100 + 400 * U(rng);
     const glm::dvec3 e0 = v.eyePoint(ex, ey, d);
