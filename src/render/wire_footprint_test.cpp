@@ -590,29 +590,32 @@ TEST(WireFootprint, SolidStaysWithinTheCullingBoundsOfEveryHair) {
   int farFromSolid = 0;            // pixels whose far bound is the solid's own (capsuleFarthest)
   for (int k = 0; k < 540; ++k) {
     // The last 300: long hairs, 0.3 ... 3 times as long as their near end's distance from the
-    // eye (the far end 1.3 ... 4 times as deep), either end first, seen in perspective away from
-    // the image's edges: steep, short on screen (two fifths: their far side is where the solid
-    // may lie behind the round model's) and end-on ones a pixel or a few wide (a width
-    // in pixels is a cone in the world; off the view axis the solid is their depth everywhere),
-    // and foreshortened ones of one world radius at 17 ... 34 degrees to the ray (the solid
-    // mostly near their ends only: there the round model bounds the body); a seventh of them at
-    // the image's edges and a seventh seen orthographically (capsuleReach's other branch).
+    // eye (the far end 1.3 ... 4 times as deep), either end first, mostly in perspective away
+    // from the image's edges (a seventh of them at the edges, a seventh seen orthographically:
+    // capsuleReach's other branch): steep, short on screen (two fifths: their far side is where
+    // the solid may lie behind the round model's) and end-on ones a pixel or a few wide (in
+    // perspective a width in pixels is a cone in the world; off the view axis the solid is
+    // their depth everywhere; orthographically a cylinder), and foreshortened ones of one world
+    // radius at 17 ... 34 degrees to the ray (the solid mostly near their ends only: there the
+    // round model bounds the body).
     const bool tapered = k >= 240;
     const bool isOrtho = tapered ? k % 7 == 6 : k % 2 == 1;
     const Camera cam = isOrtho ? ortho : wideCamera();
     const ViewTransform v = ViewTransform::make(cam, W, H);
     const double d = tapered ? 0.5 + 1.5 * U(rng) : 2.0 + 3.0 * U(rng);
-    // a third of them at the image's edges, where the projection stretches the solid most
+    // a third of the first 240 at the image's edges, where the projection stretches the solid most
     const bool edge = tapered ? k % 7 == 5 : k % 3 == 2;
     const double ex = edge ? (U(rng) < 0.5 ? 8 + 20 * U(rng) : 772 + 20 * U(rng)) : 100 + 600 * U(rng);
     const double ey = edge ? 8 + 584 * U(rng) : 100 + 400 * U(rng);
     const glm::dvec3 e0 = v.eyePoint(ex, ey, d);
     const glm::dvec3 ray = isOrtho ? glm::dvec3(0, 0, -1) : glm::normalize(e0);  // away from the eye
     glm::dvec3 side = glm::normalize(glm::cross(ray, glm::dvec3(U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.5)));
-    const double r = 0.006 * d * (isOrtho ? 0.3 : 1.0) * (tapered ? 0.3 + 1.2 * U(rng) : 1.0);
+    // (orthographic: thinner short hairs; long ones as wide on screen as in perspective, 1.4 ... 7 px)
+    const double r = 0.006 * d * (isOrtho ? (tapered ? 1.0 / d : 0.3) : 1.0) * (tapered ? 0.3 + 1.2 * U(rng) : 1.0);
     const double L = tapered ? d * (0.3 + 2.7 * U(rng)) : 0.3;
     const int kind = tapered ? (k % 5 == 4 ? 5 : k % 5 == 3 ? 2 : k % 5 == 2 ? 1 : k % 5) : (k / 2) % 5;
-    // the angle to the ray: steep, short on screen (about 1.5 half widths; tapered, 0.4 ... 1.2),
+    // the angle to the ray: steep, short on screen (about 1.5 half widths; tapered, in
+    // perspective, 0.4 ... 1.2),
     // end-on, any; foreshortened
     double angle = kind == 0 ? 0.02 + 0.08 * U(rng) : kind == 1 ? 0.0 : kind == 2 ? 0.0 : kind == 5 ? 0.3 + 0.3 * U(rng) : 0.3 + 1.2 * U(rng);
     const double pxPerWorld = v.pixelsPerWorld(d);
