@@ -294,6 +294,9 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
           return true;
         };
         ScreenPolygon poly;
+        // Whether an item culled whole still needs its wire's shader (below): only where some wire
+        // rests on a surface or draws its hidden parts.
+        const bool culledAsksShader = ps.anyResting || ps.anyXray;
         for (std::uint32_t oi = 0; oi < n; ++oi) {
           const TileBins::Item& item = order[oi];
           // Hierarchical occlusion first, from the bin item alone: is the primitive behind
@@ -302,12 +305,13 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
           // (The external depth has no surface to judge an edge against at its axis: it culls all.)
           const bool behindExternal = item.zlo >= opaqueTileMax;
           bool occludedWhole = behindExternal || item.zlo >= buf.regionOcclusionDepth(item.x0, item.y0, item.x1, item.y1);
-          if (occludedWhole && !behindExternal && item.index >= triangleCount && (ps.anyResting || ps.anyXray)) {
+          if (occludedWhole && !behindExternal && item.index >= triangleCount && culledAsksShader) {
             // A wire resting on a surface is judged at its axis: culled whole only when its whole
             // axis lies in this tile's part of its rectangle (then what hides it there hides its
             // axis too; see cullAtAxis below). One that draws its hidden parts still gives its
-            // x-ray copy. (Asked only where some wire does either: the shader is read through the
-            // segment, a cache miss for each of the many items a dense scene culls whole.)
+            // x-ray copy. (Asked only where some wire does either, culledAsksShader: the shader is
+            // read through the segment, a cache miss for each of the many items a dense scene
+            // culls whole.)
             const ShaderSlot& ws = ps.shaderOf(item.index);
             if (ws.restsOnSurface) {
               const SegmentPrim& sg = ps.segments[item.index - triangleCount];
