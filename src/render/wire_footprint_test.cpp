@@ -577,7 +577,8 @@ TEST(WireFootprint, TaperedCapsuleDepthIsWhereTheRayMeetsTheCone) {
 // zmax], behind the nearest depth the rasteriser culls the pixel, its row and its band by, and
 // behind binning's nearest depth of the whole segment and of its item in the pixel's tile (what
 // culling trusts). Then the same for long hairs, tapered (a width in pixels) and foreshortened,
-// whose far side the solid may bound itself (SegmentDepth::capsuleFarthest).
+// some at the image's edges and some orthographic, whose far side the solid may bound itself
+// (SegmentDepth::capsuleFarthest).
 TEST(WireFootprint, SolidStaysWithinTheCullingBoundsOfEveryHair) {
   const int W = 800, H = 600;
   Camera ortho = wideCamera();
@@ -614,9 +615,8 @@ TEST(WireFootprint, SolidStaysWithinTheCullingBoundsOfEveryHair) {
     const double r = 0.006 * d * (isOrtho ? (tapered ? 1.0 / d : 0.3) : 1.0) * (tapered ? 0.3 + 1.2 * U(rng) : 1.0);
     const double L = tapered ? d * (0.3 + 2.7 * U(rng)) : 0.3;
     const int kind = tapered ? (k % 5 == 4 ? 5 : k % 5 == 3 ? 2 : k % 5 == 2 ? 1 : k % 5) : (k / 2) % 5;
-    // the angle to the ray: steep, short on screen (about 1.5 half widths; tapered, in
-    // perspective, 0.4 ... 1.2),
-    // end-on, any; foreshortened
+    // the angle to the ray: steep, short on screen (about 1.5 half widths; the long ones in
+    // perspective 0.4 ... 1.2), end-on, any; foreshortened
     double angle = kind == 0 ? 0.02 + 0.08 * U(rng) : kind == 1 ? 0.0 : kind == 2 ? 0.0 : kind == 5 ? 0.3 + 0.3 * U(rng) : 0.3 + 1.2 * U(rng);
     const double pxPerWorld = v.pixelsPerWorld(d);
     if (kind == 1) angle = std::asin(std::min(1.0, 1.5 * r / L));
