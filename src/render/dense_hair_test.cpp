@@ -155,7 +155,7 @@ TEST(Simplification, OffOrNothingToSimplifyIsTheSameImage) {
   const RenderResult plain = render(s, test::smallOptions(W, H));
   const RenderResult off = render(s, simplifyOptions(W, H, 0.0));
   EXPECT_EQ(test::maxDiff(plain.image, off.image), 0.0);
-  const RenderResult wide = render(s, simplifyOptions(W, H, 0.3));  // lambda = 1 everywhere
+  const RenderResult wide = render(s, simplifyOptions(W, H, 0.2));  // no hair thinner: lambda = 1 everywhere
   EXPECT_EQ(test::maxDiff(plain.image, wide.image), 0.0);
   EXPECT_EQ(wide.stats.simplifiedKept, wide.stats.simplifiedHairs);
 }
@@ -240,6 +240,29 @@ TEST(Simplification, NoPoppingAsTheCameraMoves) {
   o.simplify.fade = 0.0;
   const double poppingChange = rms(render(s0, o).image, render(s1, o).image);
   EXPECT_GT(poppingChange, simpleChange) << "the fade should make a difference";
+}
+
+// A hair's area counts in its root's cell with its length clipped to the image and each factor
+// at most a cell's side: a sparse patch (depth complexity about 0.1, far below the threshold of
+// 4: nothing simplified) stays the full render bit for bit with one more hair rooted in it that
+// runs 1e7 pixels off the image, or 1e40 (its area 3e39 px^2 beyond a float's range). Counted
+// whole (before this was fixed), the first made its cell's complexity about 3,000 and drew 141
+// of the 301 hairs; the second made it infinite: 72 drawn, and pixels not finite.
+TEST(Simplification, AHairRunningFarOffTheImageCountsOnlyItsCell) {
+  const int W = 96, H = 72;
+  for (double far : {1e7, 1e40}) {
+    Scene s = furPatch(W, H, 300, 0.3);
+    PolylineSet& L = s.wires[0].lines;
+    L.add({test::world(V2(40, 40), 20.0, W, H), test::world(V2(40 + far, 41), 20.0, W, H)});
+    L.colours.push_back(glm::vec3(0.5f));
+    L.colours.push_back(glm::vec3(0.5f));
+    const RenderResult plain = render(s, test::smallOptions(W, H));
+    const RenderResult simple = render(s, simplifyOptions(W, H, 1.5));
+    EXPECT_EQ(simple.stats.simplifiedHairs, 301u) << far;
+    EXPECT_EQ(simple.stats.simplifiedKept, 301u) << far;
+    EXPECT_EQ(simple.stats.simplifiedLambda, 1.0) << far;
+    EXPECT_EQ(test::maxDiff(plain.image, simple.image), 0.0) << far;
+  }
 }
 
 }  // namespace

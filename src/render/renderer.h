@@ -49,7 +49,7 @@ enum class WireDepth {
 struct SimplifyOptions {
   bool enabled = false;
   double targetWidth = 2.0;         ///< pixels: thinner hairs are thinned out and widened to it
-  double minDepthComplexity = 4.0;  ///< projected hair area per pixel of a region below which none is
+  double minDepthComplexity = 4.0;  ///< projected area of the hairs rooted in a region, per pixel of it, below which none is
   double fade = 0.25;               ///< width of the fade across the cut, relative to lambda
 };
 

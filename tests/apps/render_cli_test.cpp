@@ -153,9 +153,6 @@ TEST(RenderCli, BadOptionsAreExitTwo) {
   EXPECT_FALSE(fs::exists(png));
 }
 
-// --simplify and --wire-depth: out of range, not a number, NaN, Inf, empty: one line naming the
-// option, exit 2, no PNG. In range: the stats say what was used, and how many hairs of how many
-// were drawn (error_estimate.simplification).
 // --shading: closed (default), maps, exact; anything else is one line and exit 2. --view-grid
 // belongs to the map path: with another one line of warning, the render still made.
 TEST(RenderCli, ShadingPathsAndTheViewGridWarning) {
@@ -181,6 +178,11 @@ TEST(RenderCli, ShadingPathsAndTheViewGridWarning) {
   EXPECT_EQ(quiet.err, "");
 }
 
+// --simplify and --wire-depth: out of range, not a number, NaN, Inf, empty: one line naming the
+// option, exit 2, no PNG. In range: the stats say what was used, and how many hairs of how many
+// were drawn (error_estimate.simplification).
+// (fur_torus at 160 x 120 pixels is dense enough that some hairs are simplified: the smallest
+// fraction is under 1, though with the fade every hair keeps some weight.)
 TEST(RenderCli, SimplifyAndWireDepthOptions) {
   const fs::path png = dir() / "simplify.png";
   const std::string scene = "'" + kScenes + "fur_torus.json'";
@@ -207,7 +209,7 @@ TEST(RenderCli, SimplifyAndWireDepthOptions) {
   EXPECT_GT(e["drawn"].get<double>(), 0.0);
   EXPECT_LE(e["drawn"].get<double>(), 7000.0);
   EXPECT_GT(e["smallest_fraction"].get<double>(), 0.0);
-  EXPECT_LE(e["smallest_fraction"].get<double>(), 1.0);
+  EXPECT_LT(e["smallest_fraction"].get<double>(), 1.0);
 }
 
 // NaN / Inf vertices (a binary STL, where they survive the reader): the bad triangles and the
