@@ -348,19 +348,17 @@ void sortTileItems(std::vector<TileBins::Item>& items, std::vector<TileBins::Ite
   }
   // The float's bits made unsigned-monotonic: negative ones reversed, positive ones above them;
   // -0 taken as +0 by its bits (not by adding 0, which flush-to-zero would make a subnormal's 0
-  // too, where the comparison still orders it).
+  // too, where the comparison still orders it); a NaN after every number, as Item's order has it
+  // (the items arrive in primitive order and the passes are stable: ties keep it).
   auto key = [](float z) {
     std::uint32_t u;
     std::memcpy(&u, &z, sizeof u);
     if (u == 0x80000000u) u = 0;
+    if (z != z) return 0xFFFFFFFFu;
     return (u & 0x80000000u) ? ~u : (u | 0x80000000u);
   };
   std::uint32_t count[4][256] = {};
   for (const TileBins::Item& it : items) {
-    if (std::isnan(it.zlo)) {  // unordered: the comparison's own order, whatever it makes of it
-      std::sort(items.begin(), items.end());
-      return;
-    }
     const std::uint32_t k = key(it.zlo);
     for (int b = 0; b < 4; ++b) ++count[b][(k >> (8 * b)) & 0xFFu];
   }

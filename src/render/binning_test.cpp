@@ -241,14 +241,28 @@ TEST(SortTileItems, SameOrderWhateverPassesRun) {
     }
 }
 
-TEST(SortTileItems, NaNDepthsFallBackToTheComparison) {
-  std::vector<TileBins::Item> items(100);
-  for (size_t i = 0; i < items.size(); ++i) items[i].zlo = float(100 - i), items[i].index = std::uint32_t(i);
-  items[50].zlo = NAN;
-  std::vector<TileBins::Item> want = items, got = items, scratch;
-  std::sort(want.begin(), want.end());
-  sortTileItems(got, scratch);
-  for (size_t i = 0; i < items.size(); ++i) EXPECT_EQ(got[i].index, want[i].index) << i;
+// NaN depths (none reaches an item today) sort after every number, ties and NaNs by index, on
+// both paths (a comparison sort under 64 items, the radix sort from 64): the order written out
+// here (the numbers by depth, then the NaNs in index order), not taken from std::sort, whose
+// behaviour under an order NaN breaks is undefined.
+TEST(SortTileItems, NaNDepthsSortLastInIndexOrder) {
+  for (size_t n : {size_t(10), size_t(100)}) {
+    std::vector<TileBins::Item> items(n);
+    for (size_t i = 0; i < n; ++i) items[i].zlo = float(n - i), items[i].index = std::uint32_t(i);
+    items[n / 2].zlo = NAN;
+    items[n / 3].zlo = -NAN;
+    items[1].zlo = items[2].zlo;  // a tie: index order
+    std::vector<std::uint32_t> want;
+    for (size_t i = n; i-- > 0;)
+      if (!std::isnan(items[i].zlo) && i != 1) want.push_back(std::uint32_t(i));  // zlo = n - i rises as i falls
+    want.insert(std::find(want.begin(), want.end(), 2u) + 0, 1u);  // 1 ties with 2 and comes first
+    want.push_back(std::uint32_t(n / 3));
+    want.push_back(std::uint32_t(n / 2));
+    std::vector<TileBins::Item> got = items, scratch;
+    sortTileItems(got, scratch);
+    ASSERT_EQ(got.size(), n);
+    for (size_t i = 0; i < n; ++i) EXPECT_EQ(got[i].index, want[i]) << n << " items, place " << i;
+  }
 }
 
 }  // namespace

@@ -679,7 +679,13 @@ struct TileBins {
     float zlo;                     ///< nearest depth of the primitive inside the tile: the tile sorts by (zlo, index)
     std::uint32_t index;           ///< the primitive (PreparedScene's numbering)
     std::uint8_t x0, y0, x1, y1;   ///< pixel rectangle within the tile, inclusive (tiles are at most 256 wide)
-    bool operator<(const Item& o) const { return zlo < o.zlo || (zlo == o.zlo && index < o.index); }
+    /// By zlo, then index; a NaN zlo after every number (a strict weak order even then: std::sort
+    /// with an order NaN breaks may read outside the array). None reaches an item today.
+    bool operator<(const Item& o) const {
+      const bool nan = zlo != zlo, onan = o.zlo != o.zlo;
+      if (nan || onan) return nan == onan ? index < o.index : onan;
+      return zlo < o.zlo || (zlo == o.zlo && index < o.index);
+    }
   };
   static constexpr int kMaxTileSize = 256;  ///< Item's corners are bytes
   static_assert(sizeof(Item) == 12);
@@ -754,8 +760,8 @@ void checkBinsFit(const PreparedScene& ps, const BinCounts& counts, std::uint64_
 TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& stats, size_t memoryBudget = 0);
 /// Sorts one tile's items into TileBins::Item's order (zlo, then index) when they arrive in
 /// primitive order, as binPrimitives leaves them: a stable radix sort on zlo (-0 taken as +0,
-/// equal, as the comparison has them), so that ties keep that order; std::sort for short lists
-/// and where a depth is NaN. Needs the items in increasing index (else ties may differ from the
+/// equal, as the comparison has them; NaN after every number), so that ties keep that order;
+/// std::sort for short lists. Needs the items in increasing index (else ties may differ from the
 /// comparison) and fewer than 2^32 of them (TileBins' offsets are 32-bit too). `scratch`: a
 /// buffer the sort may use (the renderer keeps one per thread, as large as its largest tile's
 /// items).
