@@ -1,6 +1,7 @@
 // Tests of the per-tile order (binning.cpp, sortTileItems) against the comparison it stands for,
 // TileBins::Item::operator< (depth, then primitive), applied by std::sort; and of binning in
 // bands of tile rows against binning the whole grid.
+#include "abuffer/screen_polygon.h"
 #include "render/pipeline.h"
 #include "render/renderer.h"
 
@@ -11,7 +12,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
+#include <map>
 #include <random>
 #include <stdexcept>
 #include <utility>
@@ -190,6 +193,116 @@ TEST(BinBands, ManyChunksAndSkippedBlocksKeepEveryTilesItemsInOrder) {
       }
     });
   }
+}
+
+// Every pixel a primitive covers lies in its item's rectangle in that pixel's tile, and its item's
+// depth is no farther than the primitive's depth there (else a crack, or a visible fragment
+// culled whole). The pixels it covers are found here by clipping its screen polygon to each
+// pixel (a positive area), its depth at the covered part's centroid by primitiveDepthAt: neither
+// from the binning. Random triangles (some cut by the near plane: up to five vertices) and
+// wires 0.3 ... 20 pixels wide, round or square ended, resting on a surface or not, with sharp
+// joints (mitres), end-on segments, and parts off the image; perspective and orthographic,
+// tiles of 8 and 32 pixels.
+TEST(BinBands, EveryCoveredPixelLiesInItsItemsRectangle) {
+  const int W = 160, H = 120;
+  long checked = 0, segmentPixels = 0, tileEdges = 0;
+  for (bool perspective : {true, false})
+    for (int tile : {8, 32}) {
+      Scene s = test::baseScene(W, H);
+      if (perspective) s.camera->projection = Camera::Projection::Perspective, s.camera->fovYDegrees = 70.0;
+      std::mt19937 rng(perspective ? 11 : 12);
+      std::uniform_real_distribution<double> u(0.0, 1.0);
+      auto point = [&] { return test::V2(-30 + u(rng) * (W + 60), -30 + u(rng) * (H + 60)); };
+      auto depth = [&] { return u(rng) < 0.1 ? 0.3 + u(rng) : 2.0 + 40.0 * u(rng); };  // some before the near plane (1)
+      // The world point seen at pixel q at view depth d (the camera at z = 10 looking down -z).
+      const double f = 0.5 * H / std::tan(0.5 * 70.0 * 3.14159265358979 / 180.0);
+      auto at = [&](const test::V2& q, double d) {
+        return perspective ? glm::dvec3((q.x - 0.5 * W) / f * d, (0.5 * H - q.y) / f * d, 10.0 - d) : test::world(q, d, W, H);
+      };
+      SceneSurface surf;
+      for (int i = 0; i < 120; ++i) {
+        const std::uint32_t b = std::uint32_t(surf.mesh.positions.size());
+        const test::V2 c = point();
+        const double size = u(rng) < 0.5 ? 3.0 + 10.0 * u(rng) : 20.0 + 80.0 * u(rng);
+        for (int k = 0; k < 3; ++k) {
+          const test::V2 q = k == 2 && u(rng) < 0.3 ? c + 0.01 * size * test::V2(u(rng), u(rng))  // slivers
+                                                    : c + size * test::V2(u(rng) - 0.5, u(rng) - 0.5);
+          surf.mesh.positions.push_back(at(q, depth()));
+        }
+        surf.mesh.triangles.push_back({b, b + 1, b + 2});
+      }
+      s.surfaces.push_back(surf);
+      for (double width : {0.3, 1.5, 6.0, 20.0})
+        for (bool round : {true, false}) {
+          SceneWire w;
+          w.thickness = width;
+          w.thicknessInPixels = true;
+          w.roundEnds = round;
+          w.restsOnSurface = width > 5.0;
+          for (int i = 0; i < 25; ++i) {
+            std::vector<glm::dvec3> line;
+            test::V2 q = point();
+            const int points = 2 + int(u(rng) * 4);
+            for (int k = 0; k < points; ++k) {
+              line.push_back(at(q, depth()));
+              // Sharp turns (mitres up to the limit), and now and then an end-on step (the same
+              // screen point, deeper: exactly end-on when orthographic).
+              const double a = u(rng) * 6.2832, len = 5.0 + 40.0 * u(rng);
+              if (u(rng) < 0.1) line.push_back(at(q, depth()));
+              q += len * test::V2(std::cos(a), std::sin(a));
+            }
+            w.lines.add(line);
+          }
+          s.wires.push_back(w);
+        }
+      RenderOptions o = test::smallOptions(W, H);
+      o.tileSize = tile;
+      RenderStats st;
+      const PreparedScene ps = prepareScene(s, o, st);
+      ASSERT_GT(ps.triangles.size(), 60u);
+      ASSERT_GT(ps.segments.size(), 250u);
+      const TileBins bins = binPrimitives(ps, tile, st);
+      std::map<std::pair<std::uint32_t, int>, TileBins::Item> itemOf;  // (primitive, tile)
+      for (int t = 0; t < bins.tilesX * bins.tilesY; ++t)
+        for (std::uint32_t k = bins.begin(t); k < bins.end(t); ++k) itemOf[{bins.items[k].index, t}] = bins.items[k];
+      const std::uint32_t triangles = std::uint32_t(ps.triangles.size());
+      for (std::uint32_t i = 0; i < ps.primitiveCount(); ++i) {
+        ScreenPolygon poly, cell;
+        if (i < triangles) {
+          const TrianglePrim& t = ps.triangles[i];
+          for (int k = 0; k < t.vertexCount; ++k) poly.add(ps.vertices[t.firstVertex + k].x, ps.vertices[t.firstVertex + k].y);
+        } else {
+          segmentPolygon(ps.segments[i - triangles], poly);
+        }
+        double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+        for (int k = 0; k < poly.count; ++k)
+          x0 = std::min(x0, poly.x[k]), x1 = std::max(x1, poly.x[k]), y0 = std::min(y0, poly.y[k]), y1 = std::max(y1, poly.y[k]);
+        for (int row = std::max(0, int(std::floor(y0))); row <= std::min(H - 1, int(std::floor(y1))); ++row)
+          for (int col = std::max(0, int(std::floor(x0))); col <= std::min(W - 1, int(std::floor(x1))); ++col) {
+            clipRect(poly, cell, col, row, col + 1.0, row + 1.0);
+            if (cell.count < 3 || !(cell.area() > 1e-9)) continue;
+            const int t = (row / tile) * bins.tilesX + col / tile;
+            const auto found = itemOf.find({i, t});
+            ASSERT_NE(found, itemOf.end()) << "primitive " << i << " pixel " << col << "," << row << " tile " << tile;
+            const TileBins::Item& it = found->second;
+            const int lx = col % tile, ly = row % tile;
+            ASSERT_TRUE(lx >= it.x0 && lx <= it.x1 && ly >= it.y0 && ly <= it.y1)
+                << "primitive " << i << " pixel " << col << "," << row << " outside [" << int(it.x0) << "," << int(it.x1) << "] x ["
+                << int(it.y0) << "," << int(it.y1) << "], tile " << tile;
+            double cx, cy;
+            cell.centroid(cx, cy);
+            const double z = primitiveDepthAt(ps, i, cx, cy);
+            ASSERT_LE(double(it.zlo), z + 1e-6 * std::abs(z)) << "primitive " << i << " pixel " << col << "," << row;
+            ++checked;
+            segmentPixels += i >= triangles;
+            tileEdges += lx == it.x0 || lx == it.x1 || ly == it.y0 || ly == it.y1;
+          }
+      }
+    }
+  std::printf("[ measured ] %ld covered pixels checked (%ld of segments, %ld on an edge of their item's rectangle)\n", checked,
+              segmentPixels, tileEdges);
+  EXPECT_GT(checked, 100000);
+  EXPECT_GT(segmentPixels, 20000);
 }
 
 TEST(SortTileItems, SameOrderAsTheComparisonForAnyDepths) {
