@@ -268,12 +268,8 @@ TEST(BinBands, EveryCoveredPixelLiesInItsItemsRectangle) {
       const std::uint32_t triangles = std::uint32_t(ps.triangles.size());
       for (std::uint32_t i = 0; i < ps.primitiveCount(); ++i) {
         ScreenPolygon poly, cell;
-        if (i < triangles) {
-          const TrianglePrim& t = ps.triangles[i];
-          for (int k = 0; k < t.vertexCount; ++k) poly.add(ps.vertices[t.firstVertex + k].x, ps.vertices[t.firstVertex + k].y);
-        } else {
-          segmentPolygon(ps.segments[i - triangles], poly);
-        }
+        screenPolygonOf(ps, i, poly);
+        if (poly.count < 3) continue;
         double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
         for (int k = 0; k < poly.count; ++k)
           x0 = std::min(x0, poly.x[k]), x1 = std::max(x1, poly.x[k]), y0 = std::min(y0, poly.y[k]), y1 = std::max(y1, poly.y[k]);
@@ -369,7 +365,7 @@ TEST(SortTileItems, NaNDepthsSortLastInIndexOrder) {
     std::vector<std::uint32_t> want;
     for (size_t i = n; i-- > 0;)
       if (!std::isnan(items[i].zlo) && i != 1) want.push_back(std::uint32_t(i));  // zlo = n - i rises as i falls
-    want.insert(std::find(want.begin(), want.end(), 2u) + 0, 1u);  // 1 ties with 2 and comes first
+    want.insert(std::find(want.begin(), want.end(), 2u), 1u);  // 1 ties with 2 and comes first
     want.push_back(std::uint32_t(n / 3));
     want.push_back(std::uint32_t(n / 2));
     std::vector<TileBins::Item> got = items, scratch;

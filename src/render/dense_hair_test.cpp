@@ -265,6 +265,37 @@ TEST(Simplification, AHairRunningFarOffTheImageCountsOnlyItsCell) {
   }
 }
 
+// Hairs rooted 2 ... 6 pixels inside each edge of the image and running 40 pixels out of it
+// (0.3 px wide, 2,000 a side): counted by what they show (2 ... 6 px of each) the edge cells
+// hold about 0.7 (top and bottom) to 1.0 (left and right) pixels of hair a pixel, under the
+// threshold of 4, and nothing is simplified; counted whole (40 px each) they would hold 7 to 10
+// and be simplified. Each side
+// alone, so that a wrong sign on any edge of the clip shows.
+TEST(Simplification, HairsLeavingTheImageCountOnlyWhatTheyShow) {
+  const int W = 96, H = 72;
+  for (int side = 0; side < 4; ++side) {
+    Scene s = test::baseScene(W, H);
+    SceneWire w;
+    w.aggregate = true;
+    w.restsOnSurface = false;
+    w.thickness = 0.3;
+    for (int i = 0; i < 2000; ++i) {
+      HashRandom r(11, std::uint64_t(side), std::uint64_t(i));
+      const double in = r.uniform(2, 6), along = r.uniform(0, 1);
+      const V2 dir = side == 0 ? V2(-1, 0) : side == 1 ? V2(1, 0) : side == 2 ? V2(0, -1) : V2(0, 1);
+      const V2 root = side == 0 ? V2(in, along * H) : side == 1 ? V2(W - in, along * H) : side == 2 ? V2(along * W, in)
+                                                                                             : V2(along * W, H - in);
+      w.lines.add({test::world(root, 20.0, W, H), test::world(root + 40.0 * dir, 20.0, W, H)});
+    }
+    s.wires.push_back(w);
+    const RenderResult plain = render(s, test::smallOptions(W, H));
+    const RenderResult simple = render(s, simplifyOptions(W, H, 1.5));
+    EXPECT_EQ(simple.stats.simplifiedKept, 2000u) << "side " << side;
+    EXPECT_EQ(simple.stats.simplifiedLambda, 1.0) << "side " << side;
+    EXPECT_EQ(test::maxDiff(plain.image, simple.image), 0.0) << "side " << side;
+  }
+}
+
 }  // namespace
 }  // namespace wf
 

@@ -835,7 +835,7 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
 
 /// Stage "simplification" (simplify.cpp), before the primitives: for each polyline of each
 /// aggregate wire, the factor its width is drawn at (0: left out) and its lambda (the fraction
-/// of its neighbours drawn, which also sets how far its colours are pulled to the wire's mean).
+/// of its neighbours drawn, which also sets how far its colours are pulled toward the local mean).
 struct WireSimplification {
   std::vector<float> scale, lambda;  ///< per hair: width factor (0: left out), fraction drawn around it
   std::vector<glm::vec3> meanColour;  ///< per hair, when the wire has colours: the local mean

@@ -3,9 +3,10 @@
 //
 // For each aggregate wire (fur), every hair is placed on a coarse grid of screen cells by its
 // root, with its projected area (width times length, pixels: the length clipped to the image,
-// each factor at most a cell's side, so that one hair adds at most a cell's area to its cell, a
-// hair reaching toward the lens or far off the image no more than one lying in the cell). A
-// cell's depth complexity is the hair area rooted in it per pixel of the cell. Where that is at least minDepthComplexity (the hairs
+// the width at most a cell's side, so that a hair reaching toward the lens or far off the image
+// counts only what it shows). A cell's depth complexity is the hair area rooted in it per pixel
+// of the cell (a hair longer than a cell counts whole in its root's cell: a field of long hair
+// has its density, each cell the hairs rooted in it). Where that is at least minDepthComplexity (the hairs
 // overlap: what a pixel shows is their aggregate, not any one of them) and a hair is thinner than
 // targetWidth, its lambda is width / targetWidth: that fraction of the hairs around it is drawn,
 // each widened by 1 / lambda, so that the expected projected area, and with it the expected
@@ -100,19 +101,19 @@ SimplificationPlan planSimplification(const Scene& scene, const ViewTransform& v
             return t0 <= t1;
           };
           if (std::isfinite(p1.x) && std::isfinite(p1.y) && clip(-d.x, p0.x) && clip(d.x, view.width - p0.x) && clip(-d.y, p0.y) && clip(d.y, view.height - p0.y))
-            len = (t1 - t0) * glm::length(d);
+            len = glm::length((p0 + t1 * d) - (p0 + t0 * d));  // (both ends on the image: no overflow)
         }
         if (!std::isfinite(wpx) || !std::isfinite(len) || !std::isfinite(p0.x) || !std::isfinite(p0.y)) continue;
         onScreen[li] = p0.x >= 0 && p0.x < view.width && p0.y >= 0 && p0.y < view.height;
         // A root just off the image takes the edge's density, as its neighbours inside do.
         root[li] = glm::vec2(float(std::clamp(p0.x, 0.0, double(view.width))), float(std::clamp(p0.y, 0.0, double(view.height))));
         width[li] = float(wpx);
-        const double most = std::min(cellW, cellH);
-        area[li] = std::min(wpx, most) * std::min(std::max(len, wpx), most);
+        const double w = std::min(wpx, std::min(cellW, cellH));
+        area[li] = w * std::max(len, w);
       }
     });
     // Depth complexity per cell: the hair area rooted in it (summed in hair order: the same for
-    // any thread count) per pixel of the cell inside the image; and its mean hair colour,
+    // any thread count) per pixel of the cell; and its mean hair colour,
     // weighted by area (what the cell's pixels show), the contrast correction's centre.
     const bool hasColours = L.colours.size() == L.points.size() && !L.colours.empty();
     std::vector<double> complexity(size_t(cx) * cy, 0.0);
