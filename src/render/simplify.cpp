@@ -20,12 +20,10 @@
 //
 // Colours: the mean over n hairs in a pixel has a variance proportional to 1 / n; with lambda n
 // of them it rises by 1 / lambda, so each hair's colour is pulled by sqrt(lambda) toward the
-// mean colour of the hairs around it (Cook et al.'s contrast correction; the local mean, so that
-// a pattern in the fur keeps its colours).
-//
-// The mean is the cells', so a pattern keeps its colours where it is two cells (64 pixels or
-// more) across; a finer pattern, or a colour gradient along the hairs, is pulled toward the
-// cell's mean as well (docs/abuffer.md).
+// mean colour of the hairs around it (Cook et al.'s contrast correction). The mean is the
+// cells', so a pattern keeps its colours where it is two cells (64 pixels or more) across; a
+// finer pattern, or a colour gradient along the hairs, is pulled toward the cell's mean as well
+// (docs/abuffer.md).
 //
 // The cells' complexity and mean colour are interpolated bilinearly between cell centres, so a
 // hair's lambda changes smoothly as its root moves across the screen; a root just off the image
@@ -165,7 +163,6 @@ SimplificationPlan planSimplification(const Scene& scene, const ViewTransform& v
                                          : glm::vec3(hairColour(li));
         }
       }
-      if (!std::isfinite(lambda)) lambda = 1.0;  // (not reached: every term above is finite)
       const double u = unitFromHash(hashWords(0x5157A7C4ull, wi, li));
       const double kappa = keepWeight(lambda, u, fade);
       ws.lambda[li] = float(lambda);
