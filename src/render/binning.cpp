@@ -34,24 +34,9 @@ struct Footprint {
   bool empty() const { return !(x1 > x0) || !(y1 > y0); }
 };
 
-// The part [ta, tb] of the axis p0 + t (p1 - p0), t in [0, 1], inside the rectangle (Liang and
-// Barsky); false when none.
+// The part [ta, tb] of a segment's axis inside the rectangle; false when none.
 bool clipAxis(const SegmentPrim& s, double rx0, double ry0, double rx1, double ry1, double& ta, double& tb) {
-  ta = 0.0;
-  tb = 1.0;
-  const double dx = s.p1.x - s.p0.x, dy = s.p1.y - s.p0.y;
-  const double p[4] = {-dx, dx, -dy, dy};
-  const double q[4] = {s.p0.x - rx0, rx1 - s.p0.x, s.p0.y - ry0, ry1 - s.p0.y};
-  for (int k = 0; k < 4; ++k) {
-    if (p[k] == 0.0) {
-      if (q[k] < 0.0) return false;
-      continue;
-    }
-    const double r = q[k] / p[k];
-    if (p[k] < 0.0) ta = std::max(ta, r);
-    else tb = std::min(tb, r);
-  }
-  return ta <= tb;
+  return clipLineToRect(s.p0, s.p1, rx0, ry0, rx1, ry1, ta, tb);
 }
 
 class Binner {

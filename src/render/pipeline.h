@@ -148,6 +148,28 @@ inline constexpr std::uint8_t kSegmentEndOn = 4;        ///< shorter than wide: 
 inline constexpr std::uint8_t kSegmentMayMerge = 8;     ///< its polyline has other pieces
 inline constexpr std::uint8_t kSegmentPreshaded = 16;   ///< its colours hold the radiance at the ends
 
+/// The part [ta, tb] of the screen line p0 + t (p1 - p0), t in [0, 1], inside the rectangle
+/// [rx0, rx1] x [ry0, ry1] (Liang and Barsky); false when none. The binning's clip of a hair to a
+/// tile and the simplification's of a hair to the image (binning.cpp, simplify.cpp).
+inline bool clipLineToRect(glm::dvec2 p0, glm::dvec2 p1, double rx0, double ry0, double rx1, double ry1, double& ta,
+                           double& tb) {
+  ta = 0.0;
+  tb = 1.0;
+  const double dx = p1.x - p0.x, dy = p1.y - p0.y;
+  const double p[4] = {-dx, dx, -dy, dy};
+  const double q[4] = {p0.x - rx0, rx1 - p0.x, p0.y - ry0, ry1 - p0.y};
+  for (int k = 0; k < 4; ++k) {
+    if (p[k] == 0.0) {
+      if (q[k] < 0.0) return false;
+      continue;
+    }
+    const double r = q[k] / p[k];
+    if (p[k] < 0.0) ta = std::max(ta, r);
+    else tb = std::min(tb, r);
+  }
+  return ta <= tb;
+}
+
 /// How far a segment's polygon reaches from its axis in pixels: mitres up to kMitreLimit half
 /// widths, half discs up to pi / 2 half widths (their inner vertices sit outside the circle),
 /// end-on discs a little over one. Every point the segment covers lies within it of the axis.

@@ -91,14 +91,7 @@ SimplificationPlan planSimplification(const Scene& scene, const ViewTransform& v
         if (d1 >= view.nearPlane) {
           const glm::dvec2 p1 = view.project(e1), d = p1 - p0;
           double t0 = 0.0, t1 = 1.0;
-          auto clip = [&](double p, double q) {  // keep where p t <= q
-            if (p == 0.0) return q >= 0.0;
-            const double r = q / p;
-            if (p < 0.0) t0 = std::max(t0, r);
-            else t1 = std::min(t1, r);
-            return t0 <= t1;
-          };
-          if (std::isfinite(p1.x) && std::isfinite(p1.y) && clip(-d.x, p0.x) && clip(d.x, view.width - p0.x) && clip(-d.y, p0.y) && clip(d.y, view.height - p0.y))
+          if (std::isfinite(p1.x) && std::isfinite(p1.y) && clipLineToRect(p0, p1, 0.0, 0.0, view.width, view.height, t0, t1))
             len = glm::length((p0 + t1 * d) - (p0 + t0 * d));  // (both ends on the image: no overflow)
         }
         if (!std::isfinite(wpx) || !std::isfinite(len) || !std::isfinite(p0.x) || !std::isfinite(p0.y)) continue;
