@@ -187,6 +187,9 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
     }
     surfaceShader.push_back(it->second);
   }
+  // (A triangle holds its slot in 16 bits, TrianglePrim::shader: surface slots are all made by now.)
+  if (ps.shaders.size() > std::numeric_limits<std::uint16_t>::max() + size_t(1))
+    throw std::length_error("more than 65,536 surface materials in one render");
   if (scene.wires.size() + ps.shaders.size() > kMaxShaders)
     throw std::length_error("more than " + std::to_string(kMaxShaders) + " wires in one render");
   for (const SceneWire& w : scene.wires) {
