@@ -23,7 +23,7 @@
 // segments of a polyline share their joint edge (a mitre along the bisector), so the polygons
 // abut exactly: no gap, no overlap, and the A-buffer merges the two pieces by their common tag.
 // A mitre longer than kMitreLimit half-widths, or one that would fold a polygon, falls back to
-// square ends. A segment whose screen length is less than its width is seen (nearly) end-on and
+// square ends. A segment whose screen length is less than its half width is seen (nearly) end-on and
 // is drawn as the hull of its two end discs (16-gons of the discs' exact areas).
 #pragma once
 
@@ -144,7 +144,7 @@ struct SegmentPrim {
 inline constexpr size_t kMaxShaders = size_t(1) << 24;
 inline constexpr std::uint8_t kSegmentCap0 = 1;         ///< half disc at p0 (a round free end)
 inline constexpr std::uint8_t kSegmentCap1 = 2;         ///< half disc at p1
-inline constexpr std::uint8_t kSegmentEndOn = 4;        ///< shorter than wide: the hull of its end discs
+inline constexpr std::uint8_t kSegmentEndOn = 4;        ///< shorter than its half width: the hull of its end discs
 inline constexpr std::uint8_t kSegmentMayMerge = 8;     ///< its polyline has other pieces
 inline constexpr std::uint8_t kSegmentPreshaded = 16;   ///< its colours hold the radiance at the ends
 

@@ -252,6 +252,59 @@ TEST(RenderReview, DuplicatePointInAPolylineKeepsTheMitre) {
   EXPECT_LE(maxDiff(r1.image, r2.image, &at), 1e-5) << "pixel (" << at % W << ", " << at / W << ")";
 }
 
+TEST(RenderReview, AClosedLoopIsMitredAtItsSeamAsAtItsOtherCorners) {
+  // A square loop A B C D A, side L, half width h: its outline is the square ring between sides
+  // L + 2h and L - 2h, exactly 8 L h, when all four corners are mitred. Bug (review 54): the
+  // joint of the last segment and the first was never formed, so A had square ends: a notch of
+  // h^2 at its outer corner (1.2% of the area here) and a jump in the shading tangent. Now the
+  // seam's offset is one value in both segments and its tangent is averaged like the others.
+  const int W = 64, H = 64;
+  const double L = 40, h = 4;
+  const V2 A(12.3, 12.2), B(A.x + L, A.y), C(A.x + L, A.y + L), D(A.x, A.y + L);
+  Scene s = baseScene(W, H);
+  s.wires.push_back(plainWire({{A, B, C, D, A}}, 2 * h, 10.0, W, H));
+  const RenderResult r = render(s, smallOptions(W, H));
+  EXPECT_NEAR(sumAlpha(r.image), 8 * L * h, 1e-3 * 8 * L * h);
+  RenderStats st;
+  const PreparedScene ps = prepareScene(s, smallOptions(W, H), st);
+  ASSERT_EQ(ps.segments.size(), 4u);
+  EXPECT_EQ(ps.segments[0].o0, ps.segments[3].o1);  // the seam's edge, shared to the bit
+  EXPECT_GT(glm::length(glm::dvec2(ps.segments[0].o0)), 1.4 * h);  // a mitre (h sqrt 2), not h
+  EXPECT_EQ(ps.segmentShading[0].t0, ps.segmentShading[3].t1);
+  EXPECT_NEAR(glm::length(glm::dvec3(ps.segmentShading[0].t0) - glm::normalize(glm::dvec3(1, 1, 0))), 0.0, 1e-6)
+      << "the seam's tangent: the mean of the first segment's (+x) and the last's (-y on screen, +y in the world)";
+  // Out and back (A, B, A) is no loop: two free ends, both capped when round.
+  Scene back = baseScene(W, H);
+  back.wires.push_back(plainWire({{A, B, A}}, 2 * h, 10.0, W, H));
+  back.wires[0].roundEnds = true;
+  const PreparedScene pb = prepareScene(back, smallOptions(W, H), st);
+  ASSERT_EQ(pb.segments.size(), 2u);
+  EXPECT_TRUE(pb.segments[0].flags & kSegmentCap0);
+  EXPECT_TRUE(pb.segments[1].flags & kSegmentCap1);
+}
+
+TEST(RenderReview, ASegmentCutToAPointByTheNearPlaneIsLeftOut) {
+  // P0 behind the near plane, P1 exactly on it, P2 in front: the first segment's part between
+  // the planes is the point P1 alone. Bug (review 54): it was kept as a segment of (nearly) zero
+  // length, drawn as a disc of the full width at P1. Now it is clipped away and counted so;
+  // the second segment is drawn as before.
+  const int W = 32, H = 32;
+  Scene s;
+  s.camera = perspectiveCamera();  // near 0.5
+  s.background = glm::vec4(0.0f);
+  SceneWire w;
+  w.style = WireStyle::Plain;
+  w.thickness = 3;
+  w.thicknessInPixels = true;
+  w.lines.add({{0.03, 0.01, -0.2}, {0.0, 0.0, -0.5}, {-0.2, 0.1, -2.0}});
+  s.wires.push_back(w);
+  RenderStats st;
+  const PreparedScene ps = prepareScene(s, smallOptions(W, H), st);
+  EXPECT_EQ(ps.segments.size(), 1u);
+  EXPECT_EQ(st.clippedAway, 1u);
+  EXPECT_EQ(st.endOnDiscs, 0u);
+}
+
 TEST(RenderReview, PolylineThroughTheNearPlaneHasNoNaNAndDrawsItsFrontParts) {
   // A 3-segment polyline whose middle segment passes behind the camera (perspective): the front
   // parts are drawn, nothing is NaN, no pixel exceeds alpha 1.

@@ -298,7 +298,9 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
     }
     if (ids.size() < 2) continue;
     const size_t nseg = ids.size() - 1;
-    const bool closed = nseg > 1 && L.points[ids.front()] == L.points[ids.back()];
+    // Closed: a loop of three segments or more back to its first point (A, B, A goes out and
+    // back: two free ends, both at A).
+    const bool closed = nseg > 2 && L.points[ids.front()] == L.points[ids.back()];
     segs.assign(nseg, SegScreen{});
     for (size_t j = 0; j < nseg; ++j) {
       SegScreen& s = segs[j];
@@ -338,6 +340,12 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       const glm::dvec3 o0 = e0, o1 = e1;
       clipEnd(e0, d0, o1, d1, s.clipped0);
       clipEnd(e1, d1, o0, -o0.z, s.clipped1);
+      // Cut to a point: one end moved onto a plane the other end lies on (a straight segment off
+      // the plane meets it in one point), nothing of it between the planes.
+      if ((s.clipped0 || s.clipped1) && d0 == d1) {
+        ++counts.clipped;
+        continue;
+      }
       s.d0 = d0;
       s.d1 = d1;
       // (What several of the quantities below share is formed once: the ends' scales and
@@ -364,20 +372,25 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       if (!s.endOn) s.nrm = glm::dvec2(-dv.y, dv.x) * (1.0 / s.length);
       s.valid = true;
     }
-    // Joint offsets: vertex j joins segment j-1 and j.
+    // Joint offsets: vertex j joins segment j-1 and j; a closed loop's vertex 0 and vertex nseg
+    // are one joint, of its last segment and its first, with the same offset in both.
     offsets.assign(nseg + 1, glm::dvec2(0));
     mitred.assign(nseg + 1, 0);
-    for (size_t j = 1; j < nseg; ++j) {
-      const SegScreen &p = segs[j - 1], &q = segs[j];
-      if (!p.valid || !q.valid || p.endOn || q.endOn || p.clipped1 || q.clipped0) continue;
+    auto mitre = [&](const SegScreen& p, const SegScreen& q, glm::dvec2& offset) {
+      if (!p.valid || !q.valid || p.endOn || q.endOn || p.clipped1 || q.clipped0) return false;
       const glm::dvec2 m = p.nrm + q.nrm;
       const double ml = glm::length(m);
-      if (!(ml > 1e-6)) continue;
+      if (!(ml > 1e-6)) return false;
       const glm::dvec2 mh = m / ml;
       const double c = glm::dot(mh, q.nrm);
-      if (!(c > 1.0 / kMitreLimit)) continue;
-      offsets[j] = mh * (q.w0 / c);
-      mitred[j] = 1;
+      if (!(c > 1.0 / kMitreLimit)) return false;
+      offset = mh * (q.w0 / c);
+      return true;
+    };
+    for (size_t j = 1; j < nseg; ++j) mitred[j] = mitre(segs[j - 1], segs[j], offsets[j]);
+    if (closed && mitre(segs[nseg - 1], segs[0], offsets[0])) {
+      offsets[nseg] = offsets[0];
+      mitred[0] = mitred[nseg] = 1;
     }
     // Dashed hidden lines: the pattern's phase at each segment's start, from the screen arc
     // length of the polyline before it: segments off screen count too, so the pattern does not
@@ -422,7 +435,6 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       if (s.endOn) {
         sp.flags |= kSegmentEndOn;
         sp.o0 = sp.o1 = glm::vec2(0.0f);
-        ++counts.endOn;
       } else {
         // Round ends: a half disc at a free end of the polyline (not at a joint, not where the
         // near or far plane cut the segment).
@@ -445,12 +457,13 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
         ++counts.clipped;
         continue;
       }
+      if (s.endOn) ++counts.endOn;  // (drawn as its disc: counted once it is kept)
       // Tangents at the ends: averaged with the neighbour at a joint, so a smooth curve of
       // straight segments shades smoothly, like one bent wire.
       auto jointTangent = [&](size_t jv, const glm::dvec3& own) {
         const SegScreen* other = nullptr;
-        if (jv == j && j > 0) other = &segs[j - 1];
-        if (jv == j + 1 && j + 1 < nseg) other = &segs[j + 1];
+        if (jv == j) other = j > 0 ? &segs[j - 1] : closed ? &segs[nseg - 1] : nullptr;
+        if (jv == j + 1) other = j + 1 < nseg ? &segs[j + 1] : closed ? &segs[0] : nullptr;
         if (!other || !other->valid) return own;
         const glm::dvec3 sum = own + other->tangent;
         const double l = glm::length(sum);
@@ -486,6 +499,13 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       ++out.count;
     }
   }
+  // The scratch grows to the longest polyline a thread has set up (about 250 bytes a point):
+  // beyond 4,096 points it is given back rather than kept for the rest of the process.
+  constexpr size_t kKeepPoints = 4096;
+  if (segs.capacity() > kKeepPoints) std::vector<SegScreen>().swap(segs);
+  if (ids.capacity() > kKeepPoints) std::vector<size_t>().swap(ids);
+  if (offsets.capacity() > kKeepPoints + 1) std::vector<glm::dvec2>().swap(offsets);
+  if (mitred.capacity() > kKeepPoints + 1) std::vector<char>().swap(mitred);
 }
 
 }  // namespace wf
