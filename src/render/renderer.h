@@ -129,7 +129,7 @@ struct RenderStats {
   size_t primitives = 0;                    ///< screen polygons after clipping
   size_t rejectedNonFinite = 0;             ///< primitives with NaN / Inf vertices, skipped
   size_t droppedZeroLength = 0;             ///< zero-length segments, dropped
-  size_t clippedAway = 0;                   ///< wholly outside near / far / image
+  size_t clippedAway = 0;                   ///< wholly outside near / far / image, cut to a point on a plane, or a width that rounds to 0
   size_t endOnDiscs = 0;                    ///< segments drawn as their disc (seen end-on)
   size_t primitivesOccluded = 0;            ///< (primitive, tile) pairs skipped: tile hidden in front
   /// The fragment stage's work, for the per-stage costs of the benchmarks.

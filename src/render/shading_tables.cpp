@@ -189,7 +189,7 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
   }
   // (A triangle holds its slot in 16 bits, TrianglePrim::shader: surface slots are all made by now.)
   if (ps.shaders.size() > std::numeric_limits<std::uint16_t>::max() + size_t(1))
-    throw std::length_error("more than 65,536 surface materials in one render");
+    throw std::length_error("more than 65,536 surface shader slots (materials, and the hold-out) in one render");
   if (scene.wires.size() + ps.shaders.size() > kMaxShaders)
     throw std::length_error("more than " + std::to_string(kMaxShaders) + " wires in one render");
   for (const SceneWire& w : scene.wires) {
