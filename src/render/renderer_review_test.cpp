@@ -305,6 +305,30 @@ TEST(RenderReview, ASegmentCutToAPointByTheNearPlaneIsLeftOut) {
   EXPECT_EQ(st.endOnDiscs, 0u);
 }
 
+TEST(RenderReview, AnEndCutByTheNearPlaneKeepsItsOwnTangent) {
+  // A joint behind the near plane: both segments are cut short of it, and what shows of each
+  // ends at its cut, square (no mitre across an unseen joint). Bug (review 55): the shading
+  // tangent at each cut was still averaged with the other segment's across that joint, so the
+  // cut ends shaded as if they bent. Each segment now keeps its own tangent at a cut end.
+  const int W = 32, H = 32;
+  Scene s;
+  s.camera = perspectiveCamera();  // near 0.5
+  s.background = glm::vec4(0.0f);
+  SceneWire w;
+  w.style = WireStyle::Plain;
+  w.thickness = 2;
+  w.thicknessInPixels = true;
+  w.lines.add({{-0.3, 0.1, -2.0}, {0.0, 0.0, -0.2}, {0.4, 0.2, -3.0}});
+  s.wires.push_back(w);
+  RenderStats st;
+  const PreparedScene ps = prepareScene(s, smallOptions(W, H), st);
+  ASSERT_EQ(ps.segments.size(), 2u);
+  for (int k = 0; k < 2; ++k) EXPECT_EQ(ps.segmentShading[k].t0, ps.segmentShading[k].t1) << "segment " << k;
+  const glm::dvec3 own0 = glm::normalize(glm::dvec3(0.3, -0.1, 1.8)), own1 = glm::normalize(glm::dvec3(0.4, 0.2, -2.8));
+  EXPECT_NEAR(glm::length(glm::dvec3(ps.segmentShading[0].t1) - own0), 0.0, 1e-6);
+  EXPECT_NEAR(glm::length(glm::dvec3(ps.segmentShading[1].t0) - own1), 0.0, 1e-6);
+}
+
 TEST(RenderReview, PolylineThroughTheNearPlaneHasNoNaNAndDrawsItsFrontParts) {
   // A 3-segment polyline whose middle segment passes behind the camera (perspective): the front
   // parts are drawn, nothing is NaN, no pixel exceeds alpha 1.

@@ -461,6 +461,9 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       // Tangents at the ends: averaged with the neighbour at a joint, so a smooth curve of
       // straight segments shades smoothly, like one bent wire.
       auto jointTangent = [&](size_t jv, const glm::dvec3& own) {
+        // An end a plane moved is a cut, not the joint (which lies beyond the plane, unseen):
+        // its own tangent, as the mitre loop leaves it square.
+        if ((jv == j && s.clipped0) || (jv == j + 1 && s.clipped1)) return own;
         const SegScreen* other = nullptr;
         if (jv == j) other = j > 0 ? &segs[j - 1] : closed ? &segs[nseg - 1] : nullptr;
         if (jv == j + 1) other = j + 1 < nseg ? &segs[j + 1] : closed ? &segs[0] : nullptr;
