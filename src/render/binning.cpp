@@ -34,11 +34,6 @@ struct Footprint {
   bool empty() const { return !(x1 > x0) || !(y1 > y0); }
 };
 
-// The part [ta, tb] of a segment's axis inside the rectangle; false when none.
-bool clipAxis(const SegmentPrim& s, double rx0, double ry0, double rx1, double ry1, double& ta, double& tb) {
-  return clipLineToRect(s.p0, s.p1, rx0, ry0, rx1, ry1, ta, tb);
-}
-
 class Binner {
  public:
   // Tiles of tile rows [rowBegin, rowEnd) only (clamped to the grid).
@@ -123,7 +118,7 @@ class Binner {
         const double rx0 = tx * tile_ - reach, rx1 = (tx + 1) * tile_ + reach;
         const double ry0 = ty * tile_ - reach, ry1 = (ty + 1) * tile_ + reach;
         double ta, tb;
-        if (!clipAxis(s, rx0, ry0, rx1, ry1, ta, tb)) continue;
+        if (!clipLineToRect(s.p0, s.p1, rx0, ry0, rx1, ry1, ta, tb)) continue;
         if constexpr (!kItems) {
           f(ty * tilesX_ + tx, TileBins::Item{});
           continue;
@@ -137,7 +132,7 @@ class Binner {
         // A hair's solid reaches from the axis grown by depthReach.
         if (depthReach > reach) {
           if (!(depthReach < INFINITY)) ta = 0.0, tb = 1.0;
-          else clipAxis(s, tx * tile_ - depthReach, ty * tile_ - depthReach, (tx + 1) * tile_ + depthReach,
+          else clipLineToRect(s.p0, s.p1, tx * tile_ - depthReach, ty * tile_ - depthReach, (tx + 1) * tile_ + depthReach,
                         (ty + 1) * tile_ + depthReach, ta, tb);  // (holds the reach's clip)
         }
         const double sa = std::max(0.0, ta - slide), sb = std::min(1.0, tb + slide);

@@ -502,13 +502,14 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       ++out.count;
     }
   }
-  // The scratch grows to the longest polyline a thread has set up (about 250 bytes a point):
-  // beyond 4,096 points it is given back rather than kept for the rest of the process.
-  constexpr size_t kKeepPoints = 4096;
-  if (segs.capacity() > kKeepPoints) std::vector<SegScreen>().swap(segs);
-  if (ids.capacity() > kKeepPoints) std::vector<size_t>().swap(ids);
-  if (offsets.capacity() > kKeepPoints + 1) std::vector<glm::dvec2>().swap(offsets);
-  if (mitred.capacity() > kKeepPoints + 1) std::vector<char>().swap(mitred);
+  // The scratch grows to the longest polyline a thread has set up (about 250 bytes a point; ids
+  // holds its points): past 4,096 points it is given back rather than kept for the process's life.
+  if (ids.capacity() > 4096) {
+    std::vector<SegScreen>().swap(segs);
+    std::vector<size_t>().swap(ids);
+    std::vector<glm::dvec2>().swap(offsets);
+    std::vector<char>().swap(mitred);
+  }
 }
 
 }  // namespace wf

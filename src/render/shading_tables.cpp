@@ -96,6 +96,12 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
   // The environment is made only when a chrome material needs it.
   auto env = [&]() -> const EnvironmentMap& { return scene.environment ? *scene.environment : defaultEnvironment(); };
   int holdoutSlot = -1;  // hold-outs share one slot, which needs no tables: they are never shaded
+  // A triangle holds its slot in 16 bits (TrianglePrim::shader): refused before a slot past that
+  // is made (and its tables built).
+  auto roomForSurfaceSlot = [&] {
+    if (ps.shaders.size() > std::numeric_limits<std::uint16_t>::max())
+      throw std::length_error("more than 65,536 surface shader slots (materials, and the hold-out) in one render");
+  };
   for (const SceneSurface& s : scene.surfaces) {
     if (s.mesh.triangles.empty()) {
       surfaceShader.push_back(0);
@@ -103,6 +109,7 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
     }
     if (s.holdout) {
       if (holdoutSlot < 0) {
+        roomForSurfaceSlot();
         ShaderSlot slot;
         slot.holdout = true;
         slot.opacity = 1.0f;
@@ -116,6 +123,7 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
     const int mi = std::clamp(s.material, 0, int(scene.materials.size()) - 1);
     auto it = surfaceSlotOf.find(mi);
     if (it == surfaceSlotOf.end()) {
+      roomForSurfaceSlot();
       ShaderSlot slot;
       const Material& m = material(mi);
       const bool chrome = m.kind == Material::Kind::Chrome;
@@ -187,9 +195,6 @@ void prepareShaders(PreparedScene& ps, const Scene& scene, const RenderOptions& 
     }
     surfaceShader.push_back(it->second);
   }
-  // (A triangle holds its slot in 16 bits, TrianglePrim::shader: surface slots are all made by now.)
-  if (ps.shaders.size() > std::numeric_limits<std::uint16_t>::max() + size_t(1))
-    throw std::length_error("more than 65,536 surface shader slots (materials, and the hold-out) in one render");
   if (scene.wires.size() + ps.shaders.size() > kMaxShaders)
     throw std::length_error("more than " + std::to_string(kMaxShaders) + " wires in one render");
   for (const SceneWire& w : scene.wires) {
