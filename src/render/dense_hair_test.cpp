@@ -140,6 +140,14 @@ Scene furPatch(int W, int H, int hairs, double widthPx, double zoom = 1.0) {
   return s;
 }
 
+// RMS over every channel of every pixel of a - b.
+double rmsDiff(const ImageRGBA& a, const ImageRGBA& b) {
+  double s = 0;
+  for (size_t i = 0; i < a.pixels.size(); ++i)
+    for (int c = 0; c < 4; ++c) s += double(a.pixels[i][c] - b.pixels[i][c]) * double(a.pixels[i][c] - b.pixels[i][c]);
+  return std::sqrt(s / (4.0 * a.pixels.size()));
+}
+
 RenderOptions simplifyOptions(int W, int H, double target) {
   RenderOptions o = test::smallOptions(W, H);
   o.simplify.enabled = target > 0;
@@ -226,19 +234,13 @@ TEST(Simplification, APatternKeepsItsColours) {
 // RGBA RMS. Without the fade (fade 0) hairs switch on and off and the change is larger.
 TEST(Simplification, NoPoppingAsTheCameraMoves) {
   const int W = 96, H = 72;
-  auto rms = [](const ImageRGBA& a, const ImageRGBA& b) {
-    double s = 0;
-    for (size_t i = 0; i < a.pixels.size(); ++i)
-      for (int c = 0; c < 4; ++c) s += double(a.pixels[i][c] - b.pixels[i][c]) * double(a.pixels[i][c] - b.pixels[i][c]);
-    return std::sqrt(s / (4.0 * a.pixels.size()));
-  };
   const Scene s0 = furPatch(W, H, 20000, 0.3, 1.0), s1 = furPatch(W, H, 20000, 0.3, 1.01);
-  const double fullChange = rms(render(s0, test::smallOptions(W, H)).image, render(s1, test::smallOptions(W, H)).image);
+  const double fullChange = rmsDiff(render(s0, test::smallOptions(W, H)).image, render(s1, test::smallOptions(W, H)).image);
   RenderOptions o = simplifyOptions(W, H, 1.5);
-  const double simpleChange = rms(render(s0, o).image, render(s1, o).image);
+  const double simpleChange = rmsDiff(render(s0, o).image, render(s1, o).image);
   EXPECT_LE(simpleChange, fullChange + 0.01) << fullChange;
   o.simplify.fade = 0.0;
-  const double poppingChange = rms(render(s0, o).image, render(s1, o).image);
+  const double poppingChange = rmsDiff(render(s0, o).image, render(s1, o).image);
   EXPECT_GT(poppingChange, simpleChange) << "the fade should make a difference";
 }
 
@@ -253,17 +255,11 @@ TEST(Simplification, NoPoppingAsTheCameraMoves) {
 // measured 0.41 ... 0.59 over steps of 0.5% ... 8%. Accepted: under 0.7 (1 with the fade broken).
 TEST(Simplification, TheFadeKeepsAChangeOfLambdaFromPopping) {
   const int W = 96, H = 72;
-  auto rms = [](const ImageRGBA& a, const ImageRGBA& b) {
-    double s = 0;
-    for (size_t i = 0; i < a.pixels.size(); ++i)
-      for (int c = 0; c < 4; ++c) s += double(a.pixels[i][c] - b.pixels[i][c]) * double(a.pixels[i][c] - b.pixels[i][c]);
-    return std::sqrt(s / (4.0 * a.pixels.size()));
-  };
   const Scene s = furPatch(W, H, 20000, 0.3);
   auto changeFor = [&](double step, double fade) {
     RenderOptions a = simplifyOptions(W, H, 1.5), b = simplifyOptions(W, H, 1.5 * (1.0 + step));
     a.simplify.fade = b.simplify.fade = fade;
-    return rms(render(s, a).image, render(s, b).image);
+    return rmsDiff(render(s, a).image, render(s, b).image);
   };
   for (double step : {0.01, 0.02, 0.04}) {
     const double faded = changeFor(step, 0.25), popping = changeFor(step, 0.0);

@@ -127,6 +127,21 @@ Camera perspectiveCamera() {
   return c;
 }
 
+// One plain wire `thicknessPx` pixels wide through eye-space points (perspectiveCamera's eye is
+// the world's origin), on a clear background.
+Scene perspectiveWire(std::vector<glm::dvec3> points, double thicknessPx) {
+  Scene scene;
+  scene.camera = perspectiveCamera();
+  scene.background = glm::vec4(0.0f);
+  SceneWire w;
+  w.style = WireStyle::Plain;
+  w.thickness = thicknessPx;
+  w.thicknessInPixels = true;
+  w.lines.add(std::move(points));
+  scene.wires.push_back(w);
+  return scene;
+}
+
 TEST(RenderReview, FarEndOfARecedingWireStaysBehindANearerSurface) {
   // A Plain wire (2 px wide, colour white) nearly along the view direction from depth 1 to
   // depth 50, its vanishing point 0.3 px above its far end; an
@@ -289,15 +304,7 @@ TEST(RenderReview, ASegmentCutToAPointByTheNearPlaneIsLeftOut) {
   // length, drawn as a disc of the full width at P1. Now it is clipped away and counted so;
   // the second segment is drawn as before.
   const int W = 32, H = 32;
-  Scene s;
-  s.camera = perspectiveCamera();  // near 0.5
-  s.background = glm::vec4(0.0f);
-  SceneWire w;
-  w.style = WireStyle::Plain;
-  w.thickness = 3;
-  w.thicknessInPixels = true;
-  w.lines.add({{0.03, 0.01, -0.2}, {0.0, 0.0, -0.5}, {-0.2, 0.1, -2.0}});
-  s.wires.push_back(w);
+  const Scene s = perspectiveWire({{0.03, 0.01, -0.2}, {0.0, 0.0, -0.5}, {-0.2, 0.1, -2.0}}, 3);  // near 0.5
   RenderStats st;
   const PreparedScene ps = prepareScene(s, smallOptions(W, H), st);
   EXPECT_EQ(ps.segments.size(), 1u);
@@ -311,15 +318,7 @@ TEST(RenderReview, AnEndCutByTheNearPlaneKeepsItsOwnTangent) {
   // tangent at each cut was still averaged with the other segment's across that joint, so the
   // cut ends shaded as if they bent. Each segment now keeps its own tangent at a cut end.
   const int W = 32, H = 32;
-  Scene s;
-  s.camera = perspectiveCamera();  // near 0.5
-  s.background = glm::vec4(0.0f);
-  SceneWire w;
-  w.style = WireStyle::Plain;
-  w.thickness = 2;
-  w.thicknessInPixels = true;
-  w.lines.add({{-0.3, 0.1, -2.0}, {0.0, 0.0, -0.2}, {0.4, 0.2, -3.0}});
-  s.wires.push_back(w);
+  const Scene s = perspectiveWire({{-0.3, 0.1, -2.0}, {0.0, 0.0, -0.2}, {0.4, 0.2, -3.0}}, 2);  // near 0.5
   RenderStats st;
   const PreparedScene ps = prepareScene(s, smallOptions(W, H), st);
   ASSERT_EQ(ps.segments.size(), 2u);
@@ -329,19 +328,38 @@ TEST(RenderReview, AnEndCutByTheNearPlaneKeepsItsOwnTangent) {
   EXPECT_NEAR(glm::length(glm::dvec3(ps.segmentShading[1].t0) - own1), 0.0, 1e-6);
 }
 
+TEST(RenderReview, SurfaceMaterialsPastSixteenBitsAreRefused) {
+  // A triangle holds its shader slot in 16 bits: 65,536 surface slots render (the last of them
+  // in its own material, red), one more is refused with a clear error. Bug (review 54): slot
+  // 65,536 + k wrapped to slot k and drew in its material.
+  const int W = 8, H = 8;
+  auto scene = [&](int materials) {
+    Scene s = baseScene(W, H);
+    s.materials.assign(size_t(materials), s.materials.empty() ? Material{} : s.materials[0]);
+    for (int i = 0; i < materials; ++i) {
+      const double y = i + 1 == materials ? 1.0 : 100.0;  // the last one covers pixel (1, 1), the rest are off the image
+      s.surfaces.push_back(screenSurface({{V2(0, y), V2(4, y), V2(0, y + 4)}}, 10.0, W, H, glm::vec3(1), i));
+    }
+    for (Material& m : s.materials) m.phong.diffuse = glm::dvec3(0.0), m.phong.specular = glm::dvec3(0.0);
+    s.materials.back().phong.diffuse = glm::dvec3(1.0, 0.0, 0.0);
+    return s;
+  };
+  const RenderResult r = render(scene(65536), smallOptions(W, H));
+  EXPECT_GT(r.image.at(1, 1).x, 0.0f);
+  EXPECT_EQ(r.image.at(1, 1).y, 0.0f);
+  try {
+    render(scene(65537), smallOptions(W, H));
+    ADD_FAILURE() << "65,537 surface materials rendered";
+  } catch (const std::length_error& e) {
+    EXPECT_NE(std::string(e.what()).find("65,536 surface shader slots"), std::string::npos) << e.what();
+  }
+}
+
 TEST(RenderReview, PolylineThroughTheNearPlaneHasNoNaNAndDrawsItsFrontParts) {
   // A 3-segment polyline whose middle segment passes behind the camera (perspective): the front
   // parts are drawn, nothing is NaN, no pixel exceeds alpha 1.
   const int W = 32, H = 32;
-  Scene scene;
-  scene.camera = perspectiveCamera();
-  scene.background = glm::vec4(0.0f);
-  SceneWire w;
-  w.style = WireStyle::Plain;
-  w.thickness = 2;
-  w.thicknessInPixels = true;
-  w.lines.add({{-0.3, 0.1, -3}, {-0.1, 0.1, -1}, {0.1, -0.1, 2}, {0.3, -0.1, -3}});
-  scene.wires.push_back(w);
+  const Scene scene = perspectiveWire({{-0.3, 0.1, -3}, {-0.1, 0.1, -1}, {0.1, -0.1, 2}, {0.3, -0.1, -3}}, 2);
   const RenderResult r = render(scene, smallOptions(W, H));
   EXPECT_TRUE(allFinite(r.image));
   EXPECT_GT(sumAlpha(r.image), 5.0);
