@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -358,6 +359,14 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
                           (wire ? " segments" : " triangles") +
                           " with non-finite (NaN/Inf) or missing vertices skipped");
   }
+  // A wire whose thickness is no positive finite number draws nothing (its segments counted as
+  // clipped away): said once, by name, rather than left to the count.
+  for (const SceneWire& w : scene.wires)
+    if (!(w.thickness > 0.0 && std::isfinite(w.thickness)) && w.lines.points.size() > 1) {
+      std::ostringstream line;
+      line << "wire '" << w.name << "': thickness " << w.thickness << " is not a positive finite number; not drawn";
+      st.warnings.push_back(line.str());
+    }
   st.primitives = ps.primitiveCount();
   st.setup = secondsSince(t0) - mapSeconds;
   return ps;

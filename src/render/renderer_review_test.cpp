@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -27,18 +28,6 @@ namespace wf {
 namespace {
 
 using namespace wf::test;
-
-
-
-
-
-
-
-
-
-
-
-
 
 // ---- rasterisation: exact area ---------------------------------------------------------------
 
@@ -310,6 +299,63 @@ TEST(RenderReview, ASegmentCutToAPointByTheNearPlaneIsLeftOut) {
   EXPECT_EQ(ps.segments.size(), 1u);
   EXPECT_EQ(st.clippedAway, 1u);
   EXPECT_EQ(st.endOnDiscs, 0u);
+}
+
+TEST(RenderReview, AFreeEndBesideADroppedSegmentKeepsItsRoundCap) {
+  // A round-ended wire A B whose polyline runs on to a non-finite point at either end (NaN, A, B,
+  // NaN): the segments to it are dropped, so A and B are the wire's free ends. Its outline is
+  // the body 2 h L and two half discs, pi h^2 (the caps' polygons have the half disc's exact
+  // area), as for the polyline A B alone. Bug (review 54): only the polyline's first and last
+  // segments took caps, so both ends here were square: pi h^2 short.
+  const int W = 64, H = 32;
+  const double L = 36, h = 3;
+  const V2 A(14.3, 16.2), B(A.x + L, A.y), nan(std::nan(""), std::nan(""));
+  for (const std::vector<V2>& line : {std::vector<V2>{A, B}, std::vector<V2>{nan, A, B, nan}}) {
+    Scene s = baseScene(W, H);
+    s.wires.push_back(plainWire({line}, 2 * h, 10.0, W, H));
+    s.wires[0].roundEnds = true;
+    const RenderResult r = render(s, smallOptions(W, H));
+    EXPECT_NEAR(sumAlpha(r.image), 2 * h * L + std::numbers::pi * h * h, 1e-3 * 2 * h * L) << line.size() << " points";
+  }
+}
+
+TEST(RenderReview, AWireOfNoThicknessIsNamedInTheWarnings) {
+  // Zero, negative, NaN or infinite thickness draws nothing; the render says which wire, once.
+  const int W = 16, H = 16;
+  for (double t : {0.0, -2.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    Scene s = baseScene(W, H);
+    s.wires.push_back(plainWire({{{2, 2}, {12, 9}}}, t, 10.0, W, H));
+    s.wires[0].name = "rim";
+    const RenderResult r = render(s, smallOptions(W, H));
+    EXPECT_EQ(sumAlpha(r.image), 0.0) << t;
+    int named = 0;
+    for (const std::string& w : r.stats.warnings) named += w.find("wire 'rim': thickness") != std::string::npos;
+    EXPECT_EQ(named, 1) << t;
+  }
+  Scene fine = baseScene(W, H);
+  fine.wires.push_back(plainWire({{{2, 2}, {12, 9}}}, 1.0, 10.0, W, H));
+  EXPECT_TRUE(render(fine, smallOptions(W, H)).stats.warnings.empty());
+}
+
+TEST(RenderReview, AFarPlaneGivenAloneBeforeTheSceneKeepsNearBeforeIt) {
+  // withDepthRange fills the planes a camera leaves at 0 from the scene's bounding sphere. Bug
+  // (review 55): with far given alone and the scene wholly beyond it, near came from the sphere
+  // and lay beyond far. Now near < far always; a far plane before the scene shows nothing.
+  const int W = 16, H = 16;
+  Scene s = baseScene(W, H);  // the wire at depth 10
+  s.wires.push_back(plainWire({{{2, 2}, {12, 9}}}, 2.0, 10.0, W, H));
+  for (double far : {2.0, 3.0, 9.9, 10.5, 50.0}) {  // the sphere reaches from depth 3.8 to 16.2
+    Camera c = *s.camera;
+    c.nearPlane = 0, c.farPlane = far;
+    const Camera filled = withDepthRange(c, s);
+    EXPECT_GT(filled.nearPlane, 0.0) << far;
+    EXPECT_LT(filled.nearPlane, filled.farPlane) << far;
+    EXPECT_EQ(filled.farPlane, far);
+    EXPECT_EQ(filled.problem(), "") << far;
+    Scene t = s;
+    t.camera = c;
+    EXPECT_EQ(sumAlpha(render(t, smallOptions(W, H)).image) > 0.0, far > 10.0) << far;
+  }
 }
 
 TEST(RenderReview, AnEndCutByTheNearPlaneKeepsItsOwnTangent) {

@@ -437,9 +437,12 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
         sp.o0 = sp.o1 = glm::vec2(0.0f);
       } else {
         // Round ends: a half disc at a free end of the polyline (not at a joint, not where the
-        // near or far plane cut the segment).
-        if (wire.roundEnds && j == 0 && !s.clipped0 && !closed) sp.flags |= kSegmentCap0;
-        if (wire.roundEnds && j + 1 == nseg && !s.clipped1 && !closed) sp.flags |= kSegmentCap1;
+        // near or far plane cut the segment). An end whose neighbour was dropped (a non-finite
+        // point beyond it, a width that rounds to nothing) is free too.
+        const bool freeStart = closed ? !segs[j > 0 ? j - 1 : nseg - 1].valid : j == 0 || !segs[j - 1].valid;
+        const bool freeEnd = closed ? !segs[j + 1 < nseg ? j + 1 : 0].valid : j + 1 == nseg || !segs[j + 1].valid;
+        if (wire.roundEnds && freeStart && !s.clipped0) sp.flags |= kSegmentCap0;
+        if (wire.roundEnds && freeEnd && !s.clipped1) sp.flags |= kSegmentCap1;
         sp.o0 = glm::vec2(mitred[j] ? offsets[j] : s.nrm * s.w0);
         sp.o1 = glm::vec2(mitred[j + 1] ? offsets[j + 1] : s.nrm * s.w1);
         if (mitred[j] || mitred[j + 1]) {

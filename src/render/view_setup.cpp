@@ -41,7 +41,9 @@ Camera withDepthRange(Camera c, SceneSphere& sphere) {
     dmin = std::max(along - radius * 1.01, dmax * 1e-6);
     if (!(dmax > 0)) dmax = 1.0, dmin = 1e-6;
   }
-  if (c.nearPlane <= 0) c.nearPlane = dmin;
+  // A far plane given alone may lie before the scene's nearest point: near then stays before it
+  // (the scene lies wholly beyond far and nothing shows), so that near < far always holds.
+  if (c.nearPlane <= 0) c.nearPlane = c.farPlane > 0 ? std::min(dmin, 0.5 * c.farPlane) : dmin;
   if (c.farPlane <= 0) c.farPlane = std::max(dmax, c.nearPlane * 2);
   return c;
 }
