@@ -104,7 +104,8 @@ json statsJson(const wf::RenderStats& st, const wf::RenderOptions& o, bool refer
                            {"drawn", st.simplifiedKept},
                            {"smallest_fraction", st.simplifiedLambda},
                            {"target_width_pixels", o.simplify.targetWidth},
-                           {"note", "statistical: no per-pixel bound; wirefur accuracy measures its RMS against time"}};
+                           {"note", "statistical: no per-pixel bound; --measure-error measures it against the full render "
+                                    "(simplification off), wirefur accuracy its RMS against time"}};
   e["notes"] =
       "coverage: exact area per fragment; masks (1/N per subpixel) decide hiding where fragments "
       "overlap. occlusion_epsilon: bound per pixel of what occlusion culling leaves out. map_max / "
@@ -244,6 +245,11 @@ int runRender(const RenderCommandOptions& o) {
       rr.shading = wf::ShadingPath::Exact;
       need += 1.03 * double(wf::estimateRenderBytes(sf.scene, rr, true));
       if (sf.scene.background.w > 0.0f) need += 1.03 * double(wf::estimateRenderBytes(sf.scene, ro, false));
+      if (ro.simplify.enabled) {  // and the exact path's render (simplification off), held beside them
+        wf::RenderOptions full = ro;
+        full.simplify.enabled = false;
+        need += 1.03 * double(wf::estimateRenderBytes(sf.scene, full, false));
+      }
     }
     return need;
   }();
@@ -297,8 +303,25 @@ int runRender(const RenderCommandOptions& o) {
     const wf::RenderResult ref = wf::renderReference(sf.scene, rr);
     std::optional<wf::RenderResult> second;  // (a reference to r otherwise: no copy of its image)
     if (background.w > 0.0f) second = wf::render(sf.scene, ro);
+    // Stochastic simplification against its exact path (every hair drawn): its own share of the
+    // error, and what drawing them all costs.
+    std::optional<wf::RenderResult> full;
+    if (ro.simplify.enabled) {
+      progress.say("rendering every hair (simplification off) for the simplification's error");
+      wf::RenderOptions fo = ro;
+      fo.simplify.enabled = false;
+      full = wf::render(sf.scene, fo);
+    }
     sf.scene.background = background;
     const wf::RenderResult& mine = second ? *second : r;
+    if (full) {
+      const ImageError s = imageError(mine.image, full->image);
+      stats["error_estimate"]["simplification"]["measured_against_full"] = {{"rgba_rms", s.rms},
+                                                                            {"rgba_max", s.max},
+                                                                            {"coverage_rms", s.coverageRms},
+                                                                            {"coverage_max", s.coverageMax},
+                                                                            {"full_seconds", full->stats.total}};
+    }
     const ImageError e = imageError(mine.image, ref.image);
     stats["error_estimate"]["measured_against_reference"] = {{"reference_samples", rr.referenceSamples * rr.referenceSamples},
                                                              {"rgba_rms", e.rms},

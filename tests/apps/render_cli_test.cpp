@@ -212,6 +212,36 @@ TEST(RenderCli, SimplifyAndWireDepthOptions) {
   EXPECT_LT(e["smallest_fraction"].get<double>(), 1.0);
 }
 
+// --measure-error with --simplify: the simplification's own error, against its exact path (every
+// hair drawn) rendered beside it. RMS over the same pixels is a norm, so the three measured
+// differences (simplified and full against the reference, simplified against full) satisfy the
+// triangle inequality; and where nothing is simplified (a target width under every hair's) the
+// exact path gives the same image to the bit: zero.
+TEST(RenderCli, MeasureErrorGivesTheSimplificationsOwnError) {
+  const std::string scene = "'" + kScenes + "fur_torus.json'";
+  auto measured = [&](const std::string& name, const std::string& extra) {
+    const fs::path stats = dir() / (name + ".json");
+    const Result r = run("render " + scene + " -o '" + (dir() / (name + ".png")).string() +
+                         "' --size 160x120 --measure-error --samples 4 " + extra + " --stats '" + stats.string() + "'");
+    EXPECT_EQ(r.status, 0) << r.err;
+    return json::parse(slurp(stats))["error_estimate"];
+  };
+  const json simplified = measured("simplified", "--simplify 3"), full = measured("full", ""),
+             none = measured("none_simplified", "--simplify 0.1");
+  ASSERT_TRUE(simplified["simplification"]["measured_against_full"].is_object()) << simplified.dump();
+  EXPECT_FALSE(full.contains("simplification"));
+  const double a = simplified["measured_against_reference"]["rgba_rms"].get<double>();
+  const double b = full["measured_against_reference"]["rgba_rms"].get<double>();
+  const double c = simplified["simplification"]["measured_against_full"]["rgba_rms"].get<double>();
+  EXPECT_GT(c, 1e-4) << "fur_torus at 160x120 is dense enough that hairs are thinned out";
+  EXPECT_LE(std::abs(a - b), c * (1 + 1e-9) + 1e-12);
+  EXPECT_LE(c, (a + b) * (1 + 1e-9) + 1e-12);
+  EXPECT_GT(simplified["simplification"]["measured_against_full"]["full_seconds"].get<double>(), 0.0);
+  EXPECT_EQ(none["simplification"]["smallest_fraction"].get<double>(), 1.0);
+  EXPECT_EQ(none["simplification"]["measured_against_full"]["rgba_rms"].get<double>(), 0.0);
+  EXPECT_EQ(none["simplification"]["measured_against_full"]["coverage_max"].get<double>(), 0.0);
+}
+
 // NaN / Inf vertices (a binary STL, where they survive the reader): the bad triangles and the
 // wire segments touching them are skipped with one warning line per object naming the file,
 // and the rest renders.
