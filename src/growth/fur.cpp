@@ -13,6 +13,7 @@
 #include "growth/fur.h"
 
 #include "core/hash.h"
+#include "core/numeric.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -41,7 +42,6 @@ constexpr std::uint64_t kStreamHair = 0x6861697261747472ull;
 constexpr std::uint64_t kStreamCellCount = 0x63656c6c636f756eull;
 constexpr std::uint64_t kStreamClump = 0x636c756d70637472ull;
 
-constexpr double kTwoPi = 6.283185307179586476925;
 constexpr int kMaxSegments = 64;
 constexpr int kMaxRejectionTries = 32;     // per area-correct root; see placeCellRoot
 constexpr double kMaxWeightMargin = 1.25;  // the sampled maximum of |Su x Sv| over a cell, widened
@@ -60,7 +60,6 @@ class RootRandom {
   std::uint64_t key_;
 };
 
-bool finite3(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 double maxAbs(const glm::dvec3& v) { return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}); }
 glm::dvec3 unitOrZero(const glm::dvec3& v) {
   const double l = glm::length(v);

@@ -1,6 +1,7 @@
 #include "growth/scales.h"
 
 #include "core/hash.h"
+#include "core/numeric.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -12,10 +13,6 @@
 
 namespace wf {
 namespace {
-
-bool finite3(const glm::dvec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
 
 /// One scale before compaction: its four vertices (root, right, tip, left) and what they share.
 struct ScaleSlot {

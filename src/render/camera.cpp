@@ -1,15 +1,11 @@
 #include "render/camera.h"
 
+#include "core/numeric.h"
+
 #include <algorithm>
 #include <cmath>
 
 namespace wf {
-
-namespace {
-bool finite3(const glm::dvec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
-}  // namespace
 
 std::string Camera::problem() const {
   if (!finite3(eye) || !finite3(target) || !finite3(up)) return "non-finite eye, target or up";

@@ -30,6 +30,7 @@
 #include "abuffer/coverage_mask.h"
 #include "abuffer/screen_polygon.h"
 #include "core/hash.h"
+#include "core/numeric.h"
 #include "core/timer.h"  // secondsSince, for the stages' timings
 #include "render/renderer.h"
 #include "shading/cylinder_lobe.h"
@@ -837,7 +838,6 @@ inline bool shadingVariesInPixel(const PreparedScene& ps, std::uint32_t i) {
 
 // ---- helpers the stages share ------------------------------------------------------------
 
-inline bool finite3(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 /// Colours and opacities from the scene: NaN / Inf / negative would reach the image.
 inline glm::vec3 safeColour(const glm::vec3& c) {
   auto f = [](float v) { return std::isfinite(v) ? std::max(v, 0.0f) : 0.0f; };

@@ -15,6 +15,7 @@
 #include "render/pipeline.h"
 
 #include "core/fast_atan2.h"
+#include "core/numeric.h"
 
 #include "shading/cylinder_lobe.h"
 #include "texture/bump.h"
@@ -27,8 +28,6 @@
 namespace wf {
 
 namespace {
-
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 glm::dvec3 anyPerpendicular(const glm::dvec3& n) {
   const glm::dvec3 a = std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);

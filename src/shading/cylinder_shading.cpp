@@ -1,5 +1,6 @@
 #include "shading/cylinder_shading.h"
 
+#include "core/numeric.h"
 #include "shading/cylinder_lobe.h"
 #include "core/fast_atan2.h"
 #include "shading/quadrature.h"
@@ -13,7 +14,6 @@
 namespace wf {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kHalfPi = std::numbers::pi / 2;
 
 // Below this sin(angle(T, V)) the cylinder counts as seen end-on. The end-on value is the mean
@@ -24,10 +24,6 @@ constexpr double kEndOnSin = 1e-9;
 // below rounding noise). The true value jumps there (the specular limit of a grazing light from
 // behind is not 0), so the decision is made at a fixed threshold, not by rounding noise.
 constexpr double kAxisLightSin = 1e-12;
-
-bool finite3(const glm::dvec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
 
 // Per light, everything the cylinder integral depends on.
 struct LightTerms {

@@ -1,13 +1,13 @@
 #include "shading/environment_map.h"
 
+#include "core/numeric.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
 namespace wf {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 uint32_t hash32(uint32_t x) {  // integer finaliser (Murmur3 style mixing constants)
   x ^= x >> 16;

@@ -1,15 +1,13 @@
 #include "shading/light.h"
 
+#include "core/numeric.h"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 
 namespace wf {
 namespace {
-
-bool finite3(const glm::dvec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
 
 glm::dvec3 clampIntensity(const glm::dvec3& c) {
   glm::dvec3 r;

@@ -1,5 +1,7 @@
 #include "surface/mesh_surface.h"
 
+#include "core/numeric.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -8,10 +10,6 @@
 #include <sstream>
 
 namespace wf {
-
-namespace {
-bool finite(const glm::dvec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
-}  // namespace
 
 MeshSurface::MeshSurface(std::vector<glm::dvec3> positions, std::vector<glm::dvec2> uvs,
                          const std::vector<glm::uvec3>& triangles, int gridCells)

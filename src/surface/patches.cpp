@@ -2,6 +2,8 @@
 // docs/surfaces.md for the overview.
 #include "surface/patches.h"
 
+#include "core/numeric.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -12,12 +14,6 @@ namespace wf {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-
-bool finite(double x) { return std::isfinite(x); }
-bool finite(const glm::dvec2& p) { return std::isfinite(p.x) && std::isfinite(p.y); }
-bool finite(const glm::dvec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
 bool positive(double x) { return x > 0 && std::isfinite(x); }
 
 /// A parameter mapped into [lo, hi]: NaN / Inf to the centre, wrapped where periodic (hi itself

@@ -23,6 +23,8 @@
 //     an orthonormal basis. Nothing is ever NaN: non-finite P, Su, Sv from evaluate are zeroed.
 #include "surface/surface.h"
 
+#include "core/numeric.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -30,7 +32,6 @@ namespace wf {
 
 namespace {
 
-bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 glm::dvec3 finiteOrZero(const glm::dvec3& v) { return finite(v) ? v : glm::dvec3(0.0); }
 
 // Length without overflow or underflow for any finite vector.

@@ -1,16 +1,10 @@
 #include "texture/bump.h"
 
+#include "core/numeric.h"
+
 #include <cmath>
 
 namespace wf {
-namespace {
-
-bool finite3(const glm::dvec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
-
-}  // namespace
-
 glm::dvec3 bumpNormal(const glm::dvec3& N, const glm::dvec3& Su, const glm::dvec3& Sv,
                       glm::dvec2 heightGradient, double scale) {
   const bool derivativesFinite = finite3(Su) && finite3(Sv);

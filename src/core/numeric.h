@@ -1,0 +1,22 @@
+// Finiteness checks and the circle's constants that every stage uses, defined once: each file
+// had its own copy in an anonymous namespace, which also kept files from sharing a translation
+// unit (a unity build: CMAKE_UNITY_BUILD).
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cmath>
+#include <numbers>
+
+namespace wf {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+inline bool finite(double x) { return std::isfinite(x); }
+inline bool finite(const glm::dvec2& p) { return std::isfinite(p.x) && std::isfinite(p.y); }
+inline bool finite(const glm::dvec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
+/// finite(v) for a 3-vector, under the name most stages use.
+inline bool finite3(const glm::dvec3& v) { return finite(v); }
+
+}  // namespace wf
