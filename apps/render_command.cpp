@@ -232,8 +232,9 @@ int runRender(const RenderCommandOptions& o) {
   // The memory the whole command will hold at its peak, refused before anything large is
   // allocated: what it holds now (the program, its libraries and the scene it read), the render
   // (renderer.h, estimateRenderBytes: image, tile buffers, primitives, bins, tables), the 8-bit
-  // copy the PNG is encoded from, and with --measure-error the reference and the second render
-  // over a transparent background, held at once. An upper bound on the peak resident memory
+  // copy the PNG is encoded from, and with --measure-error the reference, the second render
+  // over a transparent background and, with --simplify, the render of every hair, held at once
+  // (a bound: each render's working memory is counted whole, though only its image outlives it). An upper bound on the peak resident memory
   // (tests/apps: MemoryEstimateBoundsThePeak).
   const double memoryEstimate = [&] {
     // (Plus what no count here sees: libpng's and zlib's buffers, the threads' stacks, the
@@ -243,6 +244,7 @@ int runRender(const RenderCommandOptions& o) {
     if (o.measureError && !o.reference) {
       wf::RenderOptions rr = ro;
       rr.shading = wf::ShadingPath::Exact;
+      rr.simplify.enabled = false;  // (the reference draws every hair)
       need += 1.03 * double(wf::estimateRenderBytes(sf.scene, rr, true));
       if (sf.scene.background.w > 0.0f) need += 1.03 * double(wf::estimateRenderBytes(sf.scene, ro, false));
       if (ro.simplify.enabled) {  // and the exact path's render (simplification off), held beside them
@@ -260,7 +262,7 @@ int runRender(const RenderCommandOptions& o) {
     std::snprintf(budget, sizeof budget, "%.3g GiB", double(ro.memoryBudget) / double(1 << 30));
     throw UsageError("render: " + (o.input.empty() ? std::string("built-in scene") : o.input) + ": image of " +
                      std::to_string(ro.width) + "x" + std::to_string(ro.height) + " needs about " + need +
-                     (o.measureError ? " with the reference of --measure-error" : "") + ", over the memory budget of " +
+                     (o.measureError ? " with the renders of --measure-error" : "") + ", over the memory budget of " +
                      budget + " (--memory-budget; half the machine's memory by default)");
   }
   progress.say("rendering " + (o.input.empty() ? std::string("the built-in scene") : o.input) + " at " +
@@ -296,6 +298,9 @@ int runRender(const RenderCommandOptions& o) {
     progress.say("rendering the brute-force reference for the error measurement");
     wf::RenderOptions rr = ro;
     rr.shading = wf::ShadingPath::Exact;
+    // The truth draws every hair: with --simplify, what is measured is the whole error, the
+    // simplification's included (its own share against the full render below).
+    rr.simplify.enabled = false;
     // Compared over a transparent background, so that alpha is the coverage itself.
     // (The scene's own background set aside and put back: no copy of its meshes and hairs.)
     const glm::vec4 background = sf.scene.background;
@@ -303,8 +308,8 @@ int runRender(const RenderCommandOptions& o) {
     const wf::RenderResult ref = wf::renderReference(sf.scene, rr);
     std::optional<wf::RenderResult> second;  // (a reference to r otherwise: no copy of its image)
     if (background.w > 0.0f) second = wf::render(sf.scene, ro);
-    // Stochastic simplification against its exact path (every hair drawn): its own share of the
-    // error, and what drawing them all costs.
+    // Stochastic simplification against its exact path (every hair drawn, the same shading
+    // path): its own share of the error, and what drawing them all costs.
     std::optional<wf::RenderResult> full;
     if (ro.simplify.enabled) {
       progress.say("rendering every hair (simplification off) for the simplification's error");

@@ -317,6 +317,18 @@ TEST(RenderReview, AFreeEndBesideADroppedSegmentKeepsItsRoundCap) {
     const RenderResult r = render(s, smallOptions(W, H));
     EXPECT_NEAR(sumAlpha(r.image), 2 * h * L + std::numbers::pi * h * h, 1e-3 * 2 * h * L) << line.size() << " points";
   }
+  // A neighbour the near plane took is no such case (review 56): Q before the plane (depth 0.5),
+  // P on it (depth 1, the camera's near), R behind. Q P is cut to the point P and dropped; P R
+  // starts on the plane, where the wire is cut: square there, round only at its free end R.
+  Scene cut = baseScene(W, H);
+  cut.wires.push_back(plainWire({{V2(10, 16), V2(14, 16), V2(50, 16)}}, 2 * h, 10.0, W, H));
+  cut.wires[0].lines.points[0].z = 9.5, cut.wires[0].lines.points[1].z = 9.0;  // view depths 0.5 and 1
+  cut.wires[0].roundEnds = true;
+  RenderStats st;
+  const PreparedScene ps = prepareScene(cut, smallOptions(W, H), st);
+  ASSERT_EQ(ps.segments.size(), 1u);
+  EXPECT_FALSE(ps.segments[0].flags & kSegmentCap0) << "a cap where the near plane cuts the wire";
+  EXPECT_TRUE(ps.segments[0].flags & kSegmentCap1);
 }
 
 TEST(RenderReview, AWireOfNoThicknessIsNamedInTheWarnings) {

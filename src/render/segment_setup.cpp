@@ -20,6 +20,10 @@ namespace {
 // Screen-space state of one wire segment during set-up.
 struct SegScreen {
   bool valid = false, endOn = false;
+  /// Dropped for a reason that leaves its neighbours' ends free (a non-finite point, a width that
+  /// rounds to nothing): they take round caps there. One the near or far plane took, or one of
+  /// no length in eye space, leaves them cut or joined, not free.
+  bool freesNeighbours = false;
   bool clipped0 = false, clipped1 = false;
   glm::dvec2 p0, p1;      // screen
   double d0 = 0, d1 = 0;  // depths
@@ -307,6 +311,7 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       const glm::dvec3 &w0 = L.points[ids[j]], &w1 = L.points[ids[j + 1]];
       if (!finite3(w0) || !finite3(w1)) {
         ++counts.rejected;
+        s.freesNeighbours = true;
         continue;
       }
       glm::dvec3 e0 = view.toEye(w0), e1 = view.toEye(w1);
@@ -366,6 +371,7 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       if (!std::isfinite(s.length) || !(float(s.w0) > 0) || !(float(s.w1) > 0) || !std::isfinite(float(s.w0)) ||
           !std::isfinite(float(s.w1)) || !std::isfinite(float(s.d1)) || !std::isfinite(float(s.d0))) {
         ++counts.clipped;
+        s.freesNeighbours = true;
         continue;
       }
       s.endOn = s.length < std::max(s.w0, s.w1);
@@ -437,10 +443,11 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
         sp.o0 = sp.o1 = glm::vec2(0.0f);
       } else {
         // Round ends: a half disc at a free end of the polyline (not at a joint, not where the
-        // near or far plane cut the segment). An end whose neighbour was dropped (a non-finite
-        // point beyond it, a width that rounds to nothing) is free too.
-        const bool freeStart = closed ? !segs[j > 0 ? j - 1 : nseg - 1].valid : j == 0 || !segs[j - 1].valid;
-        const bool freeEnd = closed ? !segs[j + 1 < nseg ? j + 1 : 0].valid : j + 1 == nseg || !segs[j + 1].valid;
+        // near or far plane cut the segment). An end whose neighbour was dropped for a
+        // non-finite point beyond it or a width that rounds to nothing is free too; one whose
+        // neighbour a plane took lies on that plane or beyond it: a cut, square.
+        const bool freeStart = closed ? segs[j > 0 ? j - 1 : nseg - 1].freesNeighbours : j == 0 || segs[j - 1].freesNeighbours;
+        const bool freeEnd = closed ? segs[j + 1 < nseg ? j + 1 : 0].freesNeighbours : j + 1 == nseg || segs[j + 1].freesNeighbours;
         if (wire.roundEnds && freeStart && !s.clipped0) sp.flags |= kSegmentCap0;
         if (wire.roundEnds && freeEnd && !s.clipped1) sp.flags |= kSegmentCap1;
         sp.o0 = glm::vec2(mitred[j] ? offsets[j] : s.nrm * s.w0);
