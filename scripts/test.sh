@@ -45,7 +45,7 @@ case "$sanitize" in
 esac
 if [ -n "$sanitize" ] && [ "$sanitize" != "0" ]; then
   echo "== ${what} under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/), from ${SECONDS} s =="
-  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" -DWIREFUR_SANITIZE=ON -DWIREFUR_BUILD_BENCH=OFF -DWIREFUR_WRAP_PYTHON=OFF "${parts[@]}" >/dev/null
+  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" -DWIREFUR_SANITIZE=ON -DWIREFUR_UNITY_BUILD=ON -DWIREFUR_BUILD_BENCH=OFF -DWIREFUR_WRAP_PYTHON=OFF "${parts[@]}" >/dev/null
   if ! cmake --build build-asan -j"$jobs" >build-asan/build.log 2>&1; then
     grep -E -B2 -A8 "error|Error" build-asan/build.log | tail -60
     echo "test.sh: the sanitizer build failed (build-asan/build.log)" >&2
