@@ -130,6 +130,83 @@ TEST(HiddenLines, DashAndGapLengthsAreTheRequestAndRunOnAcrossJoints) {
   EXPECT_LT(worst, 0.5) << "dash / gap length off the request (px)";
 }
 
+// A closed loop's dash pattern runs on across its first point. A square of side 1.23 (246 px)
+// behind a plane, its first point in the middle of the bottom side; dashes 8 and gaps 5 px:
+// the loop is 984 px, 75.7 periods, so the pattern is stretched to 76 (by 988 / 984). Before,
+// it stopped 9 px into its 76th period and began again: a gap of 1 px instead of 5 at the
+// first point. Now every gap along the bottom side, across the seam too, is 5 x 988 / 984
+// within 0.5 px, and the spans of the set-up say the same in closed form: each advances by its
+// screen length times the stretch, the next starts where it ends (modulo a period), and the last
+// ends on a whole period. An open polyline through the same points keeps the stretch 1.
+TEST(HiddenLines, AClosedLoopsDashesRunOnAcrossItsFirstPoint) {
+  Scene scene = blackScene();
+  TriangleMesh plane;
+  plane.positions = {{-2, -1, 0}, {2, -1, 0}, {2, 1, 0}, {-2, 1, 0}};
+  plane.triangles = {{0, 1, 2}, {0, 2, 3}};
+  scene.surfaces.push_back({"plane", plane, 0});
+  const double a = 0.615;  // half the side: 123 px
+  auto loop = [&](bool closed) {
+    PolylineSet lines;
+    std::vector<glm::dvec3> p = {{0, -a, -0.5}, {a, -a, -0.5}, {a, a, -0.5}, {-a, a, -0.5}, {-a, -a, -0.5}};
+    if (closed) p.push_back(p.front());
+    lines.add(p);
+    return lines;
+  };
+  HiddenLines h;
+  h.mode = HiddenLines::Mode::Dashed;
+  h.dash = 8.0;
+  h.gap = 5.0;
+  const double period = h.dash + h.gap, perimeter = 8 * a * 200.0, stretch = std::round(perimeter / period) * period / perimeter;
+  ASSERT_NEAR(stretch, 988.0 / 984.0, 1e-12);
+  Camera cam;
+  cam.projection = Camera::Projection::Orthographic;
+  cam.eye = {0, 0, 5};
+  cam.target = {0, 0, 0};
+  cam.up = {0, 1, 0};
+  cam.orthoHeight = 1.5;
+  cam.nearPlane = 1;
+  cam.farPlane = 10;
+  scene.camera = cam;
+  RenderOptions o;
+  o.width = 400;  // 200 px per world unit
+  o.height = 300;
+  for (bool closed : {true, false}) {
+    Scene s = scene;
+    s.wires.push_back(plainWire(loop(closed), h, 3.0));
+    RenderStats st;
+    const PreparedScene ps = prepareScene(s, o, st);
+    ASSERT_EQ(ps.dashSpan.size(), closed ? 5u : 4u);
+    for (size_t j = 0; j < ps.segments.size(); ++j) {
+      const glm::vec2 sp = ps.dashSpan[j];
+      const double length = glm::length(ps.segments[j].p1 - ps.segments[j].p0);
+      EXPECT_NEAR(sp.y - sp.x, length * (closed ? stretch : 1.0), 2e-3) << "segment " << j;
+      if (j + 1 < ps.segments.size()) EXPECT_NEAR(ps.dashSpan[j + 1].x, std::fmod(double(sp.y), period), 2e-3) << j;
+    }
+    if (closed) {
+      const double end = std::fmod(double(ps.dashSpan.back().y), period);
+      EXPECT_NEAR(std::min(end, period - end), 0.0, 2e-3) << "the loop ends on a whole period";
+    }
+  }
+  scene.wires.push_back(plainWire(loop(true), h, 3.0));
+  const RenderResult r = render(scene, o);
+  const int row = 150 + 123;  // the bottom side's axis: y = -a, 123 px below the centre row
+  std::vector<double> ups, downs;
+  for (int x = 90; x < 310; ++x) {  // the bottom side, clear of its corners at x = 77 and 323
+    const double va = r.image.at(x, row).x, vb = r.image.at(x + 1, row).x;
+    if ((va < 0.5) != (vb < 0.5)) (va < 0.5 ? ups : downs).push_back(x + 0.5 + (0.5 - va) / (vb - va));
+  }
+  ASSERT_GE(downs.size(), 12u);
+  int gaps = 0;
+  double worst = 0;
+  for (double d : downs) {
+    const auto u = std::upper_bound(ups.begin(), ups.end(), d);
+    if (u == ups.end()) continue;
+    worst = std::max(worst, std::abs(*u - d - h.gap * stretch)), ++gaps;
+  }
+  EXPECT_GE(gaps, 12);
+  EXPECT_LT(worst, 0.5) << "a gap off 5 px along the bottom side, the first point at x = 200";
+}
+
 // A box inside a box that it pierces, both hold-outs (hidden-line removal: faces hide, draw
 // nothing), with both boxes' edges as red wire. The render with hidden edges hidden (Hide) and
 // the one with them drawn at full opacity (Ghost 1) must show each edge pixel as the exact depth

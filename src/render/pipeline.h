@@ -256,9 +256,11 @@ struct PreparedScene {
   /// Per segment, or empty when every segment's colour is 1 at both ends (wireKeepsColours):
   /// 24 bytes a segment that most dense scenes (one colour a wire, shaded) do without.
   PodVector<SegmentColours> segmentColours;
-  /// Per segment, the dash pattern's phase at p0 (pixels, HiddenLines::Dashed): empty unless a
-  /// wire draws dashed hidden lines.
-  PodVector<float> dashPhase;
+  /// Per segment, where the dash pattern stands at p0 and at p1 (pixels of the pattern,
+  /// HiddenLines::Dashed; linear between): empty unless a wire draws dashed hidden lines. Along
+  /// an open polyline the pattern advances with the screen arc length; around a closed one it is
+  /// stretched to a whole number of periods, so that it runs on across the seam.
+  PodVector<glm::vec2> dashSpan;
   bool anyXray = false;  ///< some wire draws its hidden parts (HiddenLines::drawn)
   /// Some wire rests on a surface (ShaderSlot::restsOnSurface): without one, and without an
   /// x-ray wire, a segment culled whole in a tile is passed over without reading its shader.
@@ -429,9 +431,9 @@ inline double wireDepthScale(const ViewTransform& v, const glm::dvec3& e, const 
   return wireDepthScale(v, e, glm::length(e), wireUnitAxis(axis));
 }
 
-/// Whether prepareScene keeps a dash phase for every segment (PreparedScene::dashPhase): some
+/// Whether prepareScene keeps a dash span for every segment (PreparedScene::dashSpan): some
 /// wire draws its hidden parts dashed.
-inline bool keepsDashPhases(const Scene& scene) {
+inline bool keepsDashSpans(const Scene& scene) {
   for (const SceneWire& w : scene.wires)
     if (w.hidden.mode == HiddenLines::Mode::Dashed) return true;
   return false;
@@ -889,7 +891,7 @@ struct SegmentSink {
   SegmentShading* shading;
   SegmentColours* colours = nullptr;  ///< PreparedScene::segmentColours, when kept
   size_t count = 0;
-  float* dashPhase = nullptr;  ///< PreparedScene::dashPhase, when kept
+  glm::vec2* dashSpan = nullptr;  ///< PreparedScene::dashSpan, when kept
 };
 /// Triangles [begin, end) of a surface: clipped to near / far, projected, depth plane, attributes.
 void setupTriangles(const PreparedScene& ps, const SceneSurface& surf, std::uint32_t surfaceIndex,

@@ -398,11 +398,22 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       offsets[nseg] = offsets[0];
       mitred[0] = mitred[nseg] = 1;
     }
-    // Dashed hidden lines: the pattern's phase at each segment's start, from the screen arc
+    // Dashed hidden lines: where the pattern stands at each segment's ends, from the screen arc
     // length of the polyline before it: segments off screen count too, so the pattern does not
     // jump as they come into view; a segment cut by the near or far plane counts its part
-    // between them, and one wholly beyond them or degenerate counts nothing.
+    // between them, and one wholly beyond them or degenerate counts nothing. Around a closed
+    // polyline the pattern is stretched (or shrunk, by at most a quarter from two periods up)
+    // to the whole number of periods nearest its length, so that the last dash runs on into
+    // the first at the seam instead of a piece of one meeting a whole one.
     const double dashPeriod = slot.hidden.dash + slot.hidden.gap;
+    double dashStretch = 1.0;
+    if (out.dashSpan && closed && dashPeriod > 0.0) {
+      double loop = 0.0;
+      for (const SegScreen& s : segs)
+        if (s.valid) loop += s.length;
+      const double periods = std::round(loop / dashPeriod);
+      if (periods >= 1.0 && loop > 0.0 && std::isfinite(loop)) dashStretch = periods * dashPeriod / loop;
+    }
     double arc = 0.0;
     const std::uint32_t tag = tagBase + std::uint32_t(li);
     size_t pieces = 0;
@@ -410,8 +421,8 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
     for (size_t j = 0; j < nseg; ++j) {
       const SegScreen& s = segs[j];
       if (!s.valid) continue;
-      const double arcHere = arc;
-      if (out.dashPhase) arc = std::fmod(arc + s.length, dashPeriod);  // (finite: checked above)
+      const double arcHere = arc, arcThere = arc + s.length * dashStretch;
+      if (out.dashSpan) arc = std::fmod(arcThere, dashPeriod);  // (finite: checked above)
       SegmentPrim sp;
       sp.p0 = s.p0;
       sp.p1 = s.p1;
@@ -508,7 +519,7 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       out.shading[out.count] = sh;
       if (out.colours) out.colours[out.count] = cl;
       else if (keepsColours) noRoomForColours(wire);
-      if (out.dashPhase) out.dashPhase[out.count] = float(arcHere);
+      if (out.dashSpan) out.dashSpan[out.count] = glm::vec2(float(arcHere), float(arcThere));
       ++out.count;
     }
   }

@@ -106,10 +106,10 @@ TEST(RobustMemory, SceneSharePrimitivesCountInTheEstimate) {
   EXPECT_NO_THROW(render(tinyScene(), o));
 }
 
-// A wire drawn with dashed hidden lines makes prepareScene keep a dash phase (a float) for every
-// segment of the scene (PreparedScene::dashPhase): the estimate counts them, per segment of every
+// A wire drawn with dashed hidden lines makes prepareScene keep a dash span (two floats) for every
+// segment of the scene (PreparedScene::dashSpan): the estimate counts them, per segment of every
 // wire (it did not before), and nothing for a scene without a dashed wire.
-TEST(RobustMemory, DashPhasesCountInTheEstimate) {
+TEST(RobustMemory, DashSpansCountInTheEstimate) {
   RenderOptions o;
   o.width = o.height = 64;
   o.threads = 1;  // one tile buffer
@@ -125,7 +125,7 @@ TEST(RobustMemory, DashPhasesCountInTheEstimate) {
   dashed.wires[0].hidden.mode = HiddenLines::Mode::Dashed;
   const size_t xray = size_t(32) * 32 * TileABuffer::xrayBytesPerPixel();
   EXPECT_EQ(estimateRenderBytes(ghost, o) - estimateRenderBytes(plain, o), xray);
-  EXPECT_EQ(estimateRenderBytes(dashed, o) - estimateRenderBytes(ghost, o), 8000 * sizeof(float));
+  EXPECT_EQ(estimateRenderBytes(dashed, o) - estimateRenderBytes(ghost, o), 8000 * sizeof(glm::vec2));
 }
 
 // Within the budget a large image renders, and the estimate is honest: within a factor 2 of what
