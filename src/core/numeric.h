@@ -1,10 +1,11 @@
-// Finiteness checks and the circle's constants that every stage uses, defined once: each file
+// Finiteness checks, the largest component and the circle's constants that stages share, defined once: each file
 // had its own copy in an anonymous namespace, which also kept files from sharing a translation
 // unit (a unity build: CMAKE_UNITY_BUILD).
 #pragma once
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -18,5 +19,7 @@ inline bool finite(const glm::dvec2& p) { return std::isfinite(p.x) && std::isfi
 inline bool finite(const glm::dvec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
 /// finite(v) for a 3-vector, under the name most stages use.
 inline bool finite3(const glm::dvec3& v) { return finite(v); }
+/// The largest absolute component: a scale that cannot overflow as a length can.
+inline double maxAbs(const glm::dvec3& v) { return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}); }
 
 }  // namespace wf

@@ -60,7 +60,6 @@ class RootRandom {
   std::uint64_t key_;
 };
 
-double maxAbs(const glm::dvec3& v) { return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}); }
 glm::dvec3 unitOrZero(const glm::dvec3& v) {
   const double l = glm::length(v);
   return l > 0 && std::isfinite(l) ? v / l : glm::dvec3(0.0);

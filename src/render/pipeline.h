@@ -256,10 +256,11 @@ struct PreparedScene {
   /// Per segment, or empty when every segment's colour is 1 at both ends (wireKeepsColours):
   /// 24 bytes a segment that most dense scenes (one colour a wire, shaded) do without.
   PodVector<SegmentColours> segmentColours;
-  /// Per segment, where the dash pattern stands at p0 and at p1 (pixels of the pattern,
-  /// HiddenLines::Dashed; linear between): empty unless a wire draws dashed hidden lines. Along
-  /// an open polyline the pattern advances with the screen arc length; around a closed one it is
-  /// stretched to a whole number of periods, so that it runs on across the seam.
+  /// Per segment, for dashed hidden lines (HiddenLines::Dashed; empty unless a wire draws them):
+  /// x, where the dash pattern stands at p0 (pixels of the pattern); y, the pattern's pixels a
+  /// screen pixel along the segment, less 1. Along an open polyline y is 0 (the pattern advances
+  /// with the screen arc length); around a closed one the pattern is scaled to a whole number of
+  /// periods, so that it runs on across the seam (segment_setup.cpp).
   PodVector<glm::vec2> dashSpan;
   bool anyXray = false;  ///< some wire draws its hidden parts (HiddenLines::drawn)
   /// Some wire rests on a surface (ShaderSlot::restsOnSurface): without one, and without an

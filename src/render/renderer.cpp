@@ -431,7 +431,8 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
                 float factor = slot.hidden.ghost;
                 if (dashed) {
                   const double t = fr.length > 0 ? std::clamp(fr.t(pc.cx, pc.cy), 0.0, 1.0) : 0.0;
-                  factor = dashCoverage(span.x + t * (double(span.y) - double(span.x)), slot.hidden.dash, slot.hidden.gap);
+                  const double along = t * fr.length;  // screen pixels from p0
+                  factor = dashCoverage(span.x + along + along * double(span.y), slot.hidden.dash, slot.hidden.gap);
                 }
                 buf.insertXray(pc.x - tx0, pc.y - ty0, fragmentOf(pc), factor, pc.subpixel);
               };

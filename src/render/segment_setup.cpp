@@ -20,9 +20,9 @@ namespace {
 // Screen-space state of one wire segment during set-up.
 struct SegScreen {
   bool valid = false, endOn = false;
-  /// Dropped for a reason that leaves its neighbours' ends free (a non-finite point, a width that
-  /// rounds to nothing): they take round caps there. One the near or far plane took, or one of
-  /// no length in eye space, leaves them cut or joined, not free.
+  /// Dropped for a reason that leaves its neighbours' ends free (a non-finite point, in the world
+  /// or once in eye space; a width that rounds to nothing): they take round caps there. One the
+  /// near or far plane took, or one of no length in eye space, leaves them cut or joined, not free.
   bool freesNeighbours = false;
   bool clipped0 = false, clipped1 = false;
   glm::dvec2 p0, p1;      // screen
@@ -317,6 +317,7 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       glm::dvec3 e0 = view.toEye(w0), e1 = view.toEye(w1);
       if (!finite3(e0) || !finite3(e1) || e0 == e1) {
         ++counts.zeroLength;
+        s.freesNeighbours = !finite3(e0) || !finite3(e1);  // overflowed in eye space: as a non-finite point
         continue;
       }
       ++counts.segments;
@@ -398,21 +399,22 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       offsets[nseg] = offsets[0];
       mitred[0] = mitred[nseg] = 1;
     }
-    // Dashed hidden lines: where the pattern stands at each segment's ends, from the screen arc
+    // Dashed hidden lines: where the pattern stands at each segment's start, from the screen arc
     // length of the polyline before it: segments off screen count too, so the pattern does not
     // jump as they come into view; a segment cut by the near or far plane counts its part
     // between them, and one wholly beyond them or degenerate counts nothing. Around a closed
-    // polyline the pattern is stretched (or shrunk, by at most a quarter from two periods up)
-    // to the whole number of periods nearest its length, so that the last dash runs on into
-    // the first at the seam instead of a piece of one meeting a whole one.
+    // polyline whose seam shows (its first and last segments kept) the pattern is scaled to
+    // the whole number of periods nearest its length (dashes and gaps longer or shorter on
+    // screen, by at most a quarter from two periods up), so that the last dash runs on into the
+    // first at the seam instead of a piece of one meeting a whole one.
     const double dashPeriod = slot.hidden.dash + slot.hidden.gap;
-    double dashStretch = 1.0;
-    if (out.dashSpan && closed && dashPeriod > 0.0) {
+    double dashScale = 1.0;  // pixels of the pattern a pixel of the screen
+    if (out.dashSpan && closed && dashPeriod > 0.0 && segs.front().valid && segs.back().valid) {
       double loop = 0.0;
       for (const SegScreen& s : segs)
         if (s.valid) loop += s.length;
-      const double periods = std::round(loop / dashPeriod);
-      if (periods >= 1.0 && loop > 0.0 && std::isfinite(loop)) dashStretch = periods * dashPeriod / loop;
+      const double periods = std::round(loop / dashPeriod), scale = periods * dashPeriod / loop;
+      if (periods >= 1.0 && std::isfinite(periods) && std::isfinite(scale) && scale > 0.0) dashScale = scale;
     }
     double arc = 0.0;
     const std::uint32_t tag = tagBase + std::uint32_t(li);
@@ -421,8 +423,8 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
     for (size_t j = 0; j < nseg; ++j) {
       const SegScreen& s = segs[j];
       if (!s.valid) continue;
-      const double arcHere = arc, arcThere = arc + s.length * dashStretch;
-      if (out.dashSpan) arc = std::fmod(arcThere, dashPeriod);  // (finite: checked above)
+      const double arcHere = arc;
+      if (out.dashSpan) arc = std::fmod(arc + s.length * dashScale, dashPeriod);  // (finite: checked above)
       SegmentPrim sp;
       sp.p0 = s.p0;
       sp.p1 = s.p1;
@@ -519,7 +521,7 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       out.shading[out.count] = sh;
       if (out.colours) out.colours[out.count] = cl;
       else if (keepsColours) noRoomForColours(wire);
-      if (out.dashSpan) out.dashSpan[out.count] = glm::vec2(float(arcHere), float(arcThere));
+      if (out.dashSpan) out.dashSpan[out.count] = glm::vec2(float(arcHere), float(dashScale - 1.0));
       ++out.count;
     }
   }

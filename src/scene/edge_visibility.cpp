@@ -1,14 +1,13 @@
 #include "scene/edge_visibility.h"
 
+#include "core/numeric.h"
+
 #include <algorithm>
 #include <cmath>
 
 namespace wf {
 
 namespace {
-
-// The largest absolute component (a scale that cannot overflow as a length can).
-double maxAbs(const glm::dvec3& v) { return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}); }
 
 // The distance from p to the triangle a, a + e1, a + e2 (the closest point by the regions of the
 // triangle's plane: a vertex, an edge, or the inside).

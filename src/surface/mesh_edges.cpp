@@ -1,5 +1,7 @@
 #include "surface/mesh_edges.h"
 
+#include "core/numeric.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -11,8 +13,6 @@
 
 namespace wf {
 namespace {
-
-double maxAbs(const glm::dvec3& v) { return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}); }
 
 struct HalfEdge {
   std::uint32_t a, b;    // welded vertex ids, a < b

@@ -119,7 +119,7 @@ TEST(RobustMemory, DashSpansCountInTheEstimate) {
   for (int k = 0; k < 5000; ++k) edges.lines.add({glm::dvec3(0.01 * k, 0.0, -5.0), glm::dvec3(0.01 * k, 1.0, -5.0)});
   for (int k = 0; k < 3000; ++k) hairs.lines.add({glm::dvec3(0.0, 0.01 * k, -5.0), glm::dvec3(1.0, 0.01 * k, -5.0)});
   plain.wires = {edges, hairs};
-  // Ghosted and dashed hidden lines both keep the tile's x-ray fragments; dashes keep phases too.
+  // Ghosted and dashed hidden lines both keep the tile's x-ray fragments; dashes keep spans too.
   Scene ghost = plain, dashed = plain;
   ghost.wires[0].hidden.mode = HiddenLines::Mode::Ghost;
   dashed.wires[0].hidden.mode = HiddenLines::Mode::Dashed;
