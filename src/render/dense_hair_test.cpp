@@ -251,7 +251,8 @@ TEST(Simplification, NoPoppingAsTheCameraMoves) {
 // switch on or off whole: the change's RMS grows as sqrt(lambda d). With it, the N fade lambda
 // hairs in the ramp each change their weight by d / fade: an RMS of lambda d / sqrt(fade lambda),
 // smaller by sqrt(d / fade), 0.2 ... 0.4 at these steps. What both share (the drawn hairs
-// widen by d, and the masks' subpixel decisions flip as edges cross samples) dilutes that:
+// widen by d, their colours are pulled toward the mean by sqrt(lambda) a little more, and the
+// masks' subpixel decisions flip as edges cross samples) dilutes that:
 // measured 0.41 ... 0.59 over steps of 0.5% ... 8%. Accepted: under 0.7 (1 with the fade broken).
 TEST(Simplification, TheFadeKeepsAChangeOfLambdaFromPopping) {
   const int W = 96, H = 72;
