@@ -60,7 +60,7 @@ class RootRandom {
   std::uint64_t key_;
 };
 
-glm::dvec3 unitOrZero(const glm::dvec3& v) {
+glm::dvec3 normalizedOrZero(const glm::dvec3& v) {
   const double l = glm::length(v);
   return l > 0 && std::isfinite(l) ? v / l : glm::dvec3(0.0);
 }
@@ -115,8 +115,8 @@ class FurGenerator {
         hairBase_(hashWords(params.seed, patchIndex, kStreamHair)),
         cellCountBase_(hashWords(params.seed, patchIndex, kStreamCellCount)),
         clumpBase_(hashWords(params.seed, patchIndex, kStreamClump)) {
-    gravity_ = params.gravity * unitOrZero(params.gravityDirection);
-    wind_ = unitOrZero(params.windDirection);
+    gravity_ = params.gravity * normalizedOrZero(params.gravityDirection);
+    wind_ = normalizedOrZero(params.windDirection);
     windOn_ = params.windStrength != 0.0 && wind_ != glm::dvec3(0.0);
     curlOn_ = params.curlAmplitude != 0.0 && params.curlFrequency != 0.0;
     shaped_ = params.segments > 1 || gravity_ != glm::dvec3(0.0) || windOn_ || curlOn_;
@@ -352,7 +352,7 @@ void FurGenerator::shape(const HairPlan& h, glm::dvec3* points) const {
     if (curlOn_) {
       e1 = h.root.Tu - glm::dot(h.root.Tu, h.axis) * h.axis;
       if (glm::dot(e1, e1) < 1e-6) e1 = h.root.Tv - glm::dot(h.root.Tv, h.axis) * h.axis;
-      e1 = unitOrZero(e1);
+      e1 = normalizedOrZero(e1);
       e2 = glm::cross(h.axis, e1);
     }
     const double curlSlope = kTwoPi * p_.curlAmplitude * p_.curlFrequency;

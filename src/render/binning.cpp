@@ -28,12 +28,6 @@ namespace wf {
 
 namespace {
 
-// The screen rectangle a primitive may cover, clamped to the image, as floats rounded outwards.
-struct Footprint {
-  double x0, y0, x1, y1;
-  bool empty() const { return !(x1 > x0) || !(y1 > y0); }
-};
-
 class Binner {
  public:
   // Tiles of tile rows [rowBegin, rowEnd) only (clamped to the grid).

@@ -51,10 +51,6 @@ void triangleUvGradient(const TriangleMesh& mesh, const glm::uvec3& tri, glm::dv
   if (!std::isfinite(glm::dot(du, du)) || !std::isfinite(glm::dot(dv, dv))) du = dv = glm::dvec3(0.0);
 }
 
-glm::dvec3 finiteOrZero(const glm::dvec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) ? v : glm::dvec3(0.0);
-}
-
 template <class V>
 bool finiteVec(const V& v) {
   for (int k = 0; k < V::length(); ++k)

@@ -29,7 +29,7 @@ namespace wf {
 
 namespace {
 
-glm::dvec3 anyPerpendicular(const glm::dvec3& n) {
+glm::dvec3 perpendicularByCross(const glm::dvec3& n) {
   const glm::dvec3 a = std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
   return glm::normalize(glm::cross(n, a));
 }
@@ -39,7 +39,7 @@ glm::dvec3 anyPerpendicular(const glm::dvec3& n) {
 glm::dvec3 tangentOff(const glm::dvec3& t, const glm::dvec3& N) {
   const glm::dvec3 p = t - glm::dot(t, N) * N;
   const double l = glm::length(p);
-  return (l > 1e-12 && std::isfinite(l)) ? p / l : anyPerpendicular(N);
+  return (l > 1e-12 && std::isfinite(l)) ? p / l : perpendicularByCross(N);
 }
 
 // The radial offset of eye point P from the grain axis (eye space).
@@ -51,7 +51,7 @@ glm::dvec3 radialOffset(const ShaderSlot& slot, const glm::dvec3& P) {
 // Turn about the grain axis, in [0, 1).
 double turnAbout(const ShaderSlot& slot, const glm::dvec3& P) {
   const glm::dvec3 r = radialOffset(slot, P);
-  const glm::dvec3 e1 = anyPerpendicular(slot.axisDirection);
+  const glm::dvec3 e1 = perpendicularByCross(slot.axisDirection);
   const glm::dvec3 e2 = glm::cross(slot.axisDirection, e1);
   const double a = fastAtan2(glm::dot(r, e2), glm::dot(r, e1)) / kTwoPi;
   return a < 0 ? a + 1.0 : a;

@@ -32,7 +32,6 @@ namespace wf {
 
 namespace {
 
-glm::dvec3 finiteOrZero(const glm::dvec3& v) { return finite(v) ? v : glm::dvec3(0.0); }
 
 // Length without overflow or underflow for any finite vector.
 double safeLength(const glm::dvec3& v) {
