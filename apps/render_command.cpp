@@ -229,29 +229,28 @@ int runRender(const RenderCommandOptions& o) {
   if (o.wireDepth == "flat") ro.wireDepth = wf::WireDepth::Flat;
   if (o.memoryBudget) ro.memoryBudget = *o.memoryBudget;
   if (const std::string p = ro.problem(); !p.empty()) throw UsageError("render: " + p);
+  // --measure-error's other renders: the brute-force reference (exact shading, every hair: the
+  // truth, so that with --simplify the whole error is measured) and, with --simplify, the
+  // A-buffer's render of every hair (the simplification's own share).
+  wf::RenderOptions referenceOptions = ro, fullOptions = ro;
+  referenceOptions.shading = wf::ShadingPath::Exact;
+  referenceOptions.simplify.enabled = fullOptions.simplify.enabled = false;
   // The memory the whole command will hold at its peak, refused before anything large is
   // allocated: what it holds now (the program, its libraries and the scene it read), the render
   // (renderer.h, estimateRenderBytes: image, tile buffers, primitives, bins, tables), the 8-bit
-  // copy the PNG is encoded from, and with --measure-error the reference, the second render
-  // over a transparent background and, with --simplify, the render of every hair, held at once
-  // (a bound: each render's working memory is counted whole, though only its image outlives it). An upper bound on the peak resident memory
-  // (tests/apps: MemoryEstimateBoundsThePeak).
+  // copy the PNG is encoded from, and with --measure-error the reference, the second render over
+  // a transparent background and, with --simplify, the render of every hair, held at once (a
+  // bound: each render's working memory is counted whole, though only its image outlives it).
+  // An upper bound on the peak resident memory (tests/apps: MemoryEstimateBoundsThePeak).
   const double memoryEstimate = [&] {
     // (Plus what no count here sees: libpng's and zlib's buffers, the threads' stacks, the
     // allocator's slack: 32 MiB and 3 % of the rest.)
     double need = double(currentRssBytes()) + 32.0 * double(1 << 20) + 1.03 * (double(ro.width) * double(ro.height) * 3.0 +
                   double(wf::estimateRenderBytes(sf.scene, ro, o.reference)));
     if (o.measureError && !o.reference) {
-      wf::RenderOptions rr = ro;
-      rr.shading = wf::ShadingPath::Exact;
-      rr.simplify.enabled = false;  // (the reference draws every hair)
-      need += 1.03 * double(wf::estimateRenderBytes(sf.scene, rr, true));
+      need += 1.03 * double(wf::estimateRenderBytes(sf.scene, referenceOptions, true));
       if (sf.scene.background.w > 0.0f) need += 1.03 * double(wf::estimateRenderBytes(sf.scene, ro, false));
-      if (ro.simplify.enabled) {  // and the exact path's render (simplification off), held beside them
-        wf::RenderOptions full = ro;
-        full.simplify.enabled = false;
-        need += 1.03 * double(wf::estimateRenderBytes(sf.scene, full, false));
-      }
+      if (ro.simplify.enabled) need += 1.03 * double(wf::estimateRenderBytes(sf.scene, fullOptions, false));
     }
     return need;
   }();
@@ -296,16 +295,11 @@ int runRender(const RenderCommandOptions& o) {
   json stats = statsJson(r.stats, ro, o.reference);
   if (o.measureError && !o.reference) {
     progress.say("rendering the brute-force reference for the error measurement");
-    wf::RenderOptions rr = ro;
-    rr.shading = wf::ShadingPath::Exact;
-    // The truth draws every hair: with --simplify, what is measured is the whole error, the
-    // simplification's included (its own share against the full render below).
-    rr.simplify.enabled = false;
     // Compared over a transparent background, so that alpha is the coverage itself.
     // (The scene's own background set aside and put back: no copy of its meshes and hairs.)
     const glm::vec4 background = sf.scene.background;
     sf.scene.background = glm::vec4(0.0f);
-    const wf::RenderResult ref = wf::renderReference(sf.scene, rr);
+    const wf::RenderResult ref = wf::renderReference(sf.scene, referenceOptions);
     std::optional<wf::RenderResult> second;  // (a reference to r otherwise: no copy of its image)
     if (background.w > 0.0f) second = wf::render(sf.scene, ro);
     // Stochastic simplification against its exact path (every hair drawn, the same shading
@@ -313,9 +307,7 @@ int runRender(const RenderCommandOptions& o) {
     std::optional<wf::RenderResult> full;
     if (ro.simplify.enabled) {
       progress.say("rendering every hair (simplification off) for the simplification's error");
-      wf::RenderOptions fo = ro;
-      fo.simplify.enabled = false;
-      full = wf::render(sf.scene, fo);
+      full = wf::render(sf.scene, fullOptions);
     }
     sf.scene.background = background;
     const wf::RenderResult& mine = second ? *second : r;
@@ -328,7 +320,8 @@ int runRender(const RenderCommandOptions& o) {
                                                                             {"full_seconds", full->stats.total}};
     }
     const ImageError e = imageError(mine.image, ref.image);
-    stats["error_estimate"]["measured_against_reference"] = {{"reference_samples", rr.referenceSamples * rr.referenceSamples},
+    const int samples = referenceOptions.referenceSamples;
+    stats["error_estimate"]["measured_against_reference"] = {{"reference_samples", samples * samples},
                                                              {"rgba_rms", e.rms},
                                                              {"rgba_max", e.max},
                                                              {"coverage_rms", e.coverageRms},

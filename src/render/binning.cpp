@@ -127,7 +127,7 @@ class Binner {
         if (depthReach > reach) {
           if (!(depthReach < INFINITY)) ta = 0.0, tb = 1.0;
           else clipLineToRect(s.p0, s.p1, tx * tile_ - depthReach, ty * tile_ - depthReach, (tx + 1) * tile_ + depthReach,
-                        (ty + 1) * tile_ + depthReach, ta, tb);  // (holds the reach's clip)
+                              (ty + 1) * tile_ + depthReach, ta, tb);  // (holds the reach's clip)
         }
         const double sa = std::max(0.0, ta - slide), sb = std::min(1.0, tb + slide);
         const double k =

@@ -62,6 +62,47 @@ Scene blackScene() {
   return s;
 }
 
+// Orthographic, down -z from z = 5 onto the origin, `height` world units tall.
+Camera lookDown(double height = 1.0) {
+  Camera cam;
+  cam.projection = Camera::Projection::Orthographic;
+  cam.eye = {0, 0, 5};
+  cam.up = {0, 1, 0};
+  cam.orthoHeight = height;
+  cam.nearPlane = 1;
+  cam.farPlane = 10;
+  return cam;
+}
+
+// blackScene with an opaque plane at z = 0 filling the view of lookDown(height): wires put
+// behind it (z < 0) show only as their hidden lines.
+Scene behindAPlane(double height) {
+  Scene s = blackScene();
+  TriangleMesh plane;
+  plane.positions = {{-2, -1, 0}, {2, -1, 0}, {2, 1, 0}, {-2, 1, 0}};
+  plane.triangles = {{0, 1, 2}, {0, 2, 3}};
+  s.surfaces.push_back({"plane", plane, 0});
+  s.camera = lookDown(height);
+  return s;
+}
+
+HiddenLines dashes(double dash, double gap) {
+  HiddenLines h;
+  h.mode = HiddenLines::Mode::Dashed;
+  h.dash = dash;
+  h.gap = gap;
+  return h;
+}
+
+// Where the red channel along `row` crosses 0.5 between the centres of columns x0 ... x1 + 1
+// (linear between centres): rising into `ups`, falling into `downs`, in order.
+void halfCrossings(const ImageRGBA& image, int row, int x0, int x1, std::vector<double>& ups, std::vector<double>& downs) {
+  for (int x = x0; x < x1; ++x) {
+    const double a = image.at(x, row).x, b = image.at(x + 1, row).x;
+    if ((a < 0.5) != (b < 0.5)) (a < 0.5 ? ups : downs).push_back(x + 0.5 + (0.5 - a) / (b - a));
+  }
+}
+
 SceneWire plainWire(const PolylineSet& lines, HiddenLines hidden, double widthPx) {
   SceneWire w;
   w.name = "edges";
@@ -79,39 +120,19 @@ SceneWire plainWire(const PolylineSet& lines, HiddenLines hidden, double widthPx
 // gaps measured at the 0.5 crossings must be the request's within 0.5 px, and the pattern must
 // run on across the polyline's joints (every dash start a whole number of periods from the first).
 TEST(HiddenLines, DashAndGapLengthsAreTheRequestAndRunOnAcrossJoints) {
-  Scene scene = blackScene();
-  TriangleMesh plane;
-  plane.positions = {{-2, -1, 0}, {2, -1, 0}, {2, 1, 0}, {-2, 1, 0}};
-  plane.triangles = {{0, 1, 2}, {0, 2, 3}};
-  scene.surfaces.push_back({"plane", plane, 0});
+  Scene scene = behindAPlane(1.0);
   PolylineSet lines;
   // Joints at uneven places: the pattern must not restart at them.
   lines.add({{-1.9, 0.0, -0.5}, {-1.13, 0.0, -0.5}, {-0.41, 0.0, -0.5}, {0.37, 0.0, -0.5}, {1.06, 0.0, -0.5}, {1.9, 0.0, -0.5}});
-  HiddenLines h;
-  h.mode = HiddenLines::Mode::Dashed;
-  h.dash = 8.0;
-  h.gap = 5.0;
+  const HiddenLines h = dashes(8.0, 5.0);
   scene.wires.push_back(plainWire(lines, h, 3.0));
-  Camera cam;
-  cam.projection = Camera::Projection::Orthographic;
-  cam.eye = {0, 0, 5};
-  cam.target = {0, 0, 0};
-  cam.up = {0, 1, 0};
-  cam.orthoHeight = 1.0;
-  cam.nearPlane = 1;
-  cam.farPlane = 10;
-  scene.camera = cam;
   RenderOptions o;
   o.width = 800;  // 200 px per world unit: the wire spans 760 px
   o.height = 200;
   const RenderResult r = render(scene, o);
   const int row = 100;  // the wire's axis lies on the line y = 100: rows 99 and 100 are wholly inside it
   std::vector<double> ups, downs;
-  for (int x = 25; x < 775; ++x) {
-    const double a = r.image.at(x, row).x, b = r.image.at(x + 1, row).x;
-    // centres at x + 0.5 and x + 1.5; the crossing of 0.5 between them
-    if ((a < 0.5) != (b < 0.5)) (a < 0.5 ? ups : downs).push_back(x + 0.5 + (0.5 - a) / (b - a));
-  }
+  halfCrossings(r.image, row, 25, 775, ups, downs);
   ASSERT_GE(ups.size(), 50u);
   ASSERT_GE(downs.size(), 50u);
   int dashes = 0, gaps = 0;
@@ -136,15 +157,11 @@ TEST(HiddenLines, DashAndGapLengthsAreTheRequestAndRunOnAcrossJoints) {
 // in 984 of the screen: dashes and gaps 984 / 988 as long). Before, the pattern stopped 9 px
 // into its 76th period and began again: a gap of 1 px instead of 5 at the first point. Now
 // every gap along the bottom side, across the seam too, is 5 x 984 / 988 within 0.5 px, and the
-// set-up's spans say the same in closed form: each segment's scale is 988 / 984, the next
+// set-up's dash patterns say the same in closed form: each segment's scale is 988 / 984, the next
 // starts where it ends (modulo a period), and the last ends on a whole period. An open
 // polyline through the same points keeps the scale 1.
 TEST(HiddenLines, AClosedLoopsDashesRunOnAcrossItsFirstPoint) {
-  Scene scene = blackScene();
-  TriangleMesh plane;
-  plane.positions = {{-2, -1, 0}, {2, -1, 0}, {2, 1, 0}, {-2, 1, 0}};
-  plane.triangles = {{0, 1, 2}, {0, 2, 3}};
-  scene.surfaces.push_back({"plane", plane, 0});
+  Scene scene = behindAPlane(1.5);
   const double a = 0.615;  // half the side: 123 px
   auto loop = [&](bool closed) {
     PolylineSet lines;
@@ -153,21 +170,9 @@ TEST(HiddenLines, AClosedLoopsDashesRunOnAcrossItsFirstPoint) {
     lines.add(p);
     return lines;
   };
-  HiddenLines h;
-  h.mode = HiddenLines::Mode::Dashed;
-  h.dash = 8.0;
-  h.gap = 5.0;
+  const HiddenLines h = dashes(8.0, 5.0);
   const double period = h.dash + h.gap, perimeter = 8 * a * 200.0, scale = std::round(perimeter / period) * period / perimeter;
   ASSERT_NEAR(scale, 988.0 / 984.0, 1e-12);
-  Camera cam;
-  cam.projection = Camera::Projection::Orthographic;
-  cam.eye = {0, 0, 5};
-  cam.target = {0, 0, 0};
-  cam.up = {0, 1, 0};
-  cam.orthoHeight = 1.5;
-  cam.nearPlane = 1;
-  cam.farPlane = 10;
-  scene.camera = cam;
   RenderOptions o;
   o.width = 400;  // 200 px per world unit
   o.height = 300;
@@ -176,14 +181,14 @@ TEST(HiddenLines, AClosedLoopsDashesRunOnAcrossItsFirstPoint) {
     s.wires.push_back(plainWire(loop(closed), h, 3.0));
     RenderStats st;
     const PreparedScene ps = prepareScene(s, o, st);
-    ASSERT_EQ(ps.dashSpan.size(), closed ? 5u : 4u);
+    ASSERT_EQ(ps.dashPattern.size(), closed ? 5u : 4u);
     double end = 0.0;  // where the pattern stands at the last point
     for (size_t j = 0; j < ps.segments.size(); ++j) {
-      const glm::vec2 sp = ps.dashSpan[j];
+      const glm::vec2 sp = ps.dashPattern[j];
       EXPECT_NEAR(sp.y, closed ? scale - 1.0 : 0.0, 1e-7) << "segment " << j;
       end = std::fmod(double(sp.x) + glm::length(ps.segments[j].p1 - ps.segments[j].p0) * (1.0 + double(sp.y)), period);
       if (j + 1 < ps.segments.size()) {
-        EXPECT_NEAR(ps.dashSpan[j + 1].x, end, 2e-3) << j;
+        EXPECT_NEAR(ps.dashPattern[j + 1].x, end, 2e-3) << j;
       }
     }
     if (closed) {
@@ -194,10 +199,7 @@ TEST(HiddenLines, AClosedLoopsDashesRunOnAcrossItsFirstPoint) {
   const RenderResult r = render(scene, o);
   const int row = 150 + 123;  // the bottom side's axis: y = -a, 123 px below the centre row
   std::vector<double> ups, downs;
-  for (int x = 90; x < 310; ++x) {  // the bottom side, clear of its corners at x = 77 and 323
-    const double va = r.image.at(x, row).x, vb = r.image.at(x + 1, row).x;
-    if ((va < 0.5) != (vb < 0.5)) (va < 0.5 ? ups : downs).push_back(x + 0.5 + (0.5 - va) / (vb - va));
-  }
+  halfCrossings(r.image, row, 90, 310, ups, downs);  // the bottom side, clear of its corners at x = 77 and 323
   ASSERT_GE(downs.size(), 12u);
   int gaps = 0;
   double worst = 0;
@@ -404,17 +406,6 @@ TEST(HiddenLines, VisibleLinesOnAGrazingPlaneAreWholeAndNotDrawnTwice) {
 
 namespace wf {
 namespace {
-
-Camera lookDown() {
-  Camera cam;
-  cam.projection = Camera::Projection::Orthographic;
-  cam.eye = {0, 0, 5};
-  cam.up = {0, 1, 0};
-  cam.orthoHeight = 1.0;
-  cam.nearPlane = 1;
-  cam.farPlane = 10;
-  return cam;
-}
 
 // Over budget (from a review): a pixel's tail holds what it cannot keep, whatever it is. A ghosted
 // red wire behind an opaque plane behind 40 translucent blue wires: its x-ray copy shows neither

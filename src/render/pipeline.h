@@ -261,7 +261,7 @@ struct PreparedScene {
   /// screen pixel along the segment, less 1. Along an open polyline y is 0 (the pattern advances
   /// with the screen arc length); around a closed one the pattern is scaled to a whole number of
   /// periods, so that it runs on across the seam (segment_setup.cpp).
-  PodVector<glm::vec2> dashSpan;
+  PodVector<glm::vec2> dashPattern;
   bool anyXray = false;  ///< some wire draws its hidden parts (HiddenLines::drawn)
   /// Some wire rests on a surface (ShaderSlot::restsOnSurface): without one, and without an
   /// x-ray wire, a segment culled whole in a tile is passed over without reading its shader.
@@ -432,9 +432,9 @@ inline double wireDepthScale(const ViewTransform& v, const glm::dvec3& e, const 
   return wireDepthScale(v, e, glm::length(e), wireUnitAxis(axis));
 }
 
-/// Whether prepareScene keeps a dash span for every segment (PreparedScene::dashSpan): some
+/// Whether prepareScene keeps a dash pattern for every segment (PreparedScene::dashPattern): some
 /// wire draws its hidden parts dashed.
-inline bool keepsDashSpans(const Scene& scene) {
+inline bool keepsDashPatterns(const Scene& scene) {
   for (const SceneWire& w : scene.wires)
     if (w.hidden.mode == HiddenLines::Mode::Dashed) return true;
   return false;
@@ -892,7 +892,7 @@ struct SegmentSink {
   SegmentShading* shading;
   SegmentColours* colours = nullptr;  ///< PreparedScene::segmentColours, when kept
   size_t count = 0;
-  glm::vec2* dashSpan = nullptr;  ///< PreparedScene::dashSpan, when kept
+  glm::vec2* dashPattern = nullptr;  ///< PreparedScene::dashPattern, when kept
 };
 /// Triangles [begin, end) of a surface: clipped to near / far, projected, depth plane, attributes.
 void setupTriangles(const PreparedScene& ps, const SceneSurface& surf, std::uint32_t surfaceIndex,

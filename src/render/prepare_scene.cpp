@@ -184,7 +184,7 @@ size_t PreparedScene::bytes() const {
   size_t b = triangles.capacity() * sizeof(TrianglePrim) + vertices.capacity() * sizeof(glm::dvec2) +
              triangleAttributes.capacity() * sizeof(TriangleAttributes) +
              segments.capacity() * sizeof(SegmentPrim) + segmentShading.capacity() * sizeof(SegmentShading) +
-             segmentColours.capacity() * sizeof(SegmentColours) + dashSpan.capacity() * sizeof(glm::vec2);
+             segmentColours.capacity() * sizeof(SegmentColours) + dashPattern.capacity() * sizeof(glm::vec2);
   for (const ShaderSlot& s : shaders) {
     if (s.wireTables) b += s.wireTables->bytes();
     if (s.surfaceTables) b += s.surfaceTables->bytes();
@@ -277,14 +277,14 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
   for (size_t w = 0; w < scene.wires.size(); ++w)
     colours = colours || wireKeepsColours(ps, scene.wires[w], std::uint32_t(wireShader[w]));
   if (colours) ps.segmentColours.resize(segmentRoom);
-  const bool dashed = keepsDashSpans(scene);
-  if (dashed) ps.dashSpan.resize(segmentRoom);
+  const bool dashed = keepsDashPatterns(scene);
+  if (dashed) ps.dashPattern.resize(segmentRoom);
   tbb::parallel_for(size_t(0), jobs.size(), [&](size_t i) {
     Job& j = jobs[i];
     if (j.wire) {
       SegmentSink sink{ps.segments.data() + j.offset, ps.segmentShading.data() + j.offset};
       if (colours) sink.colours = ps.segmentColours.data() + j.offset;
-      if (dashed) sink.dashSpan = ps.dashSpan.data() + j.offset;
+      if (dashed) sink.dashPattern = ps.dashPattern.data() + j.offset;
       const WireSimplification& simp = simplification.wires[j.object];
       setupPolylines(ps, scene.wires[j.object], std::uint32_t(wireShader[j.object]), tagBase[j.object], j.begin,
                      j.end, sink, j.counts, simp.scale.empty() ? nullptr : &simp);
@@ -312,7 +312,9 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
         if (colours)
           std::memmove(static_cast<void*>(ps.segmentColours.data() + ns), ps.segmentColours.data() + j.offset,
                        j.count * sizeof(SegmentColours));
-        if (dashed) std::memmove(static_cast<void*>(ps.dashSpan.data() + ns), ps.dashSpan.data() + j.offset, j.count * sizeof(glm::vec2));
+        if (dashed)
+          std::memmove(static_cast<void*>(ps.dashPattern.data() + ns), ps.dashPattern.data() + j.offset,
+                       j.count * sizeof(glm::vec2));
       }
       ns += j.count;
     } else {
@@ -349,7 +351,7 @@ PreparedScene prepareScene(const Scene& scene, const RenderOptions& o, RenderSta
   fit(ps.segments, ns);
   fit(ps.segmentShading, ns);
   if (colours) fit(ps.segmentColours, ns);
-  if (dashed) fit(ps.dashSpan, ns);
+  if (dashed) fit(ps.dashPattern, ns);
   for (size_t i = 0; i < rejectedPerObject.size(); ++i) {
     if (!rejectedPerObject[i]) continue;
     const bool wire = i >= scene.surfaces.size();

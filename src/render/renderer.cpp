@@ -85,10 +85,10 @@ size_t estimateRenderBytes(const Scene& scene, const RenderOptions& o, bool refe
   for (const SceneWire& wr : scene.wires)
     segments += std::max(0.0, double(wr.lines.points.size()) - double(wr.lines.polylineCount()));
   const double perTriangle = sizeof(TrianglePrim) + 5 * sizeof(glm::dvec2) + sizeof(TriangleAttributes);
-  // (colours when kept; a dashed wire's spans, PreparedScene::dashSpan, for every segment of a
+  // (colours when kept; a dashed wire's patterns, PreparedScene::dashPattern, for every segment of a
   // scene with one: prepareScene keeps them for all or none)
   const double perSegment =
-      sizeof(SegmentPrim) + sizeof(SegmentShading) + sizeof(SegmentColours) + (keepsDashSpans(scene) ? sizeof(glm::vec2) : 0);
+      sizeof(SegmentPrim) + sizeof(SegmentShading) + sizeof(SegmentColours) + (keepsDashPatterns(scene) ? sizeof(glm::vec2) : 0);
   // The binning's per-chunk tile counts (binning.cpp: up to 4 chunks a thread, 65,536 primitives each).
   const double chunks = std::clamp(std::ceil((triangles + segments) / 65536.0), 1.0, 4.0 * threads);
   // (and the counts' rows per block of primitives)
@@ -423,8 +423,8 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
             if (slot.hidden.drawn()) {
               // Its x-ray copy (hidden lines): every fragment, whatever hides it; the resolve
               // draws it where an opaque surface in front does (TileABuffer::insertXray).
-              const bool dashed = slot.hidden.mode == HiddenLines::Mode::Dashed && !ps.dashSpan.empty();
-              const glm::vec2 span = dashed ? ps.dashSpan[index - triangleCount] : glm::vec2(0.0f);
+              const bool dashed = slot.hidden.mode == HiddenLines::Mode::Dashed && !ps.dashPattern.empty();
+              const glm::vec2 pattern = dashed ? ps.dashPattern[index - triangleCount] : glm::vec2(0.0f);
               const SegmentFrame& fr = depth.frame;
               RenderStats::RasterWork xw;
               auto emitXray = [&](const PixelCoverage& pc) {
@@ -432,7 +432,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
                 if (dashed) {
                   const double t = fr.length > 0 ? std::clamp(fr.t(pc.cx, pc.cy), 0.0, 1.0) : 0.0;
                   const double along = t * fr.length;  // screen pixels from p0
-                  factor = dashCoverage(span.x + along + along * double(span.y), slot.hidden.dash, slot.hidden.gap);
+                  factor = dashCoverage(pattern.x + along + along * double(pattern.y), slot.hidden.dash, slot.hidden.gap);
                 }
                 buf.insertXray(pc.x - tx0, pc.y - ty0, fragmentOf(pc), factor, pc.subpixel);
               };

@@ -409,7 +409,7 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
     // first at the seam instead of a piece of one meeting a whole one.
     const double dashPeriod = slot.hidden.dash + slot.hidden.gap;
     double dashScale = 1.0;  // pixels of the pattern a pixel of the screen
-    if (out.dashSpan && closed && dashPeriod > 0.0 && segs.front().valid && segs.back().valid) {
+    if (out.dashPattern && closed && dashPeriod > 0.0 && segs.front().valid && segs.back().valid) {
       double loop = 0.0;
       for (const SegScreen& s : segs)
         if (s.valid) loop += s.length;
@@ -424,7 +424,7 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       const SegScreen& s = segs[j];
       if (!s.valid) continue;
       const double arcHere = arc;
-      if (out.dashSpan) arc = std::fmod(arc + s.length * dashScale, dashPeriod);  // (finite: checked above)
+      if (out.dashPattern) arc = std::fmod(arc + s.length * dashScale, dashPeriod);  // (finite: checked above)
       SegmentPrim sp;
       sp.p0 = s.p0;
       sp.p1 = s.p1;
@@ -521,7 +521,7 @@ void setupPolylines(const PreparedScene& ps, const SceneWire& wire, std::uint32_
       out.shading[out.count] = sh;
       if (out.colours) out.colours[out.count] = cl;
       else if (keepsColours) noRoomForColours(wire);
-      if (out.dashSpan) out.dashSpan[out.count] = glm::vec2(float(arcHere), float(dashScale - 1.0));
+      if (out.dashPattern) out.dashPattern[out.count] = glm::vec2(float(arcHere), float(dashScale - 1.0));
       ++out.count;
     }
   }

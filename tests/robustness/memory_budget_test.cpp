@@ -106,10 +106,10 @@ TEST(RobustMemory, SceneSharePrimitivesCountInTheEstimate) {
   EXPECT_NO_THROW(render(tinyScene(), o));
 }
 
-// A wire drawn with dashed hidden lines makes prepareScene keep a dash span (two floats) for every
-// segment of the scene (PreparedScene::dashSpan): the estimate counts them, per segment of every
+// A wire drawn with dashed hidden lines makes prepareScene keep a dash pattern (two floats) for every
+// segment of the scene (PreparedScene::dashPattern): the estimate counts them, per segment of every
 // wire (it did not before), and nothing for a scene without a dashed wire.
-TEST(RobustMemory, DashSpansCountInTheEstimate) {
+TEST(RobustMemory, DashPatternsCountInTheEstimate) {
   RenderOptions o;
   o.width = o.height = 64;
   o.threads = 1;  // one tile buffer
@@ -119,7 +119,7 @@ TEST(RobustMemory, DashSpansCountInTheEstimate) {
   for (int k = 0; k < 5000; ++k) edges.lines.add({glm::dvec3(0.01 * k, 0.0, -5.0), glm::dvec3(0.01 * k, 1.0, -5.0)});
   for (int k = 0; k < 3000; ++k) hairs.lines.add({glm::dvec3(0.0, 0.01 * k, -5.0), glm::dvec3(1.0, 0.01 * k, -5.0)});
   plain.wires = {edges, hairs};
-  // Ghosted and dashed hidden lines both keep the tile's x-ray fragments; dashes keep spans too.
+  // Ghosted and dashed hidden lines both keep the tile's x-ray fragments; dashes keep patterns too.
   Scene ghost = plain, dashed = plain;
   ghost.wires[0].hidden.mode = HiddenLines::Mode::Ghost;
   dashed.wires[0].hidden.mode = HiddenLines::Mode::Dashed;
