@@ -236,23 +236,32 @@ int runRender(const RenderCommandOptions& o) {
   referenceOptions.shading = wf::ShadingPath::Exact;
   referenceOptions.simplify.enabled = fullOptions.simplify.enabled = false;
   // The memory the whole command will hold at its peak, refused before anything large is
-  // allocated: what it holds now (the program, its libraries and the scene it read), the render
-  // (renderer.h, estimateRenderBytes: image, tile buffers, primitives, bins, tables), the 8-bit
-  // copy the PNG is encoded from, and with --measure-error the reference, the second render over
-  // a transparent background and, with --simplify, the render of every hair, held at once (a
-  // bound: each render's working memory is counted whole, though only its image outlives it).
-  // An upper bound on the peak resident memory (tests/apps: MemoryEstimateBoundsThePeak).
+  // allocated: what it holds now (the program, its libraries and the scene it read), then the
+  // largest of what it holds during each render it makes in turn: the images of the renders
+  // before it and its own working memory (renderer.h, estimateRenderBytes: image, tile buffers,
+  // primitives, bins, tables). A render's large blocks are given back once it is done
+  // (releaseRenderMemory), so that they are not held beside the next one's; at the end, every
+  // image and the 8-bit copy the PNG is encoded from. With --measure-error the renders are the
+  // command's own, the brute-force reference, the second render over a transparent background
+  // and, with --simplify, the render of every hair. An upper bound on the peak resident memory
+  // (tests/apps: MemoryEstimateBoundsThePeak).
   const double memoryEstimate = [&] {
+    const double image = double(ro.width) * double(ro.height) * double(sizeof(glm::vec4));
+    double held = 0.0, most = 0.0;  // the images kept so far; the most held beside them at once
+    auto renderHolds = [&](double bytes) {
+      most = std::max(most, held + bytes);
+      held += image;
+    };
+    renderHolds(double(wf::estimateRenderBytes(sf.scene, ro, o.reference)));
+    if (o.measureError && !o.reference) {
+      renderHolds(double(wf::estimateRenderBytes(sf.scene, referenceOptions, true)));
+      if (sf.scene.background.w > 0.0f) renderHolds(double(wf::estimateRenderBytes(sf.scene, ro, false)));
+      if (ro.simplify.enabled) renderHolds(double(wf::estimateRenderBytes(sf.scene, fullOptions, false)));
+    }
+    most = std::max(most, held + double(ro.width) * double(ro.height) * 3.0);
     // (Plus what no count here sees: libpng's and zlib's buffers, the threads' stacks, the
     // allocator's slack: 32 MiB and 3 % of the rest.)
-    double need = double(currentRssBytes()) + 32.0 * double(1 << 20) + 1.03 * (double(ro.width) * double(ro.height) * 3.0 +
-                  double(wf::estimateRenderBytes(sf.scene, ro, o.reference)));
-    if (o.measureError && !o.reference) {
-      need += 1.03 * double(wf::estimateRenderBytes(sf.scene, referenceOptions, true));
-      if (sf.scene.background.w > 0.0f) need += 1.03 * double(wf::estimateRenderBytes(sf.scene, ro, false));
-      if (ro.simplify.enabled) need += 1.03 * double(wf::estimateRenderBytes(sf.scene, fullOptions, false));
-    }
-    return need;
+    return double(currentRssBytes()) + 32.0 * double(1 << 20) + 1.03 * most;
   }();
   const long peakBeforeRender = peakRssBytes();
   if (ro.memoryBudget > 0 && memoryEstimate > double(ro.memoryBudget)) {
@@ -267,6 +276,7 @@ int runRender(const RenderCommandOptions& o) {
   progress.say("rendering " + (o.input.empty() ? std::string("the built-in scene") : o.input) + " at " +
                std::to_string(ro.width) + "x" + std::to_string(ro.height) + (o.reference ? " (reference)" : ""));
   const wf::RenderResult r = o.reference ? wf::renderReference(sf.scene, ro) : wf::render(sf.scene, ro);
+  wf::releaseRenderMemory();  // (the estimate counts no render's blocks beside the next one's)
   const std::string inputName = o.input.empty() ? std::string("built-in scene") : o.input;
   for (const std::string& w : r.stats.warnings) warn(inputName + ": " + w);
   // An image of the background alone says why. Nothing could be drawn (no finite geometry, no
@@ -300,14 +310,19 @@ int runRender(const RenderCommandOptions& o) {
     const glm::vec4 background = sf.scene.background;
     sf.scene.background = glm::vec4(0.0f);
     const wf::RenderResult ref = wf::renderReference(sf.scene, referenceOptions);
+    wf::releaseRenderMemory();
     std::optional<wf::RenderResult> second;  // (a reference to r otherwise: no copy of its image)
-    if (background.w > 0.0f) second = wf::render(sf.scene, ro);
+    if (background.w > 0.0f) {
+      second = wf::render(sf.scene, ro);
+      wf::releaseRenderMemory();
+    }
     // Stochastic simplification against its exact path (every hair drawn, the same shading
     // path): its own share of the error, and what drawing them all costs.
     std::optional<wf::RenderResult> full;
     if (ro.simplify.enabled) {
       progress.say("rendering every hair (simplification off) for the simplification's error");
       full = wf::render(sf.scene, fullOptions);
+      wf::releaseRenderMemory();
     }
     sf.scene.background = background;
     const wf::RenderResult& mine = second ? *second : r;

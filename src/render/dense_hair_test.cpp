@@ -397,9 +397,12 @@ TEST(DenseHair, BandsOfTileRowsGiveTheSameImage) {
   o.threads = 2;
   const RenderResult one = render(s, o);
   ASSERT_EQ(one.stats.binBands, 1u);  // (a few MiB of items: one band without a budget)
-  // The least budget render() accepts (its estimate counts one item a primitive; these hairs make
-  // ten or more): beside the primitives it leaves room for a fraction of the items.
+  // The least budget render() accepts (under a budget too small for a band of kOneBand the
+  // estimate counts one item a primitive; these hairs make ten or more): beside the primitives it
+  // leaves room for a fraction of the items.
+  o.memoryBudget = 1;
   o.memoryBudget = estimateRenderBytes(s, o);
+  ASSERT_EQ(estimateRenderBytes(s, o), o.memoryBudget);
   const RenderResult banded = render(s, o);
   EXPECT_GT(banded.stats.binBands, 1u);
   EXPECT_EQ(test::maxDiff(one.image, banded.image), 0.0);

@@ -17,6 +17,9 @@
 
 #include <sys/mman.h>
 #include <unistd.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include <mutex>
 
@@ -146,6 +149,13 @@ void releaseRenderMemory() {
     c.total = 0;
   }
   for (void* b : blocks) std::free(b);
+#if defined(__GLIBC__)
+  // And what the render's smaller arrays left free in the allocator's heaps: glibc keeps freed
+  // memory in the arena of the thread that used it, where another thread's next allocation may
+  // not find it, so that a command rendering several times in turn could hold each render's
+  // leftovers at once.
+  malloc_trim(0);
+#endif
 }
 
 size_t renderMemoryHeld() {

@@ -44,6 +44,9 @@ std::string describeBytes(double b) {
 }  // namespace
 
 namespace {
+// A band of tile rows holds up to this many bytes of items, or a quarter of the primitives' bytes
+// where that is more (binBands).
+constexpr size_t kOneBand = size_t(4) << 20;
 // The image and the tile buffers of every thread (estimateRenderBytes' first terms): what a
 // render holds whatever its primitives.
 double imageAndTileBytes(const Scene& scene, const RenderOptions& o, bool reference) {
@@ -78,8 +81,8 @@ size_t estimateRenderBytes(const Scene& scene, const RenderOptions& o, bool refe
   const double tiles = std::ceil(w / tile) * std::ceil(h / tile);
   double bytes = imageAndTileBytes(scene, o, reference);
   // Primitives: room for every input triangle with 5 screen vertices (the most near / far
-  // clipping leaves) and every input segment, the bins at least one item each, and the per-chunk
-  // tile counts of the binning.
+  // clipping leaves) and every input segment, and the per-chunk tile counts of the binning (the
+  // bins' items last: what a budget leaves them).
   double triangles = 0, segments = 0;
   for (const SceneSurface& s : scene.surfaces) triangles += double(s.mesh.triangles.size());
   for (const SceneWire& wr : scene.wires)
@@ -91,9 +94,15 @@ size_t estimateRenderBytes(const Scene& scene, const RenderOptions& o, bool refe
       sizeof(SegmentPrim) + sizeof(SegmentShading) + sizeof(SegmentColours) + (keepsDashPatterns(scene) ? sizeof(glm::vec2) : 0);
   // The binning's per-chunk tile counts (binning.cpp: up to 4 chunks a thread, 65,536 primitives each).
   const double chunks = std::clamp(std::ceil((triangles + segments) / 65536.0), 1.0, 4.0 * threads);
+  const double primitiveBytes = triangles * perTriangle + segments * perSegment;
+  // Each large array (allocateLarge: 4 MiB and more) is rounded up to whole 2 MiB pages.
+  auto rounded = [](double arrayBytes) { return arrayBytes >= double(kLargeAllocation) ? double(size_t(2) << 20) : 0.0; };
+  double rounding = rounded(triangles * sizeof(TrianglePrim)) + rounded(triangles * sizeof(TriangleAttributes)) +
+                    rounded(triangles * 5 * sizeof(glm::dvec2)) + rounded(segments * sizeof(SegmentPrim)) +
+                    rounded(segments * sizeof(SegmentShading)) + rounded(segments * sizeof(SegmentColours)) +
+                    rounded(segments * sizeof(glm::vec2));
   // (and the counts' rows per block of primitives)
-  bytes += triangles * perTriangle + segments * perSegment + (triangles + segments) * sizeof(TileBins::Item) +
-           (tiles + 1) * sizeof(std::uint32_t) * (1 + 2 * chunks) +
+  bytes += primitiveBytes + rounding + (tiles + 1) * sizeof(std::uint32_t) * (1 + 2 * chunks) +
            std::ceil((triangles + segments) / double(BinCounts::kBlock)) * 2 * sizeof(int);
   // Shading tables (maps path): a pair of pseudo-reflectance maps per wire material, a
   // reflectance sphere per surface material, for every node of the view grid.
@@ -108,6 +117,17 @@ size_t estimateRenderBytes(const Scene& scene, const RenderOptions& o, bool refe
     const double sphere = double(o.sphereResolution) * o.sphereResolution * sizeof(glm::vec3);
     bytes += nodes * (double(wireMaterials.size()) * map + 2.0 * double(surfaceMaterials.size()) * std::max(map, sphere));
   }
+  // The items of a band of tile rows (binBands): at least one a primitive; a band holds up to a
+  // quarter of the primitives' bytes, or kOneBand, of them (a hair crosses several tiles: about
+  // five items a hair on the 700,000-hair torus; none more than one a tile), and under a memory
+  // budget no more than it leaves: the least a render needs is then one item a primitive.
+  const double oneEach = (triangles + segments) * sizeof(TileBins::Item);
+  double items = std::max(oneEach, std::min(std::max(primitiveBytes / 4.0, double(kOneBand)), oneEach * tiles));
+  if (o.memoryBudget > 0) {
+    const double room = double(o.memoryBudget) - bytes;
+    items = std::max(oneEach, std::min(items, room - rounded(room)));
+  }
+  bytes += items + rounded(items);
   return bytes >= 1.8e19 ? SIZE_MAX : size_t(bytes);
 }
 
@@ -164,7 +184,6 @@ glm::vec4 overBackground(const glm::vec4& c, const glm::vec4& bg) {
 // and no more than the memory budget leaves beside the primitives, the counts, the image and the
 // tile buffers (`alsoHeld`; a row that does not fit is checkBinsFit's error, before any band is
 // drawn). The image is the same for any bands: each tile's items are the same, in the same order.
-constexpr size_t kOneBand = size_t(4) << 20;
 std::vector<std::pair<int, int>> binBands(const PreparedScene& ps, const BinCounts& c, size_t memoryBudget,
                                           double alsoHeld, std::uint64_t& largest) {
   double cap = std::max(double(ps.bytes()) / 4.0, double(kOneBand));

@@ -194,7 +194,8 @@ RenderResult render(const Scene& scene, const RenderOptions& options);
 /// The large arrays a render frees (primitives, bins: blocks of 4 MiB and more) are kept for the
 /// next render, so that frame after frame reuses memory the kernel has already handed out and
 /// zeroed: at most 8 blocks and an eighth of the machine's memory (1 GiB at most).
-/// releaseRenderMemory() gives them back now; renderMemoryHeld() is what is kept.
+/// releaseRenderMemory() gives them back now, with what the allocator keeps free (glibc:
+/// malloc_trim); renderMemoryHeld() is what is kept.
 void releaseRenderMemory();
 size_t renderMemoryHeld();
 
