@@ -240,28 +240,41 @@ int runRender(const RenderCommandOptions& o) {
   // largest of what it holds during each render it makes in turn: the images of the renders
   // before it and its own working memory (renderer.h, estimateRenderBytes: image, tile buffers,
   // primitives, bins, tables). A render's large blocks are given back once it is done
-  // (releaseRenderMemory), so that they are not held beside the next one's; at the end, every
-  // image and the 8-bit copy the PNG is encoded from. With --measure-error the renders are the
-  // command's own, the brute-force reference, the second render over a transparent background
-  // and, with --simplify, the render of every hair. An upper bound on the peak resident memory
-  // (tests/apps: MemoryEstimateBoundsThePeak).
+  // (releaseRenderMemory), so that they are not held beside the next one's; the PNG's 8-bit copy
+  // is made once the renders are done. With --measure-error the renders are the command's own,
+  // the brute-force reference, the second render over a transparent background and, with
+  // --simplify, the render of every hair. Each render is given the budget less what the command
+  // holds beside it, so that its bands of tile items (binBands) fit what is left. An upper bound
+  // on the peak resident memory (tests/apps: MemoryEstimateBoundsThePeak and ...DenseFursPeak).
+  const double image = double(ro.width) * double(ro.height) * double(sizeof(glm::vec4));
+  // (Plus what no count here sees: libpng's and zlib's buffers, the threads' stacks, the
+  // allocator's slack: 32 MiB and 3 % of the rest.)
+  const double held = double(currentRssBytes()) + 32.0 * double(1 << 20);
+  auto budgetBeside = [&](double images) -> size_t {
+    if (ro.memoryBudget == 0) return 0;  // (no limit)
+    const double left = (double(ro.memoryBudget) - held) / 1.03 - images * image;
+    return left >= 1.0 ? size_t(left) : 1;
+  };
+  const bool second = o.measureError && !o.reference && sf.scene.background.w > 0.0f;
+  wf::RenderOptions mainOptions = ro, secondOptions = ro;
+  mainOptions.memoryBudget = budgetBeside(0);
+  referenceOptions.memoryBudget = budgetBeside(1);
+  secondOptions.memoryBudget = budgetBeside(2);
+  fullOptions.memoryBudget = budgetBeside(second ? 3 : 2);
   const double memoryEstimate = [&] {
-    const double image = double(ro.width) * double(ro.height) * double(sizeof(glm::vec4));
-    double held = 0.0, most = 0.0;  // the images kept so far; the most held beside them at once
+    double images = 0.0, most = 0.0;  // the images kept so far; the most held beside them at once
     auto renderHolds = [&](double bytes) {
-      most = std::max(most, held + bytes);
-      held += image;
+      most = std::max(most, images + bytes);
+      images += image;
     };
-    renderHolds(double(wf::estimateRenderBytes(sf.scene, ro, o.reference)));
+    renderHolds(double(wf::estimateRenderBytes(sf.scene, mainOptions, o.reference)));
     if (o.measureError && !o.reference) {
       renderHolds(double(wf::estimateRenderBytes(sf.scene, referenceOptions, true)));
-      if (sf.scene.background.w > 0.0f) renderHolds(double(wf::estimateRenderBytes(sf.scene, ro, false)));
+      if (second) renderHolds(double(wf::estimateRenderBytes(sf.scene, secondOptions, false)));
       if (ro.simplify.enabled) renderHolds(double(wf::estimateRenderBytes(sf.scene, fullOptions, false)));
     }
-    most = std::max(most, held + double(ro.width) * double(ro.height) * 3.0);
-    // (Plus what no count here sees: libpng's and zlib's buffers, the threads' stacks, the
-    // allocator's slack: 32 MiB and 3 % of the rest.)
-    return double(currentRssBytes()) + 32.0 * double(1 << 20) + 1.03 * most;
+    most = std::max(most, images + double(ro.width) * double(ro.height) * 3.0);
+    return held + 1.03 * most;
   }();
   const long peakBeforeRender = peakRssBytes();
   if (ro.memoryBudget > 0 && memoryEstimate > double(ro.memoryBudget)) {
@@ -275,7 +288,7 @@ int runRender(const RenderCommandOptions& o) {
   }
   progress.say("rendering " + (o.input.empty() ? std::string("the built-in scene") : o.input) + " at " +
                std::to_string(ro.width) + "x" + std::to_string(ro.height) + (o.reference ? " (reference)" : ""));
-  const wf::RenderResult r = o.reference ? wf::renderReference(sf.scene, ro) : wf::render(sf.scene, ro);
+  const wf::RenderResult r = o.reference ? wf::renderReference(sf.scene, mainOptions) : wf::render(sf.scene, mainOptions);
   wf::releaseRenderMemory();  // (the estimate counts no render's blocks beside the next one's)
   const std::string inputName = o.input.empty() ? std::string("built-in scene") : o.input;
   for (const std::string& w : r.stats.warnings) warn(inputName + ": " + w);
@@ -311,9 +324,9 @@ int runRender(const RenderCommandOptions& o) {
     sf.scene.background = glm::vec4(0.0f);
     const wf::RenderResult ref = wf::renderReference(sf.scene, referenceOptions);
     wf::releaseRenderMemory();
-    std::optional<wf::RenderResult> second;  // (a reference to r otherwise: no copy of its image)
-    if (background.w > 0.0f) {
-      second = wf::render(sf.scene, ro);
+    std::optional<wf::RenderResult> transparent;  // (a reference to r otherwise: no copy of its image)
+    if (second) {
+      transparent = wf::render(sf.scene, secondOptions);
       wf::releaseRenderMemory();
     }
     // Stochastic simplification against its exact path (every hair drawn, the same shading
@@ -325,7 +338,7 @@ int runRender(const RenderCommandOptions& o) {
       wf::releaseRenderMemory();
     }
     sf.scene.background = background;
-    const wf::RenderResult& mine = second ? *second : r;
+    const wf::RenderResult& mine = transparent ? *transparent : r;
     if (full) {
       const ImageError s = imageError(mine.image, full->image);
       stats["error_estimate"]["simplification"]["measured_against_full"] = {{"rgba_rms", s.rms},

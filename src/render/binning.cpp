@@ -8,7 +8,7 @@
 // the counts give every (chunk, tile) its place, and the chunks fill them (binPrimitives), so
 // each tile's items are in primitive order whatever the thread count. The filling takes a band
 // of tile rows at a time: the renderer bins and draws a dense scene's bands one after another
-// (renderer.cpp, binBands), so that its items are not all held at once.
+// (binBands; renderer.cpp and reference_renderer.cpp), so that its items are not all held at once.
 #include "render/pipeline.h"
 
 #include <tbb/parallel_for.h>
@@ -246,11 +246,37 @@ double binsHeldBeside(const PreparedScene& ps, const BinCounts& c, double alsoHe
 void checkBinsFit(const PreparedScene& ps, const BinCounts& c, std::uint64_t items, size_t memoryBudget, double alsoHeld) {
   if (items > std::numeric_limits<std::uint32_t>::max()) throw std::length_error("more than 4 billion tile items");
   const double held = binsHeldBeside(ps, c, alsoHeld);
-  if (memoryBudget && held + double(items) * sizeof(TileBins::Item) > double(memoryBudget))
+  const double itemBytes = double(items) * sizeof(TileBins::Item);
+  if (memoryBudget && held + itemBytes + largeArrayRounding(itemBytes) > double(memoryBudget))
     throw std::length_error("the primitives fall into " + std::to_string(items) + " tile bins at once (" +
                             std::to_string(items * sizeof(TileBins::Item) >> 20) + " MiB beside " +
                             std::to_string(size_t(held) >> 20) +
                             " MiB already held), over the memory budget (RenderOptions::memoryBudget / --memory-budget)");
+}
+
+std::vector<std::pair<int, int>> binBands(const PreparedScene& ps, const BinCounts& c, size_t memoryBudget,
+                                          double alsoHeld, std::uint64_t& largest) {
+  double cap = std::max(double(ps.primitiveBytes()) / 4.0, double(kOneBand));
+  if (memoryBudget) {
+    const double room = double(memoryBudget) - binsHeldBeside(ps, c, alsoHeld);
+    cap = std::min(cap, room - largeArrayRounding(room));
+  }
+  std::vector<std::pair<int, int>> bands;
+  std::uint64_t items = 0;
+  largest = 0;
+  for (int row = c.rowBegin; row < c.rowEnd; ++row) {
+    const std::uint64_t here = c.rowItems(row);
+    if (!bands.empty() && bands.back().second == row && double(items + here) * sizeof(TileBins::Item) <= cap &&
+        items + here <= std::numeric_limits<std::uint32_t>::max()) {
+      bands.back().second = row + 1;
+      items += here;
+    } else {
+      bands.emplace_back(row, row + 1);
+      items = here;
+    }
+    largest = std::max(largest, items);
+  }
+  return bands;
 }
 
 std::uint64_t BinCounts::rowItems(int row) const {

@@ -382,6 +382,46 @@ TEST(DenseHair, SameImageForAnyThreadCount) {
 // primitives but not all their items at once, the renderer bins and draws bands of tile rows one
 // after another. The image is the one-band render's bit for bit (each tile gets the same items in
 // the same order), and the bins held at the peak are smaller.
+// The estimate a render is refused by bounds what the render then holds (its own count,
+// RenderStats::peakBytes, and its image), where the hairs' tile items, several a hair, are much
+// of it: with the A-buffer, with shading tables (maps), and for the brute-force reference.
+TEST(DenseHair, TheMemoryEstimateBoundsWhatTheRenderHolds) {
+  const int W = 160, H = 120;
+  Scene s = furOverRect(W, H, 40.0, 1.2);
+  SceneWire& fur = s.wires.back();
+  for (int i = 0; i < 12000; ++i) {
+    HashRandom r(17, 0, std::uint64_t(i));
+    const V2 root(r.uniform(0, W), r.uniform(0, H));
+    const double a = r.uniform(0, 6.2832), len = r.uniform(40, 120);
+    fur.lines.add({test::world(root, 30.0, W, H), test::world(root + len * V2(std::cos(a), std::sin(a)), 25.0, W, H)});
+  }
+  RenderOptions o = test::smallOptions(W, H);
+  o.tileSize = 8;
+  o.threads = 2;
+  o.referenceSamples = 2;
+  const double image = double(W) * H * sizeof(glm::vec4);
+  for (const ShadingPath path : {ShadingPath::Closed, ShadingPath::Maps}) {
+    o.shading = path;
+    const RenderResult r = render(s, o);
+    // (about ten items a hair, against the one a primitive the estimate once counted; and not
+    // much more than the render holds)
+    EXPECT_GE(double(estimateRenderBytes(s, o)), double(r.stats.peakBytes) + image) << int(path);
+    EXPECT_LE(double(estimateRenderBytes(s, o)), 3.0 * (double(r.stats.peakBytes) + image)) << int(path);
+  }
+  o.shading = ShadingPath::Closed;
+  const RenderResult ref = renderReference(s, o);
+  EXPECT_GE(double(estimateRenderBytes(s, o, true)), double(ref.stats.peakBytes) + image);
+  // The reference bins in bands too: under the least budget it accepts, several, and the same
+  // image to the bit.
+  EXPECT_EQ(ref.stats.binBands, 1u);
+  o.memoryBudget = 1;
+  o.memoryBudget = estimateRenderBytes(s, o, true);
+  const RenderResult banded = renderReference(s, o);
+  EXPECT_GT(banded.stats.binBands, 1u);
+  EXPECT_EQ(test::maxDiff(ref.image, banded.image), 0.0);
+  EXPECT_LT(banded.stats.peakBytes, ref.stats.peakBytes);
+}
+
 TEST(DenseHair, BandsOfTileRowsGiveTheSameImage) {
   const int W = 160, H = 120;
   Scene s = furOverRect(W, H, 40.0, 1.2);

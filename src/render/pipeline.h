@@ -65,6 +65,9 @@ inline constexpr double kMitreLimit = 4.0;
 void* allocateLarge(size_t bytes);
 void freeLarge(void* p, size_t bytes) noexcept;
 inline constexpr size_t kLargeAllocation = size_t(4) << 20;
+/// What allocateLarge adds to an array of `bytes` at most: its rounding up to whole 2 MiB pages
+/// (nothing for an array below kLargeAllocation, which the heap holds).
+inline double largeArrayRounding(double bytes) { return bytes >= double(kLargeAllocation) ? double(size_t(2) << 20) : 0.0; }
 
 /// A vector whose resize() leaves trivially constructible elements uninitialised: the set-up
 /// stage writes every element it keeps, and zeroing hundreds of megabytes first would cost as
@@ -278,6 +281,9 @@ struct PreparedScene {
     return shaders[isSegment(i) ? segmentOf(i).shader : triangles[i].shader];
   }
   float opacityOf(std::uint32_t i) const { return shaderOf(i).opacity; }
+  /// The primitives' arrays (what a band of tile items is sized against: binBands).
+  size_t primitiveBytes() const;
+  /// Those and the shading tables.
   size_t bytes() const;
 };
 
@@ -784,6 +790,20 @@ void checkBinsFit(const PreparedScene& ps, const BinCounts& counts, std::uint64_
                   double alsoHeld = 0.0);
 /// The whole grid at once.
 TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& stats, size_t memoryBudget = 0);
+/// A band of tile rows holds up to this many bytes of items, or a quarter of the primitives'
+/// bytes where that is more (binBands).
+inline constexpr size_t kOneBand = size_t(4) << 20;
+/// Bands of the counted tile rows to bin and draw one after another, so that a dense scene's
+/// items (several a hair: one per tile it crosses) are not all held at once beside its
+/// primitives. A band holds at most a quarter of the primitives' bytes in items, or kOneBand
+/// bytes where that is more (a scene whose items fit it is drawn as one band), or one tile row
+/// where a row alone holds more; and no more than the memory budget leaves beside the
+/// primitives, the counts, `alsoHeld` (the image and the tile buffers) and the items' own
+/// rounding to pages (a row that does not fit is checkBinsFit's error, before any band is
+/// drawn). `largest`: the most items a band holds. The image is the same for any bands: each
+/// tile's items are the same, in the same order.
+std::vector<std::pair<int, int>> binBands(const PreparedScene& ps, const BinCounts& c, size_t memoryBudget,
+                                          double alsoHeld, std::uint64_t& largest);
 /// Sorts one tile's items into TileBins::Item's order (zlo, then index) when they arrive in
 /// primitive order, as binPrimitives leaves them: a stable radix sort on zlo (-0 taken as +0,
 /// equal, as the comparison has them; NaN after every number), so that ties keep that order;

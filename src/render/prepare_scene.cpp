@@ -190,11 +190,15 @@ PrimitiveDepth::PrimitiveDepth(const PreparedScene& ps, std::uint32_t i) : view_
   }
 }
 
+size_t PreparedScene::primitiveBytes() const {
+  return triangles.capacity() * sizeof(TrianglePrim) + vertices.capacity() * sizeof(glm::dvec2) +
+         triangleAttributes.capacity() * sizeof(TriangleAttributes) + segments.capacity() * sizeof(SegmentPrim) +
+         segmentShading.capacity() * sizeof(SegmentShading) + segmentColours.capacity() * sizeof(SegmentColours) +
+         dashPattern.capacity() * sizeof(glm::vec2);
+}
+
 size_t PreparedScene::bytes() const {
-  size_t b = triangles.capacity() * sizeof(TrianglePrim) + vertices.capacity() * sizeof(glm::dvec2) +
-             triangleAttributes.capacity() * sizeof(TriangleAttributes) +
-             segments.capacity() * sizeof(SegmentPrim) + segmentShading.capacity() * sizeof(SegmentShading) +
-             segmentColours.capacity() * sizeof(SegmentColours) + dashPattern.capacity() * sizeof(glm::vec2);
+  size_t b = primitiveBytes();
   for (const ShaderSlot& s : shaders) {
     if (s.wireTables) b += s.wireTables->bytes();
     if (s.surfaceTables) b += s.surfaceTables->bytes();

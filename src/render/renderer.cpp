@@ -44,9 +44,6 @@ std::string describeBytes(double b) {
 }  // namespace
 
 namespace {
-// A band of tile rows holds up to this many bytes of items, or a quarter of the primitives' bytes
-// where that is more (binBands).
-constexpr size_t kOneBand = size_t(4) << 20;
 // The image and the tile buffers of every thread (estimateRenderBytes' first terms): what a
 // render holds whatever its primitives.
 double imageAndTileBytes(const Scene& scene, const RenderOptions& o, bool reference) {
@@ -96,11 +93,11 @@ size_t estimateRenderBytes(const Scene& scene, const RenderOptions& o, bool refe
   const double chunks = std::clamp(std::ceil((triangles + segments) / 65536.0), 1.0, 4.0 * threads);
   const double primitiveBytes = triangles * perTriangle + segments * perSegment;
   // Each large array (allocateLarge: 4 MiB and more) is rounded up to whole 2 MiB pages.
-  auto rounded = [](double arrayBytes) { return arrayBytes >= double(kLargeAllocation) ? double(size_t(2) << 20) : 0.0; };
-  double rounding = rounded(triangles * sizeof(TrianglePrim)) + rounded(triangles * sizeof(TriangleAttributes)) +
-                    rounded(triangles * 5 * sizeof(glm::dvec2)) + rounded(segments * sizeof(SegmentPrim)) +
-                    rounded(segments * sizeof(SegmentShading)) + rounded(segments * sizeof(SegmentColours)) +
-                    rounded(segments * sizeof(glm::vec2));
+  const auto rounded = largeArrayRounding;
+  const double rounding = rounded(triangles * sizeof(TrianglePrim)) + rounded(triangles * sizeof(TriangleAttributes)) +
+                          rounded(triangles * 5 * sizeof(glm::dvec2)) + rounded(segments * sizeof(SegmentPrim)) +
+                          rounded(segments * sizeof(SegmentShading)) + rounded(segments * sizeof(SegmentColours)) +
+                          (keepsDashPatterns(scene) ? rounded(segments * sizeof(glm::vec2)) : 0.0);
   // (and the counts' rows per block of primitives)
   bytes += primitiveBytes + rounding + (tiles + 1) * sizeof(std::uint32_t) * (1 + 2 * chunks) +
            std::ceil((triangles + segments) / double(BinCounts::kBlock)) * 2 * sizeof(int);
@@ -175,35 +172,6 @@ namespace {
 glm::vec4 overBackground(const glm::vec4& c, const glm::vec4& bg) {
   const float t = 1.0f - c.w;
   return glm::vec4(glm::vec3(c) + t * glm::vec3(bg) * bg.w, c.w + t * bg.w);
-}
-
-// Bands of tile rows to bin and draw one after another, so that a dense scene's items (several
-// a hair: one per tile it crosses) are not all held at once beside its primitives. A band holds
-// at most a quarter of the primitives' bytes in items, or kOneBand bytes where that is more (a
-// scene whose items fit it is drawn as one band), or one tile row where a row alone holds more;
-// and no more than the memory budget leaves beside the primitives, the counts, the image and the
-// tile buffers (`alsoHeld`; a row that does not fit is checkBinsFit's error, before any band is
-// drawn). The image is the same for any bands: each tile's items are the same, in the same order.
-std::vector<std::pair<int, int>> binBands(const PreparedScene& ps, const BinCounts& c, size_t memoryBudget,
-                                          double alsoHeld, std::uint64_t& largest) {
-  double cap = std::max(double(ps.bytes()) / 4.0, double(kOneBand));
-  if (memoryBudget) cap = std::min(cap, double(memoryBudget) - binsHeldBeside(ps, c, alsoHeld));
-  std::vector<std::pair<int, int>> bands;
-  std::uint64_t items = 0;
-  largest = 0;
-  for (int row = c.rowBegin; row < c.rowEnd; ++row) {
-    const std::uint64_t here = c.rowItems(row);
-    if (!bands.empty() && bands.back().second == row && double(items + here) * sizeof(TileBins::Item) <= cap &&
-        items + here <= std::numeric_limits<std::uint32_t>::max()) {
-      bands.back().second = row + 1;
-      items += here;
-    } else {
-      bands.emplace_back(row, row + 1);
-      items = here;
-    }
-    largest = std::max(largest, items);
-  }
-  return bands;
 }
 
 }  // namespace

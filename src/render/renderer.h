@@ -114,7 +114,8 @@ struct RenderOptions {
   /// Most bytes one render may hold at its peak (estimateRenderBytes: image, tile buffers of
   /// every thread, primitives and bins, shading tables), checked before anything large is
   /// allocated: problem() reports the scene-independent part, render() and renderReference()
-  /// throw std::length_error with memoryProblem()'s line. 0: unlimited.
+  /// throw std::length_error with memoryProblem()'s line. Under it the tile items are binned in
+  /// smaller bands of tile rows (binBands), down to one row. 0: unlimited.
   size_t memoryBudget = defaultMemoryBudget();
   /// Empty when usable; otherwise what is wrong.
   std::string problem() const;
@@ -180,9 +181,13 @@ struct RenderResult {
 
 /// Bytes render() (renderReference() when `reference`) of `scene` is expected to hold at its
 /// peak: the float RGBA image, one tile buffer per worker thread (fragment lists counted at
-/// min(budget, 4) entries per pixel: deeper pixels add up to `budget` each), the primitives,
-/// their attributes and bins (twice: set-up holds them per chunk while it joins them), and the
-/// shading tables the scene's materials need. Counted from the input alone, before set-up.
+/// min(budget, 4) entries per pixel: deeper pixels add up to `budget` each), the primitives and
+/// their attributes (each large array rounded to 2 MiB pages), the shading tables the scene's
+/// materials need, and the tile items of a band of tile rows: a quarter of the primitives'
+/// bytes or 4 MiB, whichever is more (binBands; no more than one item a primitive a tile, and
+/// one tile row may hold more), or under options.memoryBudget what the budget leaves, at least
+/// one item a primitive (the least a render needs: a budget below that is refused). Counted
+/// from the input alone, before set-up.
 size_t estimateRenderBytes(const Scene& scene, const RenderOptions& options, bool reference = false);
 /// Empty when estimateRenderBytes fits options.memoryBudget (or the budget is 0); otherwise one
 /// line: "image of WxH needs about X GiB, over the memory budget of Y GiB (...)".
