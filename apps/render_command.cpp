@@ -15,6 +15,7 @@
 #include <chrono>
 #include <cstdio>
 #include <optional>
+#include <stdexcept>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -288,7 +289,18 @@ int runRender(const RenderCommandOptions& o) {
   }
   progress.say("rendering " + (o.input.empty() ? std::string("the built-in scene") : o.input) + " at " +
                std::to_string(ro.width) + "x" + std::to_string(ro.height) + (o.reference ? " (reference)" : ""));
-  const wf::RenderResult r = o.reference ? wf::renderReference(sf.scene, mainOptions) : wf::render(sf.scene, mainOptions);
+  // A render the library finds over its share of the budget once it has counted the tile items
+  // (one tile row holding more than the room left) is refused as the estimate's are: one line,
+  // exit 2.
+  auto withinBudget = [&](auto&& draw) {
+    try {
+      return draw();
+    } catch (const std::length_error& e) {
+      throw UsageError("render: " + (o.input.empty() ? std::string("built-in scene") : o.input) + ": " + e.what());
+    }
+  };
+  const wf::RenderResult r = withinBudget(
+      [&] { return o.reference ? wf::renderReference(sf.scene, mainOptions) : wf::render(sf.scene, mainOptions); });
   wf::releaseRenderMemory();  // (the estimate counts no render's blocks beside the next one's)
   const std::string inputName = o.input.empty() ? std::string("built-in scene") : o.input;
   for (const std::string& w : r.stats.warnings) warn(inputName + ": " + w);
@@ -322,11 +334,11 @@ int runRender(const RenderCommandOptions& o) {
     // (The scene's own background set aside and put back: no copy of its meshes and hairs.)
     const glm::vec4 background = sf.scene.background;
     sf.scene.background = glm::vec4(0.0f);
-    const wf::RenderResult ref = wf::renderReference(sf.scene, referenceOptions);
+    const wf::RenderResult ref = withinBudget([&] { return wf::renderReference(sf.scene, referenceOptions); });
     wf::releaseRenderMemory();
     std::optional<wf::RenderResult> transparent;  // (a reference to r otherwise: no copy of its image)
     if (second) {
-      transparent = wf::render(sf.scene, secondOptions);
+      transparent = withinBudget([&] { return wf::render(sf.scene, secondOptions); });
       wf::releaseRenderMemory();
     }
     // Stochastic simplification against its exact path (every hair drawn, the same shading
@@ -334,7 +346,7 @@ int runRender(const RenderCommandOptions& o) {
     std::optional<wf::RenderResult> full;
     if (ro.simplify.enabled) {
       progress.say("rendering every hair (simplification off) for the simplification's error");
-      full = wf::render(sf.scene, fullOptions);
+      full = withinBudget([&] { return wf::render(sf.scene, fullOptions); });
       wf::releaseRenderMemory();
     }
     sf.scene.background = background;

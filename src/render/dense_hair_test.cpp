@@ -378,10 +378,6 @@ TEST(DenseHair, SameImageForAnyThreadCount) {
   }
 }
 
-// Long hairs over small tiles make many items each: under a memory budget that holds the
-// primitives but not all their items at once, the renderer bins and draws bands of tile rows one
-// after another. The image is the one-band render's bit for bit (each tile gets the same items in
-// the same order), and the bins held at the peak are smaller.
 // The estimate a render is refused by bounds what the render then holds (its own count,
 // RenderStats::peakBytes, and its image), where the hairs' tile items, several a hair, are much
 // of it: with the A-buffer, with shading tables (maps), and for the brute-force reference.
@@ -420,8 +416,28 @@ TEST(DenseHair, TheMemoryEstimateBoundsWhatTheRenderHolds) {
   EXPECT_GT(banded.stats.binBands, 1u);
   EXPECT_EQ(test::maxDiff(ref.image, banded.image), 0.0);
   EXPECT_LT(banded.stats.peakBytes, ref.stats.peakBytes);
+  for (const int threads : {1, 7}) {
+    o.threads = threads;
+    o.memoryBudget = 1;
+    o.memoryBudget = estimateRenderBytes(s, o, true);
+    EXPECT_EQ(test::maxDiff(ref.image, renderReference(s, o).image), 0.0) << threads << " threads";
+  }
+  // A small image with many threads and many samples: the least budget the estimate accepts is
+  // one the reference's bands keep to (their tile buffers counted as the estimate counts them,
+  // one a tile at most).
+  RenderOptions small = test::smallOptions(40, 30);
+  small.tileSize = 8;
+  small.threads = 16;
+  small.referenceSamples = 16;
+  small.memoryBudget = 1;
+  small.memoryBudget = estimateRenderBytes(s, small, true);
+  EXPECT_NO_THROW(renderReference(s, small));
 }
 
+// Long hairs over small tiles make many items each: under a memory budget that holds the
+// primitives but not all their items at once, the renderer bins and draws bands of tile rows one
+// after another. The image is the one-band render's bit for bit (each tile gets the same items in
+// the same order), and the bins held at the peak are smaller.
 TEST(DenseHair, BandsOfTileRowsGiveTheSameImage) {
   const int W = 160, H = 120;
   Scene s = furOverRect(W, H, 40.0, 1.2);

@@ -7,8 +7,8 @@
 //         -> primitives      prepare_scene.cpp   prepareScene: the stages above, then clipping and
 //                            triangle_setup.cpp    projection of triangles and wire segments into
 //                            segment_setup.cpp     convex screen polygons
-//         -> bins            binning.cpp         countBins, binPrimitives: primitives into screen tiles,
-//                                                a band of tile rows at a time (renderer.cpp)
+//         -> bins            binning.cpp         countBins, binBands, binPrimitives: primitives into screen
+//                                                tiles, a band of tile rows at a time
 //         -> fragments       rasterize.h         rasterizePolygon: exact area, mask, depth per pixel
 //         -> resolve         abuffer/abuffer.cpp TileABuffer: depth order, coverage, tails
 //         -> image
@@ -790,6 +790,10 @@ void checkBinsFit(const PreparedScene& ps, const BinCounts& counts, std::uint64_
                   double alsoHeld = 0.0);
 /// The whole grid at once.
 TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& stats, size_t memoryBudget = 0);
+/// The image and the tile buffers of every thread a render of `o` (renderReference's when
+/// `reference`) holds whatever its primitives: estimateRenderBytes' first terms, and what
+/// binBands leaves beside the items (renderer.cpp).
+double renderImageAndTileBytes(const Scene& scene, const RenderOptions& o, bool reference);
 /// A band of tile rows holds up to this many bytes of items, or a quarter of the primitives'
 /// bytes where that is more (binBands).
 inline constexpr size_t kOneBand = size_t(4) << 20;

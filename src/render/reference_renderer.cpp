@@ -65,9 +65,7 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
     const auto tb = std::chrono::steady_clock::now();
     const BinCounts counts = countBins(ps, options.tileSize);
     st.binning += std::chrono::duration<double>(std::chrono::steady_clock::now() - tb).count();
-    const double image = double(options.width) * double(options.height) * sizeof(glm::vec4);
-    const double tileBytes = double(options.tileSize) * options.tileSize * S2 * (sizeof(float) + sizeof(std::int32_t));
-    const double alsoHeld = image + double(std::max(1, tbb::this_task_arena::max_concurrency())) * tileBytes;
+    const double alsoHeld = renderImageAndTileBytes(scene, options, true);  // (as the estimate counts them)
     std::uint64_t largestBand = 0;
     const std::vector<std::pair<int, int>> bands = binBands(ps, counts, options.memoryBudget, alsoHeld, largestBand);
     st.binBands = bands.size();
@@ -78,7 +76,7 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options) {
     tbb::enumerable_thread_specific<TileSamples> store;
     double rasterSeconds = 0.0;
     for (const auto& [rowBegin, rowEnd] : bands) {
-      binPrimitives(ps, counts, rowBegin, rowEnd, st, options.memoryBudget, bins);
+      binPrimitives(ps, counts, rowBegin, rowEnd, st, 0, bins);  // (checkBinsFit has passed every band)
       binBytes = std::max(binBytes, bins.bytes());
       const auto tr = std::chrono::steady_clock::now();
       const int firstTile = rowBegin * bins.tilesX;

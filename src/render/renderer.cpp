@@ -43,10 +43,7 @@ std::string describeBytes(double b) {
 }
 }  // namespace
 
-namespace {
-// The image and the tile buffers of every thread (estimateRenderBytes' first terms): what a
-// render holds whatever its primitives.
-double imageAndTileBytes(const Scene& scene, const RenderOptions& o, bool reference) {
+double renderImageAndTileBytes(const Scene& scene, const RenderOptions& o, bool reference) {
   const double w = std::max(o.width, 0), h = std::max(o.height, 0);
   double bytes = w * h * double(sizeof(glm::vec4));  // the image
   const int threads = o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
@@ -68,15 +65,13 @@ double imageAndTileBytes(const Scene& scene, const RenderOptions& o, bool refere
   const double tiles = std::ceil(w / tile) * std::ceil(h / tile);
   return bytes + std::min<double>(threads, std::max(tiles, 1.0)) * tileBytes;
 }
-}  // namespace
-
 size_t estimateRenderBytes(const Scene& scene, const RenderOptions& o, bool reference) {
   // In double: a 16384^2 image with millions of primitives must not wrap.
   const double w = std::max(o.width, 0), h = std::max(o.height, 0);
   const int threads = o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
   const int tile = std::clamp(o.tileSize, 1, 4096);
   const double tiles = std::ceil(w / tile) * std::ceil(h / tile);
-  double bytes = imageAndTileBytes(scene, o, reference);
+  double bytes = renderImageAndTileBytes(scene, o, reference);
   // Primitives: room for every input triangle with 5 screen vertices (the most near / far
   // clipping leaves) and every input segment, and the per-chunk tile counts of the binning (the
   // bins' items last: what a budget leaves them).
@@ -204,7 +199,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
     const size_t placeBytes = binCounts.chunks * size_t(binCounts.tilesX) *
                               size_t(binCounts.rowEnd - binCounts.rowBegin) * sizeof(std::uint32_t);
     std::uint64_t largestBand = 0;
-    const double alsoHeld = imageAndTileBytes(scene, options, false);
+    const double alsoHeld = renderImageAndTileBytes(scene, options, false);
     const std::vector<std::pair<int, int>> bands =
         binBands(ps, binCounts, options.memoryBudget, alsoHeld, largestBand);
     st.binBands = bands.size();

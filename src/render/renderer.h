@@ -150,7 +150,7 @@ struct RenderStats {
   // what the A-buffer did
   ABufferCounters abuffer;
   size_t tiles = 0, tilesEmpty = 0;  ///< tiles binned (a row band's only), those with no item
-  size_t binBands = 0;  ///< bands of tile rows binned and drawn one after another (render: its items not all held at once)
+  size_t binBands = 0;  ///< bands of tile rows binned and drawn one after another (render, renderReference: their items not all held at once)
   int pseudoReflectanceMaps = 0, reflectanceSpheres = 0;  ///< built for this render
   int viewGrid = 1;                                       ///< nodes per side of the view-direction grid
   /// Primitives + bins (the largest band's items, the counts while any band is left to bin) +

@@ -385,4 +385,14 @@ TEST(RenderCli, MemoryEstimateBoundsTheDenseFursPeak) {
     // of the four renders' working memory, as the estimate once was, is over three times it).
     else EXPECT_LT(estimate, 2.0 * plain);
   }
+  // A budget a little under that estimate: the render keeps to it (it is given what the command
+  // leaves, and bins its tile items in bands to fit) rather than being refused, as it was when
+  // each render was given the whole budget.
+  const std::uint64_t budget = std::uint64_t(plain) - (std::uint64_t(3) << 20);
+  const Result tight = run("render '" + path + "' -o '" + png.string() + "' --size 1024x768 --memory-budget " +
+                           std::to_string(budget) + " --stats '" + stats.string() + "'");
+  ASSERT_EQ(tight.status, 0) << tight.err;
+  const json m = json::parse(slurp(stats))["memory"];
+  EXPECT_LE(m["estimate_bytes"].get<double>(), double(budget));
+  EXPECT_LE(m["peak_rss_bytes"].get<double>(), double(budget));
 }
