@@ -18,6 +18,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <optional>
@@ -247,11 +248,20 @@ void checkBinsFit(const PreparedScene& ps, const BinCounts& c, std::uint64_t ite
   if (items > std::numeric_limits<std::uint32_t>::max()) throw std::length_error("more than 4 billion tile items");
   const double held = binsHeldBeside(ps, c, alsoHeld);
   const double itemBytes = double(items) * sizeof(TileBins::Item);
-  if (memoryBudget && held + itemBytes + largeArrayRounding(itemBytes) > double(memoryBudget))
-    throw std::length_error("the primitives fall into " + std::to_string(items) + " tile bins at once (" +
-                            std::to_string(items * sizeof(TileBins::Item) >> 20) + " MiB beside " +
-                            std::to_string(size_t(held) >> 20) +
-                            " MiB already held), over the memory budget (RenderOptions::memoryBudget / --memory-budget)");
+  const double need = itemBytes + largeArrayRounding(itemBytes);
+  if (!memoryBudget || held + need <= double(memoryBudget)) return;
+  auto mib = [](double b) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.1f MiB", b / double(1 << 20));
+    return std::string(text);
+  };
+  const std::string budget = mib(double(memoryBudget)) + " (RenderOptions::memoryBudget / --memory-budget)";
+  if (held > double(memoryBudget))  // (nothing of the items fits: what is held is over already)
+    throw std::length_error("the primitives and what is held beside their tile items (" + mib(held) +
+                            ") are over the memory budget of " + budget);
+  throw std::length_error("a band of tile rows holds " + std::to_string(items) + " tile items (" + mib(need) +
+                          (need > itemBytes ? " with their rounding to 2 MiB pages" : "") + ") beside " + mib(held) +
+                          " already held, over the memory budget of " + budget);
 }
 
 std::vector<std::pair<int, int>> binBands(const PreparedScene& ps, const BinCounts& c, size_t memoryBudget,

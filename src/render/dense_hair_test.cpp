@@ -434,6 +434,30 @@ TEST(DenseHair, TheMemoryEstimateBoundsWhatTheRenderHolds) {
   EXPECT_NO_THROW(renderReference(s, small));
 }
 
+// A tile row alone holding more items than the least budget leaves them (hairs along the
+// whole row, an item in every tile): no band can be smaller than a row, so the render is refused
+// before any band is drawn, with one line that says so.
+TEST(DenseHair, ATileRowOverTheBudgetIsRefusedWithOneLine) {
+  const int W = 320, H = 8;
+  Scene s = furOverRect(W, H, 40.0, 1.2);
+  SceneWire& fur = s.wires.back();
+  for (int i = 0; i < 3000; ++i) {
+    const double y = 0.5 + 7.0 * (i % 97) / 97.0;
+    fur.lines.add({test::world(V2(1.0, y), 30.0, W, H), test::world(V2(W - 1.0, y), 30.0, W, H)});
+  }
+  RenderOptions o = test::smallOptions(W, H);
+  o.tileSize = 8;
+  o.memoryBudget = 1;
+  o.memoryBudget = estimateRenderBytes(s, o);  // (one item a hair: the row holds forty)
+  try {
+    render(s, o);
+    ADD_FAILURE() << "rendered over the budget";
+  } catch (const std::length_error& e) {
+    EXPECT_NE(std::string(e.what()).find("a band of tile rows holds"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("over the memory budget of"), std::string::npos) << e.what();
+  }
+}
+
 // Long hairs over small tiles make many items each: under a memory budget that holds the
 // primitives but not all their items at once, the renderer bins and draws bands of tile rows one
 // after another. The image is the one-band render's bit for bit (each tile gets the same items in
