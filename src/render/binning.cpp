@@ -266,11 +266,8 @@ void checkBinsFit(const PreparedScene& ps, const BinCounts& c, std::uint64_t ite
 
 std::vector<std::pair<int, int>> binBands(const PreparedScene& ps, const BinCounts& c, size_t memoryBudget,
                                           double alsoHeld, std::uint64_t& largest) {
-  double cap = std::max(double(ps.primitiveBytes()) / 4.0, double(kOneBand));
-  if (memoryBudget) {
-    const double room = double(memoryBudget) - binsHeldBeside(ps, c, alsoHeld);
-    cap = std::min(cap, room - largeArrayRounding(room));
-  }
+  const double cap = bandItemCap(double(ps.primitiveBytes()),
+                                 memoryBudget ? double(memoryBudget) - binsHeldBeside(ps, c, alsoHeld) : INFINITY);
   std::vector<std::pair<int, int>> bands;
   std::uint64_t items = 0;
   largest = 0;

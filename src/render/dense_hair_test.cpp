@@ -348,6 +348,28 @@ Scene furOverRect(int W, int H, double depth, double thickness) {
   return s;
 }
 
+// 12,000 straight hairs 40 ... 120 pixels long at random over furOverRect's W x H rectangle
+// (hash seed `seed`): over tiles of 8 pixels, ten or more tile items a hair.
+Scene longHairsOverRect(int W, int H, std::uint64_t seed) {
+  Scene s = furOverRect(W, H, 40.0, 1.2);
+  SceneWire& fur = s.wires.back();
+  for (int i = 0; i < 12000; ++i) {
+    HashRandom r(seed, 0, std::uint64_t(i));
+    const V2 root(r.uniform(0, W), r.uniform(0, H));
+    const double a = r.uniform(0, 6.2832), len = r.uniform(40, 120);
+    fur.lines.add({test::world(root, 30.0, W, H), test::world(root + len * V2(std::cos(a), std::sin(a)), 25.0, W, H)});
+  }
+  return s;
+}
+
+// The least memory budget render() (renderReference() when `reference`) accepts for `s` with
+// options `o`: the estimate under a budget too small for a band of kOneBand, which counts one
+// tile item a primitive.
+size_t leastBudget(const Scene& s, RenderOptions o, bool reference = false) {
+  o.memoryBudget = 1;
+  return estimateRenderBytes(s, o, reference);
+}
+
 TEST(DenseHair, SameImageForAnyThreadCount) {
   const int W = 120, H = 90;
   Scene s = furOverRect(W, H, 30.0, 1.7);
@@ -383,14 +405,7 @@ TEST(DenseHair, SameImageForAnyThreadCount) {
 // of it: with the A-buffer, with shading tables (maps), and for the brute-force reference.
 TEST(DenseHair, TheMemoryEstimateBoundsWhatTheRenderHolds) {
   const int W = 160, H = 120;
-  Scene s = furOverRect(W, H, 40.0, 1.2);
-  SceneWire& fur = s.wires.back();
-  for (int i = 0; i < 12000; ++i) {
-    HashRandom r(17, 0, std::uint64_t(i));
-    const V2 root(r.uniform(0, W), r.uniform(0, H));
-    const double a = r.uniform(0, 6.2832), len = r.uniform(40, 120);
-    fur.lines.add({test::world(root, 30.0, W, H), test::world(root + len * V2(std::cos(a), std::sin(a)), 25.0, W, H)});
-  }
+  const Scene s = longHairsOverRect(W, H, 17);
   RenderOptions o = test::smallOptions(W, H);
   o.tileSize = 8;
   o.threads = 2;
@@ -410,16 +425,14 @@ TEST(DenseHair, TheMemoryEstimateBoundsWhatTheRenderHolds) {
   // The reference bins in bands too: under the least budget it accepts, several, and the same
   // image to the bit.
   EXPECT_EQ(ref.stats.binBands, 1u);
-  o.memoryBudget = 1;
-  o.memoryBudget = estimateRenderBytes(s, o, true);
+  o.memoryBudget = leastBudget(s, o, true);
   const RenderResult banded = renderReference(s, o);
   EXPECT_GT(banded.stats.binBands, 1u);
   EXPECT_EQ(test::maxDiff(ref.image, banded.image), 0.0);
   EXPECT_LT(banded.stats.peakBytes, ref.stats.peakBytes);
   for (const int threads : {1, 7}) {
     o.threads = threads;
-    o.memoryBudget = 1;
-    o.memoryBudget = estimateRenderBytes(s, o, true);
+    o.memoryBudget = leastBudget(s, o, true);
     EXPECT_EQ(test::maxDiff(ref.image, renderReference(s, o).image), 0.0) << threads << " threads";
   }
   // A small image with many threads and many samples: the least budget the estimate accepts is
@@ -429,8 +442,7 @@ TEST(DenseHair, TheMemoryEstimateBoundsWhatTheRenderHolds) {
   small.tileSize = 8;
   small.threads = 16;
   small.referenceSamples = 16;
-  small.memoryBudget = 1;
-  small.memoryBudget = estimateRenderBytes(s, small, true);
+  small.memoryBudget = leastBudget(s, small, true);
   EXPECT_NO_THROW(renderReference(s, small));
 }
 
@@ -447,8 +459,7 @@ TEST(DenseHair, ATileRowOverTheBudgetIsRefusedWithOneLine) {
   }
   RenderOptions o = test::smallOptions(W, H);
   o.tileSize = 8;
-  o.memoryBudget = 1;
-  o.memoryBudget = estimateRenderBytes(s, o);  // (one item a hair: the row holds forty)
+  o.memoryBudget = leastBudget(s, o);  // (one item a hair: the row holds forty)
   try {
     render(s, o);
     ADD_FAILURE() << "rendered over the budget";
@@ -464,24 +475,15 @@ TEST(DenseHair, ATileRowOverTheBudgetIsRefusedWithOneLine) {
 // the same order), and the bins held at the peak are smaller.
 TEST(DenseHair, BandsOfTileRowsGiveTheSameImage) {
   const int W = 160, H = 120;
-  Scene s = furOverRect(W, H, 40.0, 1.2);
-  SceneWire& fur = s.wires.back();
-  for (int i = 0; i < 12000; ++i) {
-    HashRandom r(13, 0, std::uint64_t(i));
-    const V2 root(r.uniform(0, W), r.uniform(0, H));
-    const double a = r.uniform(0, 6.2832), len = r.uniform(40, 120);
-    fur.lines.add({test::world(root, 30.0, W, H), test::world(root + len * V2(std::cos(a), std::sin(a)), 25.0, W, H)});
-  }
+  const Scene s = longHairsOverRect(W, H, 13);
   RenderOptions o = test::smallOptions(W, H);
   o.tileSize = 8;
   o.threads = 2;
   const RenderResult one = render(s, o);
   ASSERT_EQ(one.stats.binBands, 1u);  // (a few MiB of items: one band without a budget)
-  // The least budget render() accepts (under a budget too small for a band of kOneBand the
-  // estimate counts one item a primitive; these hairs make ten or more): beside the primitives it
-  // leaves room for a fraction of the items.
-  o.memoryBudget = 1;
-  o.memoryBudget = estimateRenderBytes(s, o);
+  // The least budget render() accepts (one item a primitive; these hairs make ten or more): beside
+  // the primitives it leaves room for a fraction of the items.
+  o.memoryBudget = leastBudget(s, o);
   ASSERT_EQ(estimateRenderBytes(s, o), o.memoryBudget);
   const RenderResult banded = render(s, o);
   EXPECT_GT(banded.stats.binBands, 1u);

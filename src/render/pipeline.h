@@ -797,6 +797,12 @@ double renderImageAndTileBytes(const Scene& scene, const RenderOptions& o, bool 
 /// A band of tile rows holds up to this many bytes of items, or a quarter of the primitives'
 /// bytes where that is more (binBands).
 inline constexpr size_t kOneBand = size_t(4) << 20;
+/// The most bytes of tile items a band holds (binBands, and estimateRenderBytes with it): a
+/// quarter of `primitiveBytes` or kOneBand, whichever is more, and no more than `room` (what a
+/// memory budget leaves them; INFINITY without one) less the items array's own rounding.
+inline double bandItemCap(double primitiveBytes, double room) {
+  return std::min(std::max(primitiveBytes / 4.0, double(kOneBand)), room - largeArrayRounding(room));
+}
 /// Bands of the counted tile rows to bin and draw one after another, so that a dense scene's
 /// items (several a hair: one per tile it crosses) are not all held at once beside its
 /// primitives. A band holds at most a quarter of the primitives' bytes in items, or kOneBand

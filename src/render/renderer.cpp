@@ -114,11 +114,8 @@ size_t estimateRenderBytes(const Scene& scene, const RenderOptions& o, bool refe
   // five items a hair on the 700,000-hair torus; none more than one a tile), and under a memory
   // budget no more than it leaves: the least a render needs is then one item a primitive.
   const double oneEach = (triangles + segments) * sizeof(TileBins::Item);
-  double items = std::max(oneEach, std::min(std::max(primitiveBytes / 4.0, double(kOneBand)), oneEach * tiles));
-  if (o.memoryBudget > 0) {
-    const double room = double(o.memoryBudget) - bytes;
-    items = std::max(oneEach, std::min(items, room - rounded(room)));
-  }
+  const double cap = bandItemCap(primitiveBytes, o.memoryBudget > 0 ? double(o.memoryBudget) - bytes : INFINITY);
+  const double items = std::max(oneEach, std::min(cap, oneEach * tiles));
   bytes += items + rounded(items);
   return bytes >= 1.8e19 ? SIZE_MAX : size_t(bytes);
 }
