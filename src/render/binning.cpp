@@ -9,6 +9,7 @@
 // each tile's items are in primitive order whatever the thread count. The filling takes a band
 // of tile rows at a time: the renderer bins and draws a dense scene's bands one after another
 // (binBands; renderer.cpp and reference_renderer.cpp), so that its items are not all held at once.
+#include "abuffer/coverage_mask.h"
 #include "render/pipeline.h"
 
 #include <tbb/parallel_for.h>
@@ -107,13 +108,20 @@ class Binner {
       const SegmentFrame frame(s);
       slide = SegmentTilt(view_, s, frame).shiftBound(view_, s, frame);
     }
+    // The axis inside each tile grown by the reach: only that part can cover the tile.
+    TileClips clips;
+    const bool held = clips.init(s.p0, s.p1, tile_, reach, tx0, ty0, tx1, ty1);
+    // A hair's solid reaches from the axis grown by depthReach (below).
+    TileClips depthClips;
+    const bool depthHeld = kItems && depthReach > reach && depthReach < INFINITY && held &&
+                           depthClips.init(s.p0, s.p1, tile_, depthReach, tx0, ty0, tx1, ty1);
     for (int ty = ty0; ty <= ty1; ++ty)
       for (int tx = tx0; tx <= tx1; ++tx) {
-        // The axis inside the tile grown by the reach: only that part can cover the tile.
-        const double rx0 = tx * tile_ - reach, rx1 = (tx + 1) * tile_ + reach;
-        const double ry0 = ty * tile_ - reach, ry1 = (ty + 1) * tile_ + reach;
         double ta, tb;
-        if (!clipLineToRect(s.p0, s.p1, rx0, ry0, rx1, ry1, ta, tb)) continue;
+        if (held ? !clips.clip(tx, ty, ta, tb)
+                 : !clipLineToRect(s.p0, s.p1, tx * tile_ - reach, ty * tile_ - reach, (tx + 1) * tile_ + reach,
+                                   (ty + 1) * tile_ + reach, ta, tb))
+          continue;
         if constexpr (!kItems) {
           f(ty * tilesX_ + tx, TileBins::Item{});
           continue;
@@ -126,9 +134,11 @@ class Binner {
         // surface is at most the tilt and the largest radius nearer (either WireDepth, segmentZlo).
         // A hair's solid reaches from the axis grown by depthReach.
         if (depthReach > reach) {
+          // (It holds the reach's clip, which succeeded: it refuses nothing the reach's took.)
           if (!(depthReach < INFINITY)) ta = 0.0, tb = 1.0;
-          else clipLineToRect(s.p0, s.p1, tx * tile_ - depthReach, ty * tile_ - depthReach, (tx + 1) * tile_ + depthReach,
-                              (ty + 1) * tile_ + depthReach, ta, tb);  // (holds the reach's clip)
+          else if (!depthHeld || !depthClips.clip(tx, ty, ta, tb))
+            clipLineToRect(s.p0, s.p1, tx * tile_ - depthReach, ty * tile_ - depthReach, (tx + 1) * tile_ + depthReach,
+                           (ty + 1) * tile_ + depthReach, ta, tb);
         }
         const double sa = std::max(0.0, ta - slide), sb = std::min(1.0, tb + slide);
         const double k =
@@ -144,10 +154,12 @@ class Binner {
     x0 = std::max(x0, 0.0), y0 = std::max(y0, 0.0);
     x1 = std::min(x1, double(view_.width)), y1 = std::min(y1, double(view_.height));
     if (!(x1 > x0) || !(y1 > y0)) return false;
-    tx0 = std::clamp(int(std::floor(x0)) / tile_, 0, tilesX_ - 1);
-    ty0 = std::clamp(int(std::floor(y0)) / tile_, 0, tilesY_ - 1);
-    tx1 = std::clamp((int(std::ceil(x1)) - 1) / tile_, 0, tilesX_ - 1);
-    ty1 = std::clamp((int(std::ceil(y1)) - 1) / tile_, 0, tilesY_ - 1);
+    // (floorToInt, ceilToInt: std::floor and std::ceil are calls on the x86-64 baseline, without
+    // SSE4.1's rounding; the same integers for these bounded values.)
+    tx0 = std::clamp(int(floorToInt(x0)) / tile_, 0, tilesX_ - 1);
+    ty0 = std::clamp(int(floorToInt(y0)) / tile_, 0, tilesY_ - 1);
+    tx1 = std::clamp((int(ceilToInt(x1)) - 1) / tile_, 0, tilesX_ - 1);
+    ty1 = std::clamp((int(ceilToInt(y1)) - 1) / tile_, 0, tilesY_ - 1);
     ty0 = std::max(ty0, rowLo_), ty1 = std::min(ty1, rowHi_ - 1);  // the rows binned
     return ty0 <= ty1;
   }
@@ -158,15 +170,17 @@ class Binner {
     const int ox = tx * tile_, oy = ty * tile_;
     const int w = std::min(tile_, view_.width - ox), h = std::min(tile_, view_.height - oy);
     auto cell = [](double v, int o, int n) {
-      return std::uint8_t(std::clamp<double>(std::floor(std::clamp(v, -1e9, 1e9)) - o, 0.0, double(n - 1)));
+      return std::uint8_t(std::clamp<double>(double(floorToInt(std::clamp(v, -1e9, 1e9))) - o, 0.0, double(n - 1)));
     };
     TileBins::Item item;
     item.index = i;
     item.x0 = cell(x0, ox, w);
     item.y0 = cell(y0, oy, h);
     // The last pixel a coverage up to x1 (exclusive) reaches.
-    item.x1 = std::uint8_t(std::clamp<double>(std::ceil(std::clamp(x1, -1e9, 1e9)) - 1 - ox, double(item.x0), double(w - 1)));
-    item.y1 = std::uint8_t(std::clamp<double>(std::ceil(std::clamp(y1, -1e9, 1e9)) - 1 - oy, double(item.y0), double(h - 1)));
+    item.x1 = std::uint8_t(
+        std::clamp<double>(double(ceilToInt(std::clamp(x1, -1e9, 1e9))) - 1 - ox, double(item.x0), double(w - 1)));
+    item.y1 = std::uint8_t(
+        std::clamp<double>(double(ceilToInt(std::clamp(y1, -1e9, 1e9))) - 1 - oy, double(item.y0), double(h - 1)));
     item.zlo = 0.0f;
     return item;
   }

@@ -1,6 +1,7 @@
 // Tests of the per-tile order (binning.cpp, sortTileItems) against the comparison it stands for,
-// TileBins::Item::operator< (depth, then primitive), applied by std::sort; and of binning in
-// bands of tile rows against binning the whole grid.
+// TileBins::Item::operator< (depth, then primitive), applied by std::sort; of binning in bands of
+// tile rows against binning the whole grid; and of the per-block clip (TileClips, pipeline.h)
+// against clipLineToRect tile by tile.
 #include "abuffer/screen_polygon.h"
 #include "render/pipeline.h"
 #include "render/renderer.h"
@@ -373,6 +374,61 @@ TEST(SortTileItems, NaNDepthsSortLastInIndexOrder) {
     ASSERT_EQ(got.size(), n);
     for (size_t i = 0; i < n; ++i) EXPECT_EQ(got[i].index, want[i]) << n << " items, place " << i;
   }
+}
+
+// TileClips gives every tile of a block what clipLineToRect gives it, to the bit (ta and tb
+// compared by their bits, so -0 against +0 counts too) and with the same refusals: random
+// segments, axis-parallel ones (whose zero steps refuse whole columns or rows), points, segments
+// far outside the block, NaN and infinite ends, and grows of 0, fractions and 1e6 pixels.
+TEST(TileClips, EveryTileClipsAsClipLineToRectDoes) {
+  std::mt19937 rng(20261207);
+  std::uniform_real_distribution<double> u(-40.0, 200.0);
+  auto bits = [](double v) {
+    std::uint64_t b;
+    std::memcpy(&b, &v, sizeof b);
+    return b;
+  };
+  const double grows[] = {0.0, 0.37, 1.5, 31.9, 1e6};
+  const int tiles[] = {1, 7, 32};
+  int compared = 0, refused = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    glm::dvec2 p0(u(rng), u(rng)), p1(u(rng), u(rng));
+    switch (trial % 8) {
+      case 1: p1.x = p0.x; break;                        // vertical
+      case 2: p1.y = p0.y; break;                        // horizontal
+      case 3: p1 = p0; break;                            // a point
+      case 4: p1.x = std::round(p1.x), p0.x = p1.x; break;  // on a tile's line, for tile 1
+      case 5: if (trial % 16 == 5) p1.x = std::nan(""); else p0.y = INFINITY; break;
+      default: break;
+    }
+    const int tile = tiles[trial % 3];
+    const double g = grows[(trial / 3) % 5];
+    const int tx0 = int(std::floor(std::min(p0.x, 0.0) / tile)) + int(trial % 5) - 2;
+    const int ty0 = int(std::floor(std::min(p0.y, 0.0) / tile)) + int(trial % 7) - 3;
+    const int tx1 = tx0 + std::min(trial % 11, TileClips::kMaxSpan - 1), ty1 = ty0 + std::min(trial % 13, TileClips::kMaxSpan - 1);
+    TileClips clips;
+    ASSERT_TRUE(clips.init(p0, p1, tile, g, tx0, ty0, tx1, ty1));
+    for (int ty = ty0; ty <= ty1; ++ty)
+      for (int tx = tx0; tx <= tx1; ++tx) {
+        double ta = -7.0, tb = -7.0, ra, rb;
+        const bool got = clips.clip(tx, ty, ta, tb);
+        const bool want = clipLineToRect(p0, p1, tx * tile - g, ty * tile - g, (tx + 1) * tile + g, (ty + 1) * tile + g, ra, rb);
+        ASSERT_EQ(got, want) << "trial " << trial << " tile " << tx << ", " << ty;
+        ++compared;
+        if (!want) {
+          ++refused;
+          continue;
+        }
+        ASSERT_EQ(bits(ta), bits(ra)) << "trial " << trial << " tile " << tx << ", " << ty << ": " << ta << " against " << ra;
+        ASSERT_EQ(bits(tb), bits(rb)) << "trial " << trial << " tile " << tx << ", " << ty << ": " << tb << " against " << rb;
+      }
+  }
+  EXPECT_GT(refused, compared / 10);  // both answers were exercised
+  EXPECT_LT(refused, compared);
+  // Wider than it holds: refused, so that the caller clips tile by tile.
+  TileClips wide;
+  EXPECT_FALSE(wide.init({0, 0}, {1, 1}, 1, 0.0, 0, 0, TileClips::kMaxSpan, 0));
+  EXPECT_FALSE(wide.init({0, 0}, {1, 1}, 1, 0.0, 0, 0, 0, TileClips::kMaxSpan));
 }
 
 }  // namespace

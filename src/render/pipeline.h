@@ -174,6 +174,74 @@ inline bool clipLineToRect(glm::dvec2 p0, glm::dvec2 p1, double rx0, double ry0,
   return ta <= tb;
 }
 
+// clipLineToRect's clip of a segment's axis to each tile of a block of tiles, each grown by g.
+// Its four ratios (a division each) depend on the tile's column (the x bounds) or on its row (the
+// y bounds) alone, so they are formed once per column and once per row and combined per tile in
+// clipLineToRect's own order and comparisons: the same ta and tb to the bit, and the same
+// refusals. (A tile costs two comparisons instead of four divisions; a long hair crosses a few
+// columns and rows of a larger block of tiles.)
+class TileClips {
+ public:
+  static constexpr int kMaxSpan = 64;  // columns or rows; wider blocks clip tile by tile
+  /// False: the block is too wide to be held (clip each tile with clipLineToRect).
+  bool init(const glm::dvec2& p0, const glm::dvec2& p1, int tile, double g, int tx0, int ty0, int tx1, int ty1) {
+    if (tx1 - tx0 >= kMaxSpan || ty1 - ty0 >= kMaxSpan) return false;
+    tx0_ = tx0, ty0_ = ty0;
+    const double dx = p1.x - p0.x, dy = p1.y - p0.y;
+    for (int tx = tx0; tx <= tx1; ++tx) {
+      Column& c = col_[tx - tx0];
+      c.ta = 0.0, c.tb = 1.0;
+      const double rx0 = tx * tile - g, rx1 = (tx + 1) * tile + g;
+      c.ok = apply(-dx, p0.x - rx0, c.ta, c.tb) && apply(dx, rx1 - p0.x, c.ta, c.tb);
+    }
+    for (int ty = ty0; ty <= ty1; ++ty) {
+      Row& r = row_[ty - ty0];
+      const double ry0 = ty * tile - g, ry1 = (ty + 1) * tile + g;
+      r.p[0] = -dy, r.p[1] = dy;
+      r.q[0] = p0.y - ry0, r.q[1] = ry1 - p0.y;
+      for (int k = 0; k < 2; ++k) r.r[k] = r.p[k] == 0.0 ? 0.0 : r.q[k] / r.p[k];
+    }
+    return true;
+  }
+  /// clipLineToRect(p0, p1, the tile grown by g, ta, tb) for tile (tx, ty) of the block; where it
+  /// refuses, ta and tb are left as they are here rather than as it leaves them.
+  bool clip(int tx, int ty, double& ta, double& tb) const {
+    const Column& c = col_[tx - tx0_];
+    if (!c.ok) return false;
+    ta = c.ta, tb = c.tb;
+    const Row& r = row_[ty - ty0_];
+    for (int k = 0; k < 2; ++k) {
+      if (r.p[k] == 0.0) {
+        if (r.q[k] < 0.0) return false;
+        continue;
+      }
+      if (r.p[k] < 0.0) ta = std::max(ta, r.r[k]);
+      else tb = std::min(tb, r.r[k]);
+    }
+    return ta <= tb;
+  }
+
+ private:
+  // One of clipLineToRect's steps.
+  static bool apply(double p, double q, double& ta, double& tb) {
+    if (p == 0.0) return !(q < 0.0);
+    const double r = q / p;
+    if (p < 0.0) ta = std::max(ta, r);
+    else tb = std::min(tb, r);
+    return true;
+  }
+  struct Column {
+    double ta, tb;  // after the x bounds
+    bool ok;
+  };
+  struct Row {
+    double p[2], q[2], r[2];  // the y bounds' steps
+  };
+  int tx0_ = 0, ty0_ = 0;
+  Column col_[kMaxSpan];
+  Row row_[kMaxSpan];
+};
+
 /// How far a segment's polygon reaches from its axis in pixels: mitres up to kMitreLimit half
 /// widths, half discs up to pi / 2 half widths (their inner vertices sit outside the circle),
 /// end-on discs a little over one. Every point the segment covers lies within it of the axis.
