@@ -7,10 +7,12 @@
 // a table and, with --json, writes the figures.
 //
 //   peer_hair [--segments N] [--frames F] [--samples S] [--threads T] [--no-vtk] [--json FILE]
-//             [--simplify 3,6] [--vtk-msaa 2,4,8]
+//             [--simplify 3,6] [--vtk-msaa 2,4,8] [--vtk-ssaa 2,4]
 //
-// VTK is also run with multisample antialiasing (--vtk-msaa): its error against time, so that
-// the A-buffer is compared with it at equal coverage error as well as with its aliased default.
+// VTK is also run with multisample antialiasing (--vtk-msaa) and supersampled (--vtk-ssaa: drawn
+// at k times the size each way and averaged down, the way past the few samples MSAA offers): its
+// error against time, so that the A-buffer is compared with it at equal coverage error as well as
+// with its aliased default.
 //
 // Under CI it runs with a small N as a smoke test; the full comparison is
 //   xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" build/peer_hair --json out/peer_hair.json
@@ -49,6 +51,7 @@ struct Args {
   std::string jsonPath;
   std::vector<double> simplify{3.0, 6.0};
   std::vector<int> vtkMsaa{2, 4, 8};  ///< --vtk-msaa: VTK's antialiased runs (MSAA samples asked), beside its aliased one
+  std::vector<int> vtkSsaa{2, 4, 8, 12};  ///< --vtk-ssaa: VTK's supersampled runs (k x k pixels a pixel, aliased)
 };
 
 using wfbench::median;
@@ -124,6 +127,9 @@ int main(int argc, char** argv) {
   app.add_option("--vtk-msaa", a.vtkMsaa, "VTK's antialiased runs beside its aliased one: the multisamples to ask for in each, 2 ... 64 (--no-vtk: no VTK runs at all)")
       ->delimiter(',')
       ->check(CLI::Range(2, 64));
+  app.add_option("--vtk-ssaa", a.vtkSsaa, "VTK's supersampled runs: k x k pixels averaged into each, k = 2 ... 16 (each drawn aliased at k times the size)")
+      ->delimiter(',')
+      ->check(CLI::Range(2, 16));
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -210,13 +216,17 @@ int main(int argc, char** argv) {
     for (size_t i = 0; i < pixels; ++i) cov[i] = r.image.pixels[i].w;
   });
   bool okV = false;
-  auto vtkRun = [&](int multiSamples) {
-    return [&, multiSamples](json& j, std::vector<float>& cov) {
+  auto vtkRun = [&](int multiSamples, int supersample = 1) {
+    return [&, multiSamples, supersample](json& j, std::vector<float>& cov) {
       const auto segs = wfbench::hairTorus(a.segments);
-      const wfbench::VtkTubesResult v = wfbench::renderVtkTubes(segs, wfbench::HairCamera{}, W, H,
-                                                                wfbench::kHairWidthPixels, a.frames, multiSamples);
+      const wfbench::VtkTubesResult v = wfbench::renderVtkTubes(segs, wfbench::HairCamera{}, W, H, wfbench::kHairWidthPixels,
+                                                                a.frames, multiSamples, supersample);
       j["multisamples_asked"] = v.multiSamplesAsked;
       j["multisamples"] = v.multiSamples;  // what VTK's framebuffer got (-1: unknown)
+      if (supersample > 1) {
+        j["supersample"] = supersample;
+        j["downsample_seconds"] = v.downsampleSeconds;  // (in each frame's time)
+      }
       j["frame_seconds"] = v.frameSeconds;
       j["median_seconds"] = v.medianSeconds;
       j["setup_seconds"] = v.setupSeconds;
@@ -233,6 +243,14 @@ int main(int argc, char** argv) {
       std::cerr << "peer_hair: VTK's run with " << a.vtkMsaa[k] << " multisamples failed\n";
       msaa[k] = json{{"multisamples_asked", a.vtkMsaa[k]}, {"failed", true}};
       cm[k].clear();
+    }
+  std::vector<json> ssaa(okV ? a.vtkSsaa.size() : 0);
+  std::vector<std::vector<float>> cq(ssaa.size());
+  for (size_t k = 0; k < ssaa.size(); ++k)
+    if (!measure(tmp + "_vtk_ssaa", ssaa[k], cq[k], pixels, vtkRun(0, a.vtkSsaa[k]))) {
+      std::cerr << "peer_hair: VTK's run supersampled " << a.vtkSsaa[k] << " x " << a.vtkSsaa[k] << " failed\n";
+      ssaa[k] = json{{"supersample", a.vtkSsaa[k]}, {"failed", true}};
+      cq[k].clear();
     }
 
   if (!okA || !okR) {
@@ -262,7 +280,8 @@ int main(int argc, char** argv) {
     // the two whose errors bracket the A-buffer's.
     struct Point {
       double rms, seconds;
-      int samples;
+      int samples;         // the framebuffer's multisamples
+      int supersample = 1;
     };
     std::vector<Point> curve{{jv["coverage_error"]["rms_all_pixels"].get<double>(), jv["median_seconds"].get<double>(),
                               jv["multisamples"].get<int>()}};
@@ -271,7 +290,9 @@ int main(int argc, char** argv) {
       if (!cm[k].empty()) {
         msaa[k]["coverage_error"] = coverageError(cm[k], cr);
         const int got = msaa[k]["multisamples"].get<int>();
-        const bool again = got >= 0 && std::any_of(curve.begin(), curve.end(), [&](const Point& p) { return p.samples == got; });
+        const bool again = got >= 0 && std::any_of(curve.begin(), curve.end(), [&](const Point& p) {
+                             return p.samples == got && p.supersample == 1;
+                           });
         msaa[k]["in_curve"] = !again;
         if (!again)
           curve.push_back({msaa[k]["coverage_error"]["rms_all_pixels"].get<double>(), msaa[k]["median_seconds"].get<double>(), got});
@@ -279,6 +300,16 @@ int main(int argc, char** argv) {
       jm.push_back(msaa[k]);
     }
     report["vtk_msaa"] = jm;
+    json jq = json::array();
+    for (size_t k = 0; k < ssaa.size(); ++k) {
+      if (!cq[k].empty()) {
+        ssaa[k]["coverage_error"] = coverageError(cq[k], cr);
+        curve.push_back({ssaa[k]["coverage_error"]["rms_all_pixels"].get<double>(), ssaa[k]["median_seconds"].get<double>(),
+                         ssaa[k]["multisamples"].get<int>(), a.vtkSsaa[k]});
+      }
+      jq.push_back(ssaa[k]);
+    }
+    report["vtk_ssaa"] = jq;
     std::sort(curve.begin(), curve.end(), [](const Point& p, const Point& q) {
       return p.rms < q.rms || (p.rms == q.rms && p.seconds < q.seconds);
     });
@@ -292,7 +323,10 @@ int main(int argc, char** argv) {
     json eq;
     eq["abuffer_rms"] = rmsA;
     eq["vtk_runs_in_curve"] = curve.size();
-    eq["vtk_best"] = {{"multisamples", front.front().samples}, {"rms", front.front().rms}, {"seconds", front.front().seconds}};
+    eq["vtk_best"] = {{"multisamples", front.front().samples},
+                      {"supersample", front.front().supersample},
+                      {"rms", front.front().rms},
+                      {"seconds", front.front().seconds}};
     std::string how;
     const double t = wfbench::timeAtError(fastFirst, rmsA, how);
     if (how == "extrapolated" || how == "n/a") {  // below every run's error: no setting of VTK reaches it

@@ -6,7 +6,6 @@
 #include <vtkCamera.h>
 #include <vtkCellArray.h>
 #include <vtkDoubleArray.h>
-#include <vtkFloatArray.h>
 #include <vtkIdTypeArray.h>
 #include <vtkNew.h>
 #include <vtkOpenGLFramebufferObject.h>
@@ -17,6 +16,7 @@
 #include <vtkProperty.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
+#include <vtkUnsignedCharArray.h>
 
 #include <sys/resource.h>
 
@@ -42,10 +42,15 @@ std::string rendererLine(vtkRenderWindow* window) {
 }  // namespace
 
 VtkTubesResult renderVtkTubes(const std::vector<HairSegment>& segments, const HairCamera& camera,
-                              int width, int height, double lineWidthPixels, int timedFrames, int multiSamples) {
-  if (timedFrames < 1 || width < 1 || height < 1 || multiSamples < 0) throw std::invalid_argument("renderVtkTubes");
+                              int width, int height, double lineWidthPixels, int timedFrames, int multiSamples,
+                              int supersample) {
+  if (timedFrames < 1 || width < 1 || height < 1 || multiSamples < 0 || supersample < 1 || supersample > 16)
+    throw std::invalid_argument("renderVtkTubes");
   VtkTubesResult result;
   result.multiSamplesAsked = multiSamples;
+  result.supersample = supersample;
+  const int k = supersample;
+  const int bigW = width * k, bigH = height * k;
   const auto setupStart = std::chrono::steady_clock::now();
 
   // Double points keep the segments bit-identical to ours; VTK shifts/scales them to float VBOs.
@@ -83,7 +88,7 @@ VtkTubesResult renderVtkTubes(const std::vector<HairSegment>& segments, const Ha
   // ambient/diffuse/specular settings alone give the same result through the lit shader.
   vtkProperty* prop = actor->GetProperty();
   prop->SetRenderLinesAsTubes(true);  // only honoured for line width > 1 (DrawingTubes in 9.1)
-  prop->SetLineWidth(float(lineWidthPixels));
+  prop->SetLineWidth(float(lineWidthPixels * k));  // the same width in the final image's pixels
   prop->SetColor(1, 1, 1);
   prop->SetAmbientColor(1, 1, 1);
   prop->SetAmbient(1);
@@ -106,7 +111,7 @@ VtkTubesResult renderVtkTubes(const std::vector<HairSegment>& segments, const Ha
   vtkNew<vtkRenderWindow> window;
   window->SetOffScreenRendering(1);
   window->SetMultiSamples(multiSamples);  // 0: aliased (VTK's own default would be 8)
-  window->SetSize(width, height);
+  window->SetSize(bigW, bigH);
   window->AddRenderer(renderer);
 
   window->Render();  // warm-up: context, shader compilation, VBO upload
@@ -117,27 +122,45 @@ VtkTubesResult renderVtkTubes(const std::vector<HairSegment>& segments, const Ha
   if (auto* gl = vtkOpenGLRenderWindow::SafeDownCast(window); gl && gl->GetRenderFramebuffer())
     result.multiSamples = gl->GetRenderFramebuffer()->GetMultiSamples();
 
+  // The k x k image read back as bytes (coverage is 0 or 1 where aliased, a multiple of 1/255
+  // with MSAA) and averaged into the final pixel; GL rows run bottom-up, ours top-down.
+  vtkNew<vtkUnsignedCharArray> bytes;
+  result.coverage.assign(size_t(width) * size_t(height), 0.0f);
+  auto readBack = [&] {
+    window->GetPixelData(0, 0, bigW - 1, bigH - 1, /*front=*/1, bytes);
+    const unsigned char* px = bytes->GetPointer(0);
+    const float scale = 1.0f / (255.0f * float(k * k));
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        unsigned sum = 0;
+        for (int j = 0; j < k; ++j) {
+          const unsigned char* row = px + 3 * (size_t(y * k + j) * size_t(bigW) + size_t(x * k));
+          for (int i = 0; i < k; ++i) sum += row[3 * i];
+        }
+        result.coverage[size_t(height - 1 - y) * size_t(width) + size_t(x)] = std::min(1.0f, float(sum) * scale);
+      }
+  };
+  std::vector<double> downsample;
   for (int f = 0; f < timedFrames; ++f) {
     cam->Modified();  // forces a full redraw without invalidating the mapper's VBOs
     const auto t0 = std::chrono::steady_clock::now();
     window->Render();
     window->WaitForCompletion();  // glFinish in vtkOpenGLRenderWindow
+    if (k > 1) {  // (aliased and MSAA runs: the image is ready in the framebuffer)
+      const auto t1 = std::chrono::steady_clock::now();
+      readBack();
+      downsample.push_back(secondsSince(t1));
+    }
     result.frameSeconds.push_back(secondsSince(t0));
   }
-  std::vector<double> sorted = result.frameSeconds;
-  std::sort(sorted.begin(), sorted.end());
-  const size_t m = sorted.size() / 2;
-  result.medianSeconds = sorted.size() % 2 ? sorted[m] : 0.5 * (sorted[m - 1] + sorted[m]);
-
-  // GL rows run bottom-up; ours run top-down.
-  vtkNew<vtkFloatArray> rgba;
-  window->GetRGBAPixelData(0, 0, width - 1, height - 1, /*front=*/1, rgba);
-  result.coverage.resize(size_t(width) * size_t(height));
-  const float* px = rgba->GetPointer(0);
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x)
-      result.coverage[size_t(height - 1 - y) * width + x] =
-          std::clamp(px[4 * (size_t(y) * width + x)], 0.0f, 1.0f);
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const size_t m = v.size() / 2;
+    return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+  };
+  result.medianSeconds = median(result.frameSeconds);
+  if (k > 1) result.downsampleSeconds = median(downsample);
+  else readBack();
 
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);

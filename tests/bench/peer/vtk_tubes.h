@@ -26,13 +26,19 @@ struct VtkTubesResult {
   std::string renderer;              // the "OpenGL renderer string" line, e.g. "llvmpipe (LLVM ...)"
   int multiSamplesAsked = 0;         // the MSAA samples asked for (vtkRenderWindow::SetMultiSamples)
   int multiSamples = -1;             // the samples VTK's render framebuffer has (-1: unknown)
+  int supersample = 1;               // k: drawn at k times the size each way and averaged down
+  double downsampleSeconds = 0;      // of each frame's time: reading the image back and averaging it (median)
 };
 
 // Renders `segments` with `timedFrames` >= 1 timed frames after one warm-up frame. `multiSamples`:
 // the MSAA samples to ask the window for (0: aliased, the benchmark's usual choice; VTK's own
 // default on Linux is 8). VTK lowers what it is asked to what the OpenGL implementation offers
-// (llvmpipe: 4): VtkTubesResult::multiSamples is what its framebuffer got.
+// (llvmpipe: 4): VtkTubesResult::multiSamples is what its framebuffer got. `supersample` k > 1:
+// drawn at k width x k height with k times the line width, read back and averaged over k x k
+// blocks (supersampling, the way past MSAA's few samples); each timed frame then includes the
+// read-back and the averaging, as producing the antialiased image needs them.
 VtkTubesResult renderVtkTubes(const std::vector<HairSegment>& segments, const HairCamera& camera,
-                              int width, int height, double lineWidthPixels, int timedFrames, int multiSamples = 0);
+                              int width, int height, double lineWidthPixels, int timedFrames, int multiSamples = 0,
+                              int supersample = 1);
 
 }  // namespace wfbench
