@@ -377,9 +377,10 @@ TEST(SortTileItems, NaNDepthsSortLastInIndexOrder) {
 }
 
 // TileClips gives every tile of a block what clipLineToRect gives it, to the bit (ta and tb
-// compared by their bits, so -0 against +0 counts too) and with the same refusals: random
-// segments, axis-parallel ones (whose zero steps refuse whole columns or rows), points, segments
-// far outside the block, NaN and infinite ends, and grows of 0, fractions and 1e6 pixels.
+// compared by their bits) and with the same refusals: random segments, axis-parallel ones (whose
+// zero steps refuse whole columns or rows), ones lying on a column's or a row's line, diagonals
+// through the tile corners (ta = tb: a clip that touches a corner only), points, segments far
+// outside the block, NaN and infinite ends, and grows of 0, fractions and 1e6 pixels.
 TEST(TileClips, EveryTileClipsAsClipLineToRectDoes) {
   std::mt19937 rng(20261207);
   std::uniform_real_distribution<double> u(-40.0, 200.0);
@@ -390,8 +391,8 @@ TEST(TileClips, EveryTileClipsAsClipLineToRectDoes) {
   };
   const double grows[] = {0.0, 0.37, 1.5, 31.9, 1e6};
   const int tiles[] = {1, 7, 32};
-  int compared = 0, refused = 0;
-  for (int trial = 0; trial < 4000; ++trial) {
+  int compared = 0, refused = 0, touching = 0;
+  for (int trial = 0; trial < 6000; ++trial) {
     glm::dvec2 p0(u(rng), u(rng)), p1(u(rng), u(rng));
     switch (trial % 8) {
       case 1: p1.x = p0.x; break;                        // vertical
@@ -399,10 +400,15 @@ TEST(TileClips, EveryTileClipsAsClipLineToRectDoes) {
       case 3: p1 = p0; break;                            // a point
       case 4: p1.x = std::round(p1.x), p0.x = p1.x; break;  // on a tile's line, for tile 1
       case 5: if (trial % 16 == 5) p1.x = std::nan(""); else p0.y = INFINITY; break;
+      case 6: p1.y = std::round(p1.y), p0.y = p1.y; break;  // on a tile's row line, for tile 1
+      case 7:  // a diagonal through lattice points: with tile 1 and no growth, it touches corners
+        p0 = glm::dvec2(std::round(p0.x), std::round(p0.y));
+        p1 = p0 + glm::dvec2(double(trial % 5 + 1), trial % 2 ? double(trial % 5 + 1) : -double(trial % 5 + 1));
+        break;
       default: break;
     }
-    const int tile = tiles[trial % 3];
-    const double g = grows[(trial / 3) % 5];
+    const int tile = trial % 8 == 7 ? 1 : tiles[trial % 3];
+    const double g = trial % 8 == 7 ? 0.0 : grows[(trial / 3) % 5];
     const int tx0 = int(std::floor(std::min(p0.x, 0.0) / tile)) + int(trial % 5) - 2;
     const int ty0 = int(std::floor(std::min(p0.y, 0.0) / tile)) + int(trial % 7) - 3;
     const int tx1 = tx0 + std::min(trial % 11, TileClips::kMaxSpan - 1), ty1 = ty0 + std::min(trial % 13, TileClips::kMaxSpan - 1);
@@ -421,10 +427,12 @@ TEST(TileClips, EveryTileClipsAsClipLineToRectDoes) {
         }
         ASSERT_EQ(bits(ta), bits(ra)) << "trial " << trial << " tile " << tx << ", " << ty << ": " << ta << " against " << ra;
         ASSERT_EQ(bits(tb), bits(rb)) << "trial " << trial << " tile " << tx << ", " << ty << ": " << tb << " against " << rb;
+        touching += ta == tb;
       }
   }
   EXPECT_GT(refused, compared / 10);  // both answers were exercised
   EXPECT_LT(refused, compared);
+  EXPECT_GT(touching, 100);  // and clips that touch a corner only
   // Wider than it holds: refused, so that the caller clips tile by tile.
   TileClips wide;
   EXPECT_FALSE(wide.init({0, 0}, {1, 1}, 1, 0.0, 0, 0, TileClips::kMaxSpan, 0));

@@ -178,8 +178,8 @@ inline bool clipLineToRect(glm::dvec2 p0, glm::dvec2 p1, double rx0, double ry0,
 // Its four ratios (a division each) depend on the tile's column (the x bounds) or on its row (the
 // y bounds) alone, so they are formed once per column and once per row and combined per tile in
 // clipLineToRect's own order and comparisons: the same ta and tb to the bit, and the same
-// refusals. (A tile costs two comparisons instead of four divisions; a long hair crosses a few
-// columns and rows of a larger block of tiles.)
+// refusals. (A tile's clip reads its column's two bounds and applies its row's two steps instead
+// of forming four divisions; a long hair crosses a few columns and rows of a larger block.)
 class TileClips {
  public:
   static constexpr int kMaxSpan = 64;  // columns or rows; wider blocks clip tile by tile

@@ -7,7 +7,7 @@
 // a table and, with --json, writes the figures.
 //
 //   peer_hair [--segments N] [--frames F] [--samples S] [--threads T] [--no-vtk] [--json FILE]
-//             [--simplify 3,6] [--vtk-msaa 2,4,8] [--vtk-ssaa 2,4]
+//             [--simplify 3,6] [--vtk-msaa 2,4,8] [--vtk-ssaa 2,4,8,12]
 //
 // VTK is also run with multisample antialiasing (--vtk-msaa) and supersampled (--vtk-ssaa: drawn
 // at k times the size each way and averaged down, the way past the few samples MSAA offers): its
@@ -225,7 +225,7 @@ int main(int argc, char** argv) {
       j["multisamples"] = v.multiSamples;  // what VTK's framebuffer got (-1: unknown)
       if (supersample > 1) {
         j["supersample"] = supersample;
-        j["downsample_seconds"] = v.downsampleSeconds;  // (in each frame's time)
+        j["readback_and_average_seconds"] = v.downsampleSeconds;  // (in each frame's time)
       }
       j["frame_seconds"] = v.frameSeconds;
       j["median_seconds"] = v.medianSeconds;
@@ -290,9 +290,7 @@ int main(int argc, char** argv) {
       if (!cm[k].empty()) {
         msaa[k]["coverage_error"] = coverageError(cm[k], cr);
         const int got = msaa[k]["multisamples"].get<int>();
-        const bool again = got >= 0 && std::any_of(curve.begin(), curve.end(), [&](const Point& p) {
-                             return p.samples == got && p.supersample == 1;
-                           });
+        const bool again = got >= 0 && std::any_of(curve.begin(), curve.end(), [&](const Point& p) { return p.samples == got; });
         msaa[k]["in_curve"] = !again;
         if (!again)
           curve.push_back({msaa[k]["coverage_error"]["rms_all_pixels"].get<double>(), msaa[k]["median_seconds"].get<double>(), got});
@@ -304,6 +302,7 @@ int main(int argc, char** argv) {
     for (size_t k = 0; k < ssaa.size(); ++k) {
       if (!cq[k].empty()) {
         ssaa[k]["coverage_error"] = coverageError(cq[k], cr);
+        ssaa[k]["in_curve"] = true;
         curve.push_back({ssaa[k]["coverage_error"]["rms_all_pixels"].get<double>(), ssaa[k]["median_seconds"].get<double>(),
                          ssaa[k]["multisamples"].get<int>(), a.vtkSsaa[k]});
       }

@@ -24,6 +24,7 @@
 #include <chrono>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 namespace wfbench {
 namespace {
@@ -116,6 +117,15 @@ VtkTubesResult renderVtkTubes(const std::vector<HairSegment>& segments, const Ha
 
   window->Render();  // warm-up: context, shader compilation, VBO upload
   window->WaitForCompletion();
+  // A framebuffer VTK could not make at this size (past the implementation's limit) is logged and
+  // skipped, leaving a black image: refused here instead.
+  if (auto* gl = vtkOpenGLRenderWindow::SafeDownCast(window); gl && gl->GetRenderFramebuffer()) {
+    int fw = 0, fh = 0;
+    gl->GetRenderFramebuffer()->GetLastSize(fw, fh);
+    if (fw < bigW || fh < bigH)
+      throw std::runtime_error("VTK's framebuffer is " + std::to_string(fw) + " x " + std::to_string(fh) + ", not " +
+                               std::to_string(bigW) + " x " + std::to_string(bigH));
+  }
   result.setupSeconds = secondsSince(setupStart);
   result.renderer = rendererLine(window);
   // What the framebuffer got: VTK lowers the window's samples to the implementation's maximum.
@@ -129,7 +139,7 @@ VtkTubesResult renderVtkTubes(const std::vector<HairSegment>& segments, const Ha
   auto readBack = [&] {
     window->GetPixelData(0, 0, bigW - 1, bigH - 1, /*front=*/1, bytes);
     const unsigned char* px = bytes->GetPointer(0);
-    const float scale = 1.0f / (255.0f * float(k * k));
+    const float full = 255.0f * float(k * k);  // (a division below: a covered pixel reads exactly 1)
     for (int y = 0; y < height; ++y)
       for (int x = 0; x < width; ++x) {
         unsigned sum = 0;
@@ -137,7 +147,7 @@ VtkTubesResult renderVtkTubes(const std::vector<HairSegment>& segments, const Ha
           const unsigned char* row = px + 3 * (size_t(y * k + j) * size_t(bigW) + size_t(x * k));
           for (int i = 0; i < k; ++i) sum += row[3 * i];
         }
-        result.coverage[size_t(height - 1 - y) * size_t(width) + size_t(x)] = std::min(1.0f, float(sum) * scale);
+        result.coverage[size_t(height - 1 - y) * size_t(width) + size_t(x)] = std::min(1.0f, float(sum) / full);
       }
   };
   std::vector<double> downsample;
@@ -146,7 +156,7 @@ VtkTubesResult renderVtkTubes(const std::vector<HairSegment>& segments, const Ha
     const auto t0 = std::chrono::steady_clock::now();
     window->Render();
     window->WaitForCompletion();  // glFinish in vtkOpenGLRenderWindow
-    if (k > 1) {  // (aliased and MSAA runs: the image is ready in the framebuffer)
+    if (k > 1) {
       const auto t1 = std::chrono::steady_clock::now();
       readBack();
       downsample.push_back(secondsSince(t1));
@@ -160,7 +170,7 @@ VtkTubesResult renderVtkTubes(const std::vector<HairSegment>& segments, const Ha
   };
   result.medianSeconds = median(result.frameSeconds);
   if (k > 1) result.downsampleSeconds = median(downsample);
-  else readBack();
+  else readBack();  // (aliased and multisampled: the image was ready in the framebuffer, read once untimed)
 
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);

@@ -1,6 +1,7 @@
 // The VTK peer of the hair benchmark (issue 3): the same segments drawn by VTK's own line-as-tube
-// impostors (vtkProperty::RenderLinesAsTubes), aliased, off-screen, unlit white on black, so that
-// the red channel of a pixel is VTK's (binary) coverage of that pixel.
+// impostors (vtkProperty::RenderLinesAsTubes), off-screen, unlit white on black, so that the red
+// channel of a pixel is VTK's coverage of that pixel: 0 or 1 aliased, fractional with
+// multisampling or supersampling.
 //
 // VTK components this file needs (find_package(VTK COMPONENTS ...) without a version; the target
 // also needs vtk_module_autoinit(TARGETS <t> MODULES <same list>) so that the OpenGL2 object
@@ -18,7 +19,8 @@
 namespace wfbench {
 
 struct VtkTubesResult {
-  std::vector<double> frameSeconds;  // each timed frame: Render() + WaitForCompletion() (glFinish)
+  std::vector<double> frameSeconds;  // each timed frame: Render() + WaitForCompletion() (glFinish), and
+                                     // supersampled also the read-back and averaging
   double medianSeconds = 0;
   double setupSeconds = 0;           // vtkPolyData + pipeline + the untimed warm-up frame
   long peakRssBytes = 0;             // getrusage ru_maxrss of the whole process after rendering
@@ -27,7 +29,7 @@ struct VtkTubesResult {
   int multiSamplesAsked = 0;         // the MSAA samples asked for (vtkRenderWindow::SetMultiSamples)
   int multiSamples = -1;             // the samples VTK's render framebuffer has (-1: unknown)
   int supersample = 1;               // k: drawn at k times the size each way and averaged down
-  double downsampleSeconds = 0;      // of each frame's time: reading the image back and averaging it (median)
+  double downsampleSeconds = 0;      // the median of each frame's read-back (GetPixelData) and averaging
 };
 
 // Renders `segments` with `timedFrames` >= 1 timed frames after one warm-up frame. `multiSamples`:
