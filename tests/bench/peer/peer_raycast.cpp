@@ -305,6 +305,34 @@ int main(int argc, char** argv) {
     wfapp::writePng(truth.image, a.out + "/peer_" + name + "_truth.png");
     if (a.dump) dumpImage(truth.image, a.out + "/peer_" + name + "_truth.vti");
 
+    // Every setting timed in rounds, Embree's and the A-buffer's in turn (round k runs each
+    // setting once, a run over kLongRun only in the first), so that a slow spell of this shared
+    // machine falls on both sides of a ratio alike rather than on whichever ran then. The images
+    // and statistics are the last round's (the same image every round).
+    std::vector<std::vector<double>> eTimes(a.samples.size()), eBuild(a.samples.size()), eTrace(a.samples.size());
+    std::vector<wfbench::EmbreeResult> eLast(a.samples.size());
+    std::vector<std::vector<double>> aTimes(a.masks.size());
+    std::vector<wf::RenderResult> aLast(a.masks.size());
+    for (int k = 0; k < a.repeats; ++k) {
+      for (size_t i = 0; i < a.samples.size(); ++i) {
+        if (k > 0 && eTimes[i].back() > kLongRun) continue;
+        wfbench::EmbreeOptions eo;
+        eo.samples = a.samples[i];
+        eo.seed = 2;
+        eLast[i] = wfbench::renderEmbree(scene, base, eo);
+        eTimes[i].push_back(eLast[i].secondsTotal);
+        eBuild[i].push_back(eLast[i].secondsBuild);
+        eTrace[i].push_back(eLast[i].secondsTrace);
+      }
+      for (size_t i = 0; i < a.masks.size(); ++i) {
+        if (k > 0 && aTimes[i].back() > kLongRun) continue;
+        wf::RenderOptions o = base;
+        o.mask = a.masks[i];
+        aLast[i] = wf::render(scene, o);
+        aTimes[i].push_back(aLast[i].stats.total);
+      }
+    }
+
     // Embree at each sample count (the A-buffer's shading path, other jitter).
     md << "### " << name << ": " << b.description << ", " << W << "x" << H << "\n\n"
        << "| renderer | setting | seconds (median of " << a.repeats << ", or 1 run over " << kLongRun
@@ -320,18 +348,10 @@ int main(int argc, char** argv) {
     wfapp::PlotSeries embreeSeries{"Embree 3, n x n stratified rays per pixel", {}, {}, {}, "linespoints"};
     std::vector<std::pair<double, double>> curve;
     json je = json::array();
-    for (int n : a.samples) {
-      wfbench::EmbreeOptions eo;
-      eo.samples = n;
-      eo.seed = 2;
-      std::vector<double> times, build, trace;
-      wfbench::EmbreeResult r;
-      for (int k = 0; k < a.repeats && !(k > 0 && times.back() > kLongRun); ++k) {
-        r = wfbench::renderEmbree(scene, base, eo);
-        times.push_back(r.secondsTotal);
-        build.push_back(r.secondsBuild);
-        trace.push_back(r.secondsTrace);
-      }
+    for (size_t si = 0; si < a.samples.size(); ++si) {
+      const int n = a.samples[si];
+      const std::vector<double>&times = eTimes[si], &build = eBuild[si], &trace = eTrace[si];
+      const wfbench::EmbreeResult& r = eLast[si];
       const wfapp::ImageError e = wfapp::imageError(r.image, truth.image);
       const double t = median(times);
       curve.push_back({t, e.rms});
@@ -356,15 +376,10 @@ int main(int argc, char** argv) {
     // The A-buffer, each mask.
     json ja = json::array();
     wfapp::PlotSeries abSeries{"WireFur A-buffer (pseudo-reflectance maps), by mask", {}, {}, {}, "points pt 7 ps 1.5"};
-    for (const wf::MaskLayout& m : a.masks) {
-      wf::RenderOptions o = base;
-      o.mask = m;
-      std::vector<double> times;
-      wf::RenderResult r;
-      for (int k = 0; k < a.repeats && !(k > 0 && times.back() > kLongRun); ++k) {
-        r = wf::render(scene, o);
-        times.push_back(r.stats.total);
-      }
+    for (size_t mi = 0; mi < a.masks.size(); ++mi) {
+      const wf::MaskLayout& m = a.masks[mi];
+      const std::vector<double>& times = aTimes[mi];
+      const wf::RenderResult& r = aLast[mi];
       const wfapp::ImageError e = wfapp::imageError(r.image, truth.image);
       const double t = median(times);
       std::string how;
