@@ -305,15 +305,16 @@ int main(int argc, char** argv) {
     wfapp::writePng(truth.image, a.out + "/peer_" + name + "_truth.png");
     if (a.dump) dumpImage(truth.image, a.out + "/peer_" + name + "_truth.vti");
 
-    // Every setting timed in rounds, Embree's and the A-buffer's in turn (round k runs each
-    // setting once, a run over kLongRun only in the first), so that a slow spell of this shared
-    // machine falls on both sides of a ratio alike rather than on whichever ran then. The images
-    // and statistics are the last round's (the same image every round).
+    // Embree's sample counts and the A-buffer's masks timed in rounds (each round runs each of
+    // them once, Embree's first in even rounds and the A-buffer's in odd ones; a setting whose
+    // last run took over kLongRun is not run again), so that a slow spell of this shared machine
+    // falls on both sides of a ratio alike rather than on whichever ran then. The images and
+    // statistics are the last run's (the same image every run).
     std::vector<std::vector<double>> eTimes(a.samples.size()), eBuild(a.samples.size()), eTrace(a.samples.size());
     std::vector<wfbench::EmbreeResult> eLast(a.samples.size());
     std::vector<std::vector<double>> aTimes(a.masks.size());
     std::vector<wf::RenderResult> aLast(a.masks.size());
-    for (int k = 0; k < a.repeats; ++k) {
+    auto embreeRound = [&](int k) {
       for (size_t i = 0; i < a.samples.size(); ++i) {
         if (k > 0 && eTimes[i].back() > kLongRun) continue;
         wfbench::EmbreeOptions eo;
@@ -323,14 +324,22 @@ int main(int argc, char** argv) {
         eTimes[i].push_back(eLast[i].secondsTotal);
         eBuild[i].push_back(eLast[i].secondsBuild);
         eTrace[i].push_back(eLast[i].secondsTrace);
+        std::fprintf(stderr, "  (round %d) embree %3d rays/px: %.3f s\n", k + 1, a.samples[i] * a.samples[i], eTimes[i].back());
       }
+    };
+    auto abufferRound = [&](int k) {
       for (size_t i = 0; i < a.masks.size(); ++i) {
         if (k > 0 && aTimes[i].back() > kLongRun) continue;
         wf::RenderOptions o = base;
         o.mask = a.masks[i];
         aLast[i] = wf::render(scene, o);
         aTimes[i].push_back(aLast[i].stats.total);
+        std::fprintf(stderr, "  (round %d) a-buffer %dx%d: %.3f s\n", k + 1, a.masks[i].w, a.masks[i].h, aTimes[i].back());
       }
+    };
+    for (int k = 0; k < a.repeats; ++k) {
+      if (k % 2 == 0) embreeRound(k), abufferRound(k);
+      else abufferRound(k), embreeRound(k);
     }
 
     // Embree at each sample count (the A-buffer's shading path, other jitter).
@@ -457,6 +466,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "  a-buffer 8x4 square ends: %.3f s  rms %.3e\n", r.stats.total, e.rms);
     }
     js["abuffer"] = ja;
+    eLast.clear(), aLast.clear();  // (their images: not held through the reference and VTK below)
     plot.series.push_back(abSeries);
 
     // The A-buffer's own brute-force reference (the same screen polygons, truth x truth point
