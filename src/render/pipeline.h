@@ -152,6 +152,16 @@ inline constexpr std::uint8_t kSegmentEndOn = 4;        ///< shorter than its ha
 inline constexpr std::uint8_t kSegmentMayMerge = 8;     ///< its polyline has other pieces
 inline constexpr std::uint8_t kSegmentPreshaded = 16;   ///< its colours hold the radiance at the ends
 
+/// One of Liang and Barsky's four steps (below): the bound p t <= q narrows [ta, tb]; false
+/// where it holds for no t (p = 0 and q < 0).
+inline bool liangBarskyStep(double p, double q, double& ta, double& tb) {
+  if (p == 0.0) return !(q < 0.0);
+  const double r = q / p;
+  if (p < 0.0) ta = std::max(ta, r);
+  else tb = std::min(tb, r);
+  return true;
+}
+
 /// The part [ta, tb] of the screen line p0 + t (p1 - p0), t in [0, 1], inside the rectangle
 /// [rx0, rx1] x [ry0, ry1] (Liang and Barsky); false when none. The binning's clip of a hair to a
 /// tile and the simplification's of a hair to the image (binning.cpp, simplify.cpp).
@@ -162,15 +172,8 @@ inline bool clipLineToRect(glm::dvec2 p0, glm::dvec2 p1, double rx0, double ry0,
   const double dx = p1.x - p0.x, dy = p1.y - p0.y;
   const double p[4] = {-dx, dx, -dy, dy};
   const double q[4] = {p0.x - rx0, rx1 - p0.x, p0.y - ry0, ry1 - p0.y};
-  for (int k = 0; k < 4; ++k) {
-    if (p[k] == 0.0) {
-      if (q[k] < 0.0) return false;
-      continue;
-    }
-    const double r = q[k] / p[k];
-    if (p[k] < 0.0) ta = std::max(ta, r);
-    else tb = std::min(tb, r);
-  }
+  for (int k = 0; k < 4; ++k)
+    if (!liangBarskyStep(p[k], q[k], ta, tb)) return false;
   return ta <= tb;
 }
 
@@ -192,7 +195,7 @@ class TileClips {
       Column& c = col_[tx - tx0];
       c.ta = 0.0, c.tb = 1.0;
       const double rx0 = tx * tile - g, rx1 = (tx + 1) * tile + g;
-      c.ok = apply(-dx, p0.x - rx0, c.ta, c.tb) && apply(dx, rx1 - p0.x, c.ta, c.tb);
+      c.ok = liangBarskyStep(-dx, p0.x - rx0, c.ta, c.tb) && liangBarskyStep(dx, rx1 - p0.x, c.ta, c.tb);
     }
     for (int ty = ty0; ty <= ty1; ++ty) {
       Row& r = row_[ty - ty0];
@@ -222,14 +225,6 @@ class TileClips {
   }
 
  private:
-  // One of clipLineToRect's steps.
-  static bool apply(double p, double q, double& ta, double& tb) {
-    if (p == 0.0) return !(q < 0.0);
-    const double r = q / p;
-    if (p < 0.0) ta = std::max(ta, r);
-    else tb = std::min(tb, r);
-    return true;
-  }
   struct Column {
     double ta, tb;  // after the x bounds
     bool ok;

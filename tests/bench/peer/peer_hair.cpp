@@ -235,23 +235,24 @@ int main(int argc, char** argv) {
     };
   };
   if (a.vtk) okV = measure(tmp + "_vtk", jv, cv, pixels, vtkRun(0));
-  // The antialiased runs only where the aliased one ran (a failure there is the display's).
-  std::vector<json> msaa(okV ? a.vtkMsaa.size() : 0);
-  std::vector<std::vector<float>> cm(msaa.size());
-  for (size_t k = 0; k < msaa.size(); ++k)
-    if (!measure(tmp + "_vtk_msaa", msaa[k], cm[k], pixels, vtkRun(a.vtkMsaa[k]))) {
-      std::cerr << "peer_hair: VTK's run with " << a.vtkMsaa[k] << " multisamples failed\n";
-      msaa[k] = json{{"multisamples_asked", a.vtkMsaa[k]}, {"failed", true}};
-      cm[k].clear();
+  // The antialiased runs only where the aliased one ran (a failure there is the display's): each
+  // setting's report and coverage (empty where it failed), `key` naming the setting in both.
+  auto vtkRuns = [&](const std::vector<int>& settings, const std::string& key, bool supersampled,
+                     std::vector<json>& reports, std::vector<std::vector<float>>& coverage) {
+    reports.assign(okV ? settings.size() : 0, json());
+    coverage.assign(reports.size(), {});
+    for (size_t k = 0; k < reports.size(); ++k) {
+      const int s = settings[k];
+      if (measure(tmp + "_vtk_" + key, reports[k], coverage[k], pixels, supersampled ? vtkRun(0, s) : vtkRun(s))) continue;
+      std::cerr << "peer_hair: VTK's run with " << key << " " << s << " failed\n";
+      reports[k] = json{{key, s}, {"failed", true}};
+      coverage[k].clear();
     }
-  std::vector<json> ssaa(okV ? a.vtkSsaa.size() : 0);
-  std::vector<std::vector<float>> cq(ssaa.size());
-  for (size_t k = 0; k < ssaa.size(); ++k)
-    if (!measure(tmp + "_vtk_ssaa", ssaa[k], cq[k], pixels, vtkRun(0, a.vtkSsaa[k]))) {
-      std::cerr << "peer_hair: VTK's run supersampled " << a.vtkSsaa[k] << " x " << a.vtkSsaa[k] << " failed\n";
-      ssaa[k] = json{{"supersample", a.vtkSsaa[k]}, {"failed", true}};
-      cq[k].clear();
-    }
+  };
+  std::vector<json> msaa, ssaa;
+  std::vector<std::vector<float>> cm, cq;
+  vtkRuns(a.vtkMsaa, "multisamples_asked", false, msaa, cm);
+  vtkRuns(a.vtkSsaa, "supersample", true, ssaa, cq);
 
   if (!okA || !okR) {
     std::cerr << "peer_hair: the WireFur renders failed\n";

@@ -1,5 +1,6 @@
 #include "vtk_tubes.h"
 
+#include "bench_support.h"
 #include "core/timer.h"
 
 #include <vtkActor.h>
@@ -117,20 +118,19 @@ VtkTubesResult renderVtkTubes(const std::vector<HairSegment>& segments, const Ha
 
   window->Render();  // warm-up: context, shader compilation, VBO upload
   window->WaitForCompletion();
-  // A framebuffer VTK could not make at this size (past the implementation's limit) is logged and
-  // skipped, leaving a black image: refused here instead.
+  result.setupSeconds = secondsSince(setupStart);
+  result.renderer = rendererLine(window);
   if (auto* gl = vtkOpenGLRenderWindow::SafeDownCast(window); gl && gl->GetRenderFramebuffer()) {
+    // A framebuffer VTK could not make at this size (past the implementation's limit) is logged
+    // and skipped, leaving a black image: refused here instead.
     int fw = 0, fh = 0;
     gl->GetRenderFramebuffer()->GetLastSize(fw, fh);
     if (fw < bigW || fh < bigH)
       throw std::runtime_error("VTK's framebuffer is " + std::to_string(fw) + " x " + std::to_string(fh) + ", not " +
                                std::to_string(bigW) + " x " + std::to_string(bigH));
-  }
-  result.setupSeconds = secondsSince(setupStart);
-  result.renderer = rendererLine(window);
-  // What the framebuffer got: VTK lowers the window's samples to the implementation's maximum.
-  if (auto* gl = vtkOpenGLRenderWindow::SafeDownCast(window); gl && gl->GetRenderFramebuffer())
+    // What it got: VTK lowers the window's samples to the implementation's maximum.
     result.multiSamples = gl->GetRenderFramebuffer()->GetMultiSamples();
+  }
 
   // The k x k image read back as bytes (coverage is 0 or 1 where aliased, a multiple of 1/255
   // with MSAA) and averaged into the final pixel; GL rows run bottom-up, ours top-down.
@@ -163,11 +163,6 @@ VtkTubesResult renderVtkTubes(const std::vector<HairSegment>& segments, const Ha
     }
     result.frameSeconds.push_back(secondsSince(t0));
   }
-  auto median = [](std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const size_t m = v.size() / 2;
-    return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
-  };
   result.medianSeconds = median(result.frameSeconds);
   if (k > 1) result.downsampleSeconds = median(downsample);
   else readBack();  // (aliased and multisampled: the image was ready in the framebuffer, read once untimed)
