@@ -123,6 +123,7 @@ json statsJson(const wf::RenderStats& st, const wf::RenderOptions& o, bool refer
                   {"simplify", o.simplify.enabled ? json(o.simplify.targetWidth) : json("off")},
                   {"mask", o.mask.name()},
                   {"budget", o.budget},
+                  {"deep_shares", o.deepShares},
                   {"occlusion_epsilon", o.occlusionEpsilon},
                   {"shading", shadingPathName(o.shading)},
                   {"threads", o.threads},
@@ -215,6 +216,7 @@ int runRender(const RenderCommandOptions& o) {
   if (!o.mask.empty() && !wf::MaskLayout::parse(o.mask, ro.mask))
     throw UsageError("option --mask: expected 4x4, 8x4 or 8x8, got '" + o.mask + "'");
   if (o.budget > 0) ro.budget = o.budget;
+  ro.deepShares = o.deepShares;
   ro.threads = o.threads;
   ro.shading = o.reference ? wf::ShadingPath::Exact : shadingPathNamed(o.shading);
   ro.referenceSamples = o.samples;

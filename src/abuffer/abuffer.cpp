@@ -210,9 +210,9 @@ void SurfaceDepth::atSamples(const float* sx, const float* sy, int n, float* out
   }
 }
 
-TileABuffer::TileABuffer(const MaskLayout& layout, int budget, float occlusionEpsilon)
+TileABuffer::TileABuffer(const MaskLayout& layout, int budget, float occlusionEpsilon, bool deepShares)
     : layout_(layout), budget_(std::clamp(budget, 1, kMaxListBudget)),
-      epsilon_(std::isfinite(occlusionEpsilon) ? std::clamp(occlusionEpsilon, 0.0f, 0.5f) : 0.0f) {
+      epsilon_(std::isfinite(occlusionEpsilon) ? std::clamp(occlusionEpsilon, 0.0f, 0.5f) : 0.0f), deepShares_(deepShares) {
   // 4x4, 8x4 or 8x8 only: the subpixel records are visited four samples at a time.
   if (!layout_.valid()) throw std::invalid_argument("TileABuffer: mask layout " + layout_.name() + " (4x4, 8x4 or 8x8)");
   for (int k = 0; k < layout_.samples(); ++k) {
@@ -825,6 +825,19 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
   }
   const int N = layout_.samples();
   const int n = int(order.size());
+  // A deep pixel (deepShares_): its samples all covered by opaque fragments that some sample
+  // saw, deepSharesFrom() of them or more. There every sampled fragment hides its samples
+  // wholly, and its weight comes from the samples it owns (below), not from its exact area
+  // times the share of its own samples it owns: with many layers those shares are each noisy
+  // and their sum strays from the pixel's full cover, where owned samples partition it.
+  bool deep = false;
+  if (deepShares_) {
+    MaskBits sampled = 0;
+    int count = 0;
+    for (const Node* v : order)
+      if (v->f.opacity >= 1.0f && (v->f.mask & ~v->f.standInBits)) sampled |= v->f.mask & ~v->f.standInBits, ++count;
+    deep = sampled == layout_.full() && count >= deepSharesFrom();
+  }
   // Per fragment: its mask, how many subpixels, how much it hides each (1: wholly), and, for
   // those that hide wholly, the subpixels it owns (where it is the nearest of them).
   std::vector<MaskBits>& owned = scratch_.owned;
@@ -842,7 +855,8 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
     const Fragment& f = order[size_t(i)]->f;
     const int k = maskCount(f.mask);
     hides[size_t(i)] = k ? std::max(f.hideFloor, f.opacity * std::min(1.0f, f.area * float(N) / float(k))) : 0.0f;
-    if (hides[size_t(i)] >= 1.0f) owned[size_t(i)] = f.mask, whole.push_back(i);
+    if (deep) hides[size_t(i)] = (f.mask & ~f.standInBits) ? f.opacity : 0.0f;  // (no sample saw it: left out)
+    if (hides[size_t(i)] >= 1.0f) owned[size_t(i)] = deep ? f.mask & ~f.standInBits : f.mask, whole.push_back(i);
     else if (k) anyPartial = true;
   }
   // The depth of fragment i's surface at its subpixels, evaluated once, when two surfaces whose
@@ -1023,7 +1037,7 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
         T[s] *= 1.0f - hide;
       }
       if (!(sumT > 0.0f) || f.holdout) continue;
-      const float w = f.opacity * f.area * (sumT / float(maskCount(f.mask)));
+      const float w = deep ? f.opacity * sumT / float(N) : f.opacity * f.area * (sumT / float(maskCount(f.mask)));
       rgb += colourOf(f) * w;
       alpha += w;
     }
@@ -1108,7 +1122,27 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
       alpha += w;
     }
   }
-  // The owners, through what lies in front of them.
+  // The owners, through what lies in front of them. In a deep pixel with nothing partial in
+  // front: those that own every sample they cover keep their exact areas, and what is left of
+  // the pixel is shared among the others by the samples they own (so one hair over a surface
+  // stays exact). With something partial in front: every owner by its samples.
+  if (deep && !anyPartial && !anyXray) {
+    float exact = 0.0f, shares = 0.0f;
+    for (int i : whole) {
+      const Fragment& f = order[size_t(i)]->f;
+      if (owned[size_t(i)] == (f.mask & ~f.standInBits)) exact += f.area;
+      else shares += float(maskCount(owned[size_t(i)]));
+    }
+    const float rest = std::max(0.0f, 1.0f - exact);
+    for (int i : whole) {
+      const Fragment& f = order[size_t(i)]->f;
+      const MaskBits mine = owned[size_t(i)];
+      if (!mine || f.holdout) continue;
+      const float w = mine == (f.mask & ~f.standInBits) ? f.area : rest * float(maskCount(mine)) / shares;
+      rgb += colourOf(f) * w;
+      alpha += w;
+    }
+  } else {
   for (int i : whole) {
     const MaskBits mine = owned[size_t(i)];
     if (!mine) continue;
@@ -1122,9 +1156,10 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
       sumT = float(maskCount(mine));
     }
     if (!(sumT > 0.0f)) continue;
-    const float w = f.opacity * f.area * (sumT / float(maskCount(f.mask)));
+    const float w = deep ? f.opacity * sumT / float(N) : f.opacity * f.area * (sumT / float(maskCount(f.mask)));
     rgb += colourOf(f) * w;
     alpha += w;
+  }
   }
   // Quantised masks can let true areas overlap where masks do not: never more than full cover.
   if (alpha > 1.0f) {

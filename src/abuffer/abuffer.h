@@ -229,7 +229,12 @@ class TileABuffer {
  public:
   /// `occlusionEpsilon`: a subpixel counts as hidden once the fragments in front leave at most
   /// this transmittance (0: only wholly hiding fragments count, and culling is exact).
-  TileABuffer(const MaskLayout& layout, int budget, float occlusionEpsilon = 0.0f);
+  /// `deepShares`: deep pixels weigh their hidden fragments by the samples they own
+  /// (resolveEntries; RenderOptions::deepShares).
+  TileABuffer(const MaskLayout& layout, int budget, float occlusionEpsilon = 0.0f, bool deepShares = false);
+  /// The fewest opaque, sampled fragments a pixel whose samples they all cover must hold for
+  /// deep shares to weigh it: 256 / samples (8 at 8x4, 4 at 8x8, 16 at 4x4).
+  int deepSharesFrom() const { return 256 / layout_.samples(); }
   /// Empties the buffer for a tile of w x h pixels whose top left pixel is (x0, y0) of the image
   /// (keeps its memory). `source` shades deferred fragments and gives subpixel depths (null:
   /// every fragment arrives shaded and flat).
@@ -430,6 +435,7 @@ class TileABuffer {
   float sampleX_[64], sampleY_[64];  ///< subpixel sample positions in the pixel, by sample index
   int budget_;
   float epsilon_ = 0.0f;
+  bool deepShares_ = false;
   int w_ = 0, h_ = 0;
   int x0_ = 0, y0_ = 0;
   const FragmentSource* source_ = nullptr;

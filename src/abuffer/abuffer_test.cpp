@@ -590,6 +590,73 @@ TEST(TileABuffer, OcclusionBookkeepingFollowsTheRuleSubpixelBySubpixel) {
   EXPECT_LT(hiddenYes, checks - checks / 20) << hiddenYes << " of " << checks;
 }
 
+// Deep shares (RenderOptions::deepShares): 7 thin opaque fragments, one sample column each
+// (areas 0.06 ... 0.12, in front), over a blue full-pixel one that owns column 7's samples.
+// Every sample is covered by the 8 sampled fragments (deepSharesFrom() at 8x4), so the pixel
+// is deep: the 7 in front keep their exact areas, and the blue one, hidden anywhere, gets the
+// rest of the pixel, 1 - sum(areas), whatever share of samples it owns.
+std::vector<Fragment> deepPixel(int columns, float area0 = 0.06f, float step = 0.01f) {
+  std::vector<Fragment> fs;
+  for (int c = 0; c < columns; ++c) {
+    const glm::vec3 colour(0.1f * float(c + 1), 1.0f - 0.1f * float(c), 0.5f);
+    fs.push_back(frag(1.0f + float(c), area0 + step * float(c), 1.0f, colour, MaskBits(0x01010101u) << c, 10u + std::uint32_t(c)));
+  }
+  fs.push_back(frag(20.0f, 1.0f, 1.0f, kBlue, kFull, 99));
+  return fs;
+}
+
+glm::vec4 resolveOne(const std::vector<Fragment>& fs, bool deepShares) {
+  TileABuffer buf(kL, 64, 0.0f, deepShares);
+  buf.reset(1, 1);
+  for (const Fragment& f : fs) buf.insert(0, 0, f, 0);
+  return buf.resolve(0, 0);
+}
+
+TEST(TileABuffer, DeepSharesKeepTheFrontAreasAndGiveTheRestToWhatIsHidden) {
+  ASSERT_EQ(TileABuffer(kL, 64, 0.0f, true).deepSharesFrom(), 8);
+  // Areas 0.06 ... 0.12 (fewer than their 4 samples' 0.125): then abuffer.h's partial hides
+  // give the same, 1 - sum(areas) to the blue one. Areas 0.126 ... 0.132 (more): each of the 7
+  // hides its samples wholly, and the blue one would weigh its 4 samples' 0.125, 0.028 more
+  // than the pixel has left: deep shares give it the 0.097 left.
+  for (float area0 : {0.06f, 0.126f}) {
+    const std::vector<Fragment> fs = deepPixel(7, area0, area0 < 0.1f ? 0.01f : 0.001f);
+    glm::vec3 want(0.0f);
+    double front = 0.0;
+    for (int c = 0; c < 7; ++c) want += fs[size_t(c)].colour * fs[size_t(c)].area, front += fs[size_t(c)].area;
+    want += kBlue * float(1.0 - front);
+    expectRGBA(resolveOne(fs, true), glm::vec4(want, 1.0f), 2e-6f, area0 < 0.1f ? "thin" : "wider");
+    const glm::vec4 off = resolveOne(fs, false);
+    if (area0 < 0.1f) expectRGBA(off, glm::vec4(want, 1.0f), 2e-6f, "thin, deep shares off");
+    else EXPECT_GT(std::abs(off.z - want.z), 0.005f);  // (normalised from alpha 1.028: blue 0.122, not 0.097)
+  }
+}
+
+TEST(TileABuffer, DeepSharesSplitTheRestBySamplesOwned) {
+  // Red in front over the left half (area 0.45), green behind it over the whole pixel, blue
+  // behind both, and 6 one-sample slivers behind green: 9 sampled fragments cover every sample.
+  // Red owns all its samples (exact: 0.45), green the right half's 16, blue and the slivers
+  // none: green gets all of the rest, 0.55.
+  std::vector<Fragment> fs{frag(1.0f, 0.45f, 1.0f, kRed, kLeftHalf, 1), frag(2.0f, 1.0f, 1.0f, kGreen, kFull, 2),
+                           frag(3.0f, 1.0f, 1.0f, kBlue, kFull, 3)};
+  for (int i = 0; i < 6; ++i) fs.push_back(frag(4.0f + float(i), 0.02f, 1.0f, glm::vec3(1.0f), MaskBits(1) << (4 * i + 1), 10u + std::uint32_t(i)));
+  expectRGBA(resolveOne(fs, true), glm::vec4(0.45f, 0.55f, 0.0f, 1.0f), 2e-6f, "shares");
+}
+
+TEST(TileABuffer, DeepSharesLeaveShallowAndUncoveredPixelsAsTheyWere) {
+  // One column fewer: 7 sampled fragments, under deepSharesFrom(), and column 6 is then blue's:
+  // the same pixel to the bit with deep shares on or off.
+  const std::vector<Fragment> shallow = deepPixel(6);
+  const glm::vec4 a = resolveOne(shallow, true), b = resolveOne(shallow, false);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(a[i], b[i]) << "shallow channel " << i;
+  // Deep enough, but without the blue one column 7 shows the background: not every sample is
+  // covered, so again the same pixel.
+  std::vector<Fragment> open = deepPixel(7);
+  open.pop_back();
+  for (int c = 0; c < 3; ++c) open.push_back(frag(30.0f + float(c), 0.05f, 1.0f, kGreen, MaskBits(0x01010101u) << c, 50u + std::uint32_t(c)));
+  const glm::vec4 c = resolveOne(open, true), d = resolveOne(open, false);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(c[i], d[i]) << "uncovered channel " << i;
+}
+
 TEST(TileABuffer, RefusesALayoutItCannotVisitFourSubpixelsAtATime) {
   EXPECT_THROW(TileABuffer(MaskLayout{4, 8}, 64), std::invalid_argument);
   EXPECT_THROW(TileABuffer(MaskLayout{3, 3}, 64), std::invalid_argument);

@@ -207,7 +207,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
     const PreparedFragmentSource source(ps);
     const int tilesX = binCounts.tilesX;
     tbb::enumerable_thread_specific<TileABuffer> buffers(
-        [&] { return TileABuffer(options.mask, options.budget, float(options.occlusionEpsilon)); });
+        [&] { return TileABuffer(options.mask, options.budget, float(options.occlusionEpsilon), options.deepShares); });
     tbb::enumerable_thread_specific<ABufferCounters> counters;
     tbb::enumerable_thread_specific<size_t> occludedPrims(0);
     tbb::enumerable_thread_specific<RenderStats::RasterWork> work;

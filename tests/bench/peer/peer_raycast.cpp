@@ -10,7 +10,7 @@
 //   peer_raycast [--scenes torus7k,torus70k,torus700k,spider,curved1m] [--size WxH]
 //                [--samples 1,2,4,8] [--truth 12] [--masks 4x4,8x4,8x8] [--repeats R]
 //                [--threads T] [--no-vtk] [--reference] [--out DIR] [--check]
-//                [--floors SCENE=RATIO,...] [--epsilon E] [--budget K] [--dump]
+//                [--floors SCENE=RATIO,...] [--epsilon E] [--budget K] [--deep-shares] [--dump]
 //
 // The full comparison (under Xvfb for the VTK peer): scripts/bench_peers.sh. `--check` (the CI
 // smoke test) fails, exit 3, when an error that must fall does not: Embree's error must fall
@@ -70,6 +70,7 @@ struct Args {
   int threads = 0;
   double epsilon = -1.0;  ///< --epsilon: occlusion culling's bound per pixel (< 0: the renderer's default)
   int budget = 0;         ///< --budget: fragments kept exactly per pixel (0: the renderer's default)
+  bool deepShares = false;  ///< --deep-shares: RenderOptions::deepShares for every A-buffer run
   bool vtk = true;
   bool check = false;
   bool reference = false;
@@ -216,6 +217,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, wf::kMaxListBudget));
   CLI::Option* epsilon = app.add_option("--epsilon", a.epsilon, "occlusion culling's error bound per pixel, 0 ... 0.1 (default: the renderer's)");
   app.add_flag("--no-vtk", noVtk, "leave out VTK's tubes");
+  app.add_flag("--deep-shares", a.deepShares, "the A-buffer weighs deep pixels' hidden fragments by their samples (RenderOptions::deepShares)");
   app.add_flag("--check", a.check, "exit 1 when a scene misses its --floors speed-up or an error does not fall as it should");
   app.add_flag("--reference", a.reference, "also render the A-buffer's brute-force reference (slow)");
   app.add_option("--out", a.out, "output folder for the report, tables and plots");
@@ -284,6 +286,7 @@ int main(int argc, char** argv) {
     base.threads = a.threads;
     if (a.epsilon >= 0.0) base.occlusionEpsilon = a.epsilon;
     if (a.budget > 0) base.budget = a.budget;
+    base.deepShares = a.deepShares;
     json js;
     js["scene"] = name;
     js["description"] = b.description;
@@ -291,6 +294,7 @@ int main(int argc, char** argv) {
     js["height"] = H;
     js["segments"] = segments;
     js["list_budget"] = base.budget;
+    js["deep_shares"] = base.deepShares;
 
     // Ground truth: Embree, truth x truth rays per pixel, exact cylinder integral and Phong.
     wf::RenderOptions exactOpt = base;
