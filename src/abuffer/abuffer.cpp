@@ -775,6 +775,11 @@ void TileABuffer::gatherLists() const {
   start[0] = 0;
 }
 
+namespace {
+// A fragment this close to the whole pixel's area covers it (a surface's pieces merged whole).
+constexpr float kWholeArea = 0.999f;
+}  // namespace
+
 glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entries, int count,
                                       const XrayNode* const* xray, int xrayCount) const {
   const Pixel& p = pixels_[pixelIndex];
@@ -825,18 +830,23 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
   }
   const int N = layout_.samples();
   const int n = int(order.size());
-  // A deep pixel (deepShares_): its samples all covered by opaque fragments that some sample
-  // saw, deepSharesFrom() of them or more. There every sampled fragment hides its samples
-  // wholly, and its weight comes from the samples it owns (below), not from its exact area
-  // times the share of its own samples it owns: with many layers those shares are each noisy
-  // and their sum strays from the pixel's full cover, where owned samples partition it.
+  // A deep pixel (deepShares_): an opaque surface covers all of it (no gap between the samples
+  // can show what lies behind), and its samples are all covered by deepSharesFrom() or more
+  // opaque fragments that some sample saw. There every sampled fragment hides its samples
+  // wholly, and what is hidden anywhere is weighed by the samples it owns (below), not by its
+  // exact area times the share of its own samples it owns: with many layers those shares are
+  // each noisy and their sum strays from the pixel's full cover, which owned samples partition.
   bool deep = false;
   if (deepShares_) {
     MaskBits sampled = 0;
     int count = 0;
+    bool surface = false;  // an opaque fragment that covers the whole pixel: no gap between samples shows
     for (const Node* v : order)
-      if (v->f.opacity >= 1.0f && (v->f.mask & ~v->f.standInBits)) sampled |= v->f.mask & ~v->f.standInBits, ++count;
-    deep = sampled == layout_.full() && count >= deepSharesFrom();
+      if (v->f.opacity >= 1.0f && (v->f.mask & ~v->f.standInBits)) {
+        sampled |= v->f.mask & ~v->f.standInBits, ++count;
+        if (v->f.area >= kWholeArea) surface = true;
+      }
+    deep = surface && sampled == layout_.full() && count >= deepSharesFrom();
   }
   // Per fragment: its mask, how many subpixels, how much it hides each (1: wholly), and, for
   // those that hide wholly, the subpixels it owns (where it is the nearest of them).
@@ -855,8 +865,14 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
     const Fragment& f = order[size_t(i)]->f;
     const int k = maskCount(f.mask);
     hides[size_t(i)] = k ? std::max(f.hideFloor, f.opacity * std::min(1.0f, f.area * float(N) / float(k))) : 0.0f;
-    if (deep) hides[size_t(i)] = (f.mask & ~f.standInBits) ? f.opacity : 0.0f;  // (no sample saw it: left out)
-    if (hides[size_t(i)] >= 1.0f) owned[size_t(i)] = deep ? f.mask & ~f.standInBits : f.mask, whole.push_back(i);
+    if (deep) {  // sampled: hides wholly (but translucent); no sample saw it: left out
+      const MaskBits sampled = f.mask & ~f.standInBits;
+      hides[size_t(i)] = sampled ? f.opacity : 0.0f;
+      if (hides[size_t(i)] >= 1.0f) owned[size_t(i)] = sampled, whole.push_back(i);
+      else if (sampled) anyPartial = true;
+      continue;
+    }
+    if (hides[size_t(i)] >= 1.0f) owned[size_t(i)] = f.mask, whole.push_back(i);
     else if (k) anyPartial = true;
   }
   // The depth of fragment i's surface at its subpixels, evaluated once, when two surfaces whose
@@ -1004,7 +1020,8 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
     std::vector<int>& po = scratch_.partialOrder;
     po.clear();
     for (int i = 0; i < n; ++i)
-      if (hides[size_t(i)] < 1.0f && order[size_t(i)]->f.mask != 0) po.push_back(i);
+      if (hides[size_t(i)] < 1.0f && (deep ? order[size_t(i)]->f.mask & ~order[size_t(i)]->f.standInBits : order[size_t(i)]->f.mask) != 0)
+        po.push_back(i);
     for (size_t a = 1; a < po.size(); ++a) {
       const int e = po[a];
       const Fragment& fe = order[size_t(e)]->f;
@@ -1022,7 +1039,7 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
     for (int i : po) {
       const Fragment& f = order[size_t(i)]->f;
       const float hide = hides[size_t(i)];
-      MaskBits seen = f.mask;
+      MaskBits seen = deep ? f.mask & ~f.standInBits : f.mask;
       for (int b = 0; b < nw && (seen & ownedAny); ++b) {
         const int j = whole[size_t(b)];
         const MaskBits common = seen & owned[size_t(j)];
@@ -1122,10 +1139,11 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
       alpha += w;
     }
   }
-  // The owners, through what lies in front of them. In a deep pixel with nothing partial in
-  // front: those that own every sample they cover keep their exact areas, and what is left of
-  // the pixel is shared among the others by the samples they own (so one hair over a surface
-  // stays exact). With something partial in front: every owner by its samples.
+  // The owners, through what lies in front of them. In a deep pixel with nothing partial in it
+  // and no x-ray fragment: those that own every sample they cover keep their exact areas, and
+  // what is left of the pixel is shared among the others by the samples they own (so one hair
+  // over a surface stays exact). Otherwise (a tail, a translucent fragment anywhere in the
+  // pixel): every owner by its samples, through what lies in front.
   if (deep && !anyPartial && !anyXray) {
     float exact = 0.0f, shares = 0.0f;
     for (int i : whole) {

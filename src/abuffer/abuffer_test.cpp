@@ -632,14 +632,25 @@ TEST(TileABuffer, DeepSharesKeepTheFrontAreasAndGiveTheRestToWhatIsHidden) {
 }
 
 TEST(TileABuffer, DeepSharesSplitTheRestBySamplesOwned) {
-  // Red in front over the left half (area 0.45), green behind it over the whole pixel, blue
-  // behind both, and 6 one-sample slivers behind green: 9 sampled fragments cover every sample.
-  // Red owns all its samples (exact: 0.45), green the right half's 16, blue and the slivers
-  // none: green gets all of the rest, 0.55.
-  std::vector<Fragment> fs{frag(1.0f, 0.45f, 1.0f, kRed, kLeftHalf, 1), frag(2.0f, 1.0f, 1.0f, kGreen, kFull, 2),
-                           frag(3.0f, 1.0f, 1.0f, kBlue, kFull, 3)};
-  for (int i = 0; i < 6; ++i) fs.push_back(frag(4.0f + float(i), 0.02f, 1.0f, glm::vec3(1.0f), MaskBits(1) << (4 * i + 1), 10u + std::uint32_t(i)));
-  expectRGBA(resolveOne(fs, true), glm::vec4(0.45f, 0.55f, 0.0f, 1.0f), 2e-6f, "shares");
+  // Over a grey surface that covers the whole pixel, eight fragments of area 0.2, fragment c over
+  // sample columns c and c + 1 (mod 8), nearer the lower c, inserted back to front (nothing is
+  // culled on arrival: under abuffer.h's rule each only dims its samples, by 0.2 * 32 / 8 =
+  // 0.8). Deep: fragment 0 owns both its columns (its exact area, 0.2), fragments 1 ... 6 one
+  // column each (4 samples), fragment 7 and the surface none: the 0.8 left goes to 1 ... 6 by
+  // their samples, 0.8 / 6 each. A sliver that no sample sees (stand-in bit only, area 0.01) is
+  // left out.
+  std::vector<Fragment> fs{frag(30.0f, 1.0f, 1.0f, glm::vec3(0.5f), kFull, 19)};
+  glm::vec3 want(0.0f);
+  for (int c = 7; c >= 0; --c) {
+    const MaskBits columns = (MaskBits(0x01010101u) << c) | (MaskBits(0x01010101u) << ((c + 1) % 8));
+    const glm::vec3 colour(0.1f * float(c + 1), 0.05f * float(c), 1.0f - 0.1f * float(c));
+    fs.push_back(frag(1.0f + float(c), 0.2f, 1.0f, colour, columns, 20u + std::uint32_t(c)));
+    want += colour * (c == 0 ? 0.2f : c == 7 ? 0.0f : 0.8f / 6.0f);
+  }
+  Fragment sliver = frag(0.5f, 0.01f, 1.0f, glm::vec3(1.0f), MaskBits(1) << 9, 90);
+  sliver.standInBits = sliver.mask;
+  fs.push_back(sliver);
+  expectRGBA(resolveOne(fs, true), glm::vec4(want, 1.0f), 2e-6f, "shares");
 }
 
 TEST(TileABuffer, DeepSharesLeaveShallowAndUncoveredPixelsAsTheyWere) {

@@ -386,16 +386,23 @@ TEST(DenseHair, SameImageForAnyThreadCount) {
     }
     w.lines.add(pts);
   }
-  for (bool simplify : {false, true}) {
+  ImageRGBA plain;
+  for (int mode : {0, 1, 2}) {  // as it is, simplified, deep shares
+    const bool simplify = mode == 1;
     RenderOptions o = test::smallOptions(W, H);
     o.simplify.enabled = simplify;
     o.simplify.targetWidth = 4.0;
+    o.deepShares = mode == 2;
     o.threads = 1;
     const RenderResult a = render(s, o);
     for (int t : {2, 7}) {
       o.threads = t;
       const RenderResult b = render(s, o);
-      EXPECT_EQ(test::maxDiff(a.image, b.image), 0.0) << t << " threads, simplified " << simplify;
+      EXPECT_EQ(test::maxDiff(a.image, b.image), 0.0) << t << " threads, mode " << mode;
+    }
+    if (mode == 0) plain = a.image;
+    if (mode == 2) {
+      EXPECT_GT(test::maxDiff(a.image, plain), 0.0) << "deep shares took no pixel of this fur";
     }
   }
 }
