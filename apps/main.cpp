@@ -70,7 +70,7 @@ void declareRender(CLI::App& wirefur, wfapp::RenderCommandOptions& o) {
   wfapp::addIntegerOption(*c, "--budget", o.budget, 1, wf::kMaxListBudget,
                           "fragments kept exactly per pixel, {range} (default: the scene's, else 64)", "K");
   wfapp::addFlag(*c, "--deep-shares", o.deepShares,
-                 "weigh what deep pixels hide by the samples it owns (dense fur: less error; default off)");
+                 "in deep pixels over a surface, weigh what is hidden by the samples it owns (dense fur over a body: less error; default off)");
   c->add_option("--shading", o.shading,
                 "closed (default): closed-form cylinder integral; exact: the same computed exactly; maps: "
                 "the paper's pseudo-reflectance maps")

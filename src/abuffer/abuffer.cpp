@@ -1141,22 +1141,30 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
   }
   // The owners, through what lies in front of them. In a deep pixel with nothing partial in it
   // and no x-ray fragment: those that own every sample they cover keep their exact areas, and
-  // what is left of the pixel is shared among the others by the samples they own (so one hair
-  // over a surface stays exact). Otherwise (a tail, a translucent fragment anywhere in the
-  // pixel): every owner by its samples, through what lies in front.
+  // what is left of the pixel is shared among the others by the samples they own (a hair that
+  // owns all its samples stays exact); where none of the others owns a sample, the gaps between
+  // the visible ones show the nearest surface that covers the whole pixel. Otherwise (a tail, a
+  // translucent fragment anywhere in the pixel): every owner by its samples, through what lies
+  // in front.
   if (deep && !anyPartial && !anyXray) {
     float exact = 0.0f, shares = 0.0f;
+    int surface = -1;  // the nearest fragment that covers the whole pixel
     for (int i : whole) {
       const Fragment& f = order[size_t(i)]->f;
       if (owned[size_t(i)] == (f.mask & ~f.standInBits)) exact += f.area;
       else shares += float(maskCount(owned[size_t(i)]));
+      if (surface < 0 && f.area >= kWholeArea) surface = i;
     }
     const float rest = std::max(0.0f, 1.0f - exact);
     for (int i : whole) {
       const Fragment& f = order[size_t(i)]->f;
       const MaskBits mine = owned[size_t(i)];
-      if (!mine || f.holdout) continue;
-      const float w = mine == (f.mask & ~f.standInBits) ? f.area : rest * float(maskCount(mine)) / shares;
+      if (f.holdout) continue;
+      float w;
+      if (mine && mine == (f.mask & ~f.standInBits)) w = f.area;
+      else if (shares > 0.0f) w = rest * float(maskCount(mine)) / shares;
+      else w = i == surface ? rest : 0.0f;
+      if (!(w > 0.0f)) continue;
       rgb += colourOf(f) * w;
       alpha += w;
     }

@@ -232,8 +232,8 @@ class TileABuffer {
   /// `deepShares`: deep pixels weigh their hidden fragments by the samples they own
   /// (resolveEntries; RenderOptions::deepShares).
   TileABuffer(const MaskLayout& layout, int budget, float occlusionEpsilon = 0.0f, bool deepShares = false);
-  /// The fewest opaque, sampled fragments a pixel whose samples they all cover must hold for
-  /// deep shares to weigh it: 256 / samples (8 at 8x4, 4 at 8x8, 16 at 4x4).
+  /// The fewest opaque, sampled fragments (a surface that covers the whole pixel among them) a
+  /// pixel must hold for deep shares to weigh it: 256 / samples (8 at 8x4, 4 at 8x8, 16 at 4x4).
   int deepSharesFrom() const { return 256 / layout_.samples(); }
   /// Empties the buffer for a tile of w x h pixels whose top left pixel is (x0, y0) of the image
   /// (keeps its memory). `source` shades deferred fragments and gives subpixel depths (null:

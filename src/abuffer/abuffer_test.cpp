@@ -631,11 +631,23 @@ TEST(TileABuffer, DeepSharesKeepTheFrontAreasAndGiveTheRestToWhatIsHidden) {
   }
 }
 
+TEST(TileABuffer, DeepSharesShowTheSurfaceInTheGapsWhereNothingHiddenOwnsASample) {
+  // All 8 columns taken by the thin ones (areas 0.06 ... 0.13, 0.76 in all): the blue surface
+  // behind owns no sample, yet the gaps between them show it: 0.24 of the pixel.
+  const std::vector<Fragment> fs = deepPixel(8);
+  glm::vec3 want(0.0f);
+  double front = 0.0;
+  for (int c = 0; c < 8; ++c) want += fs[size_t(c)].colour * fs[size_t(c)].area, front += fs[size_t(c)].area;
+  want += kBlue * float(1.0 - front);
+  expectRGBA(resolveOne(fs, true), glm::vec4(want, 1.0f), 2e-6f, "gaps");
+}
+
 TEST(TileABuffer, DeepSharesSplitTheRestBySamplesOwned) {
   // Over a grey surface that covers the whole pixel, eight fragments of area 0.2, fragment c over
   // sample columns c and c + 1 (mod 8), nearer the lower c, inserted back to front (nothing is
   // culled on arrival: under abuffer.h's rule each only dims its samples, by 0.2 * 32 / 8 =
-  // 0.8). Deep: fragment 0 owns both its columns (its exact area, 0.2), fragments 1 ... 6 one
+  // 0.8; none of them occludes on arrival anyway, being pieces that may merge). Deep: fragment
+  // 0 owns both its columns (its exact area, 0.2), fragments 1 ... 6 one
   // column each (4 samples), fragment 7 and the surface none: the 0.8 left goes to 1 ... 6 by
   // their samples, 0.8 / 6 each. A sliver that no sample sees (stand-in bit only, area 0.01) is
   // left out.
