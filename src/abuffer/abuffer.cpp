@@ -42,7 +42,7 @@ void mergeInto(Fragment& g, const Fragment& f) {
   g.zmin = std::min(g.zmin, f.zmin);
   g.zmax = std::max(g.zmax, f.zmax);
   g.area = std::min(1.0f, a);
-  const MaskBits sampled = (g.mask & ~g.standInBits) | (f.mask & ~f.standInBits);
+  const MaskBits sampled = g.sampledMask() | f.sampledMask();
   g.standInBits = (g.standInBits | f.standInBits) & ~sampled;
   g.mask = sampled | g.standInBits;
 }
@@ -666,12 +666,12 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
     Node& n = nodes_[size_t(*link)];
     // Pieces of one surface never share a sampled subpixel (shared edges split samples); two
     // layers of one object (a silhouette fold) do, and stay apart.
-    if (n.f.tag == f.tag && ((n.f.mask & ~n.f.standInBits) & (f.mask & ~f.standInBits)) == 0 &&
+    if (n.f.tag == f.tag && (n.f.sampledMask() & f.sampledMask()) == 0 &&
         depthRangesTouch(n.f, f)) {
       shadeNow(n.f, pixelIndex);
       shadeNow(f, pixelIndex);
       const float hideBefore = hideOf(n.f);
-      const MaskBits newlySampled = f.mask & ~f.standInBits;  // disjoint from n's sampled bits
+      const MaskBits newlySampled = f.sampledMask();  // disjoint from n's sampled bits
       mergeInto(n.f, f);
       forgetFar(p);  // its depth may have moved
       ++local_.merged;
@@ -709,7 +709,7 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
   } else if (!f.mayMerge) {
     occlude(p, pixelIndex, f);
   } else if (f.occludesEarly) {
-    occlude(p, pixelIndex, f.mask & ~f.standInBits, hideOf(f), f.zmax);
+    occlude(p, pixelIndex, f.sampledMask(), hideOf(f), f.zmax);
   }
 }
 
@@ -839,14 +839,14 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
   bool deep = false;
   if (deepShares_) {
     MaskBits sampled = 0;
-    int count = 0;
+    int sampledFragments = 0;
     bool surface = false;  // an opaque fragment that covers the whole pixel: no gap between samples shows
     for (const Node* v : order)
-      if (v->f.opacity >= 1.0f && (v->f.mask & ~v->f.standInBits)) {
-        sampled |= v->f.mask & ~v->f.standInBits, ++count;
+      if (v->f.opacity >= 1.0f && v->f.sampledMask()) {
+        sampled |= v->f.sampledMask(), ++sampledFragments;
         if (v->f.area >= kWholeArea) surface = true;
       }
-    deep = surface && sampled == layout_.full() && count >= deepSharesFrom();
+    deep = surface && sampled == layout_.full() && sampledFragments >= deepSharesFrom();
   }
   // Per fragment: its mask, how many subpixels, how much it hides each (1: wholly), and, for
   // those that hide wholly, the subpixels it owns (where it is the nearest of them).
@@ -866,7 +866,7 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
     const int k = maskCount(f.mask);
     hides[size_t(i)] = k ? std::max(f.hideFloor, f.opacity * std::min(1.0f, f.area * float(N) / float(k))) : 0.0f;
     if (deep) {  // sampled: hides wholly (but translucent); no sample saw it: left out
-      const MaskBits sampled = f.mask & ~f.standInBits;
+      const MaskBits sampled = f.sampledMask();
       hides[size_t(i)] = sampled ? f.opacity : 0.0f;
       if (hides[size_t(i)] >= 1.0f) owned[size_t(i)] = sampled, whole.push_back(i);
       else if (sampled) anyPartial = true;
@@ -1020,8 +1020,7 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
     std::vector<int>& po = scratch_.partialOrder;
     po.clear();
     for (int i = 0; i < n; ++i)
-      if (hides[size_t(i)] < 1.0f && (deep ? order[size_t(i)]->f.mask & ~order[size_t(i)]->f.standInBits : order[size_t(i)]->f.mask) != 0)
-        po.push_back(i);
+      if (hides[size_t(i)] < 1.0f && (deep ? order[size_t(i)]->f.sampledMask() : order[size_t(i)]->f.mask) != 0) po.push_back(i);
     for (size_t a = 1; a < po.size(); ++a) {
       const int e = po[a];
       const Fragment& fe = order[size_t(e)]->f;
@@ -1039,7 +1038,7 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
     for (int i : po) {
       const Fragment& f = order[size_t(i)]->f;
       const float hide = hides[size_t(i)];
-      MaskBits seen = deep ? f.mask & ~f.standInBits : f.mask;
+      MaskBits seen = deep ? f.sampledMask() : f.mask;
       for (int b = 0; b < nw && (seen & ownedAny); ++b) {
         const int j = whole[size_t(b)];
         const MaskBits common = seen & owned[size_t(j)];
@@ -1151,7 +1150,7 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
     int surface = -1;  // the nearest fragment that covers the whole pixel
     for (int i : whole) {
       const Fragment& f = order[size_t(i)]->f;
-      if (owned[size_t(i)] == (f.mask & ~f.standInBits)) exact += f.area;
+      if (owned[size_t(i)] == f.sampledMask()) exact += f.area;
       else shares += float(maskCount(owned[size_t(i)]));
       if (surface < 0 && f.area >= kWholeArea) surface = i;
     }
@@ -1161,7 +1160,7 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
       const MaskBits mine = owned[size_t(i)];
       if (f.holdout) continue;
       float w;
-      if (mine && mine == (f.mask & ~f.standInBits)) w = f.area;
+      if (mine == f.sampledMask()) w = f.area;  // (never 0: a whole fragment was sampled)
       else if (shares > 0.0f) w = rest * float(maskCount(mine)) / shares;
       else w = i == surface ? rest : 0.0f;
       if (!(w > 0.0f)) continue;
@@ -1169,23 +1168,23 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
       alpha += w;
     }
   } else {
-  for (int i : whole) {
-    const MaskBits mine = owned[size_t(i)];
-    if (!mine) continue;
-    const Fragment& f = order[size_t(i)]->f;
-    if (f.holdout) continue;
-    float sumT;
-    if (anyPartial || anyXray) {
-      sumT = 0;
-      for (MaskBits m = mine; m; m &= m - 1) sumT += T[std::countr_zero(m)];
-    } else {
-      sumT = float(maskCount(mine));
+    for (int i : whole) {
+      const MaskBits mine = owned[size_t(i)];
+      if (!mine) continue;
+      const Fragment& f = order[size_t(i)]->f;
+      if (f.holdout) continue;
+      float sumT;
+      if (anyPartial || anyXray) {
+        sumT = 0;
+        for (MaskBits m = mine; m; m &= m - 1) sumT += T[std::countr_zero(m)];
+      } else {
+        sumT = float(maskCount(mine));
+      }
+      if (!(sumT > 0.0f)) continue;
+      const float w = deep ? f.opacity * sumT / float(N) : f.opacity * f.area * (sumT / float(maskCount(f.mask)));
+      rgb += colourOf(f) * w;
+      alpha += w;
     }
-    if (!(sumT > 0.0f)) continue;
-    const float w = deep ? f.opacity * sumT / float(N) : f.opacity * f.area * (sumT / float(maskCount(f.mask)));
-    rgb += colourOf(f) * w;
-    alpha += w;
-  }
   }
   // Quantised masks can let true areas overlap where masks do not: never more than full cover.
   if (alpha > 1.0f) {

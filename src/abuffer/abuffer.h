@@ -94,6 +94,8 @@ struct Fragment {
   /// resolve agree, and epsilon = 0 stays exact.
   float hideFloor = 0.0f;
   static constexpr std::uint32_t kNoPrimitive = 0xFFFFFFFFu;
+  /// The bits of `mask` that a sample saw (not stand-ins).
+  MaskBits sampledMask() const { return mask & ~standInBits; }
   static std::uint16_t toPoint(double fraction) { return std::uint16_t(std::clamp(fraction, 0.0, 1.0) * 65535.0 + 0.5); }
   double pointX() const { return cx / 65535.0; }
   double pointY() const { return cy / 65535.0; }
