@@ -69,8 +69,9 @@ void declareRender(CLI::App& wirefur, wfapp::RenderCommandOptions& o) {
       ->trigger_on_parse();
   wfapp::addIntegerOption(*c, "--budget", o.budget, 1, wf::kMaxListBudget,
                           "fragments kept exactly per pixel, {range} (default: the scene's, else 64)", "K");
-  wfapp::addFlag(*c, "--deep-shares", o.deepShares,
-                 "in deep pixels over a surface, weigh what is hidden by the samples it owns (dense fur over a body: less error; default off)");
+  wfapp::addFlag(*c, "--deep-shares,!--no-deep-shares", o.deepShares,
+                 "in deep pixels over a surface, weigh what is hidden by the samples it owns (dense fur over a body: less error; "
+                 "the default); --no-deep-shares: each fragment its exact area everywhere");
   c->add_option("--shading", o.shading,
                 "closed (default): closed-form cylinder integral; exact: the same computed exactly; maps: "
                 "the paper's pseudo-reflectance maps")

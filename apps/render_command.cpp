@@ -139,6 +139,7 @@ json statsJson(const wf::RenderStats& st, const wf::RenderOptions& o, bool refer
                    {"tiles_empty", st.tilesEmpty},
                    {"covered_pixels", st.abuffer.coveredPixels},
                    {"pixels_with_list", st.abuffer.pixelsWithList},
+                   {"pixels_deep", st.abuffer.pixelsDeep},
                    {"pixels_solid_without_list", st.abuffer.pixelsSolidOnly},
                    {"fragments_culled", st.abuffer.culled},
                    {"fragments_merged", st.abuffer.merged},

@@ -21,7 +21,7 @@ struct RenderCommandOptions {
   int width = 0, height = 0;   ///< 0: from the scene
   std::string mask;            ///< empty: from the scene
   int budget = 0;              ///< 0: from the scene
-  bool deepShares = false;     ///< --deep-shares (RenderOptions::deepShares)
+  bool deepShares = true;      ///< --no-deep-shares turns it off (RenderOptions::deepShares)
   int threads = 0;
   std::string shading = "closed";  ///< --shading closed|maps|exact (wf::ShadingPath)
   bool reference = false;      ///< brute-force reference instead of the A-buffer

@@ -22,6 +22,8 @@ namespace {
 constexpr int kMergeLookBack = 8;
 // Solid means the whole pixel: the exact area may fall short of 1 by rounding only.
 constexpr float kSolidArea = 1.0f - 1e-5f;
+// A fragment this close to the whole pixel's area covers it (a surface's pieces merged whole).
+constexpr float kWholeArea = 0.999f;
 
 bool depthRangesTouch(const Fragment& a, const Fragment& b) {
   const float eps = 1e-5f * std::max(std::abs(a.zmax), std::abs(b.zmax)) + 1e-30f;
@@ -77,6 +79,7 @@ void ABufferCounters::add(const ABufferCounters& o) {
   pixelsWithList += o.pixelsWithList;
   pixelsSolidOnly += o.pixelsSolidOnly;
   pixelsOverBudget += o.pixelsOverBudget;
+  pixelsDeep += o.pixelsDeep;
   coveredPixels += o.coveredPixels;
   maxFragmentsPerPixel = std::max(maxFragmentsPerPixel, o.maxFragmentsPerPixel);
   maxListLength = std::max(maxListLength, o.maxListLength);
@@ -401,7 +404,11 @@ void TileABuffer::loseOcclusion(Pixel& p, size_t pixelIndex) {
   updateBlock(pixelIndex);
 }
 
-void TileABuffer::occlude(Pixel& p, size_t pixelIndex, const Fragment& f) { occlude(p, pixelIndex, f.mask, hideOf(f), f.zmax); }
+void TileABuffer::occlude(Pixel& p, size_t pixelIndex, const Fragment& f) {
+  // With deep shares a stand-in subpixel hides nothing in a deep pixel (resolveEntries): it
+  // settles nothing here either, so that what culling leaves out is hidden under both rules.
+  occlude(p, pixelIndex, deepShares_ ? f.sampledMask() : f.mask, hideOf(f), f.zmax);
+}
 
 void TileABuffer::occlude(Pixel& p, size_t pixelIndex, MaskBits mask, float hide, float zmax) {
   // Each subpixel tracks the transmittance T the fragments so far leave over it (the resolve's
@@ -638,6 +645,10 @@ void TileABuffer::setSolid(Pixel& p, const Fragment& f) {
   }
 }
 
+void TileABuffer::noteSurface(Pixel& p, const Fragment& f) {
+  if (!f.occludesEarly && f.opacity >= 1.0f && f.area >= kWholeArea) p.surfaceSeen = true;
+}
+
 void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
   Pixel& p = pixels_[size_t(y) * size_t(w_) + size_t(x)];
   ++offered_[size_t(y) * size_t(w_) + size_t(x)];
@@ -645,6 +656,7 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
   if (!(f.area > 0.0f)) return;
   f.area = std::min(f.area, 1.0f);
   f.opacity = std::clamp(f.opacity, 0.0f, 1.0f);
+  noteSurface(p, f);  // (before culling: a surface culled here was still there)
   // A piece of a wire resting on a surface is judged at its axis and kept though behind what
   // hides this pixel, but only in the list (a tail, uniform over the pixel, would show it) and
   // only within the depth the pixel's solid spans and its own (farther, its axis is hidden too).
@@ -673,6 +685,7 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
       const float hideBefore = hideOf(n.f);
       const MaskBits newlySampled = f.sampledMask();  // disjoint from n's sampled bits
       mergeInto(n.f, f);
+      noteSurface(p, n.f);
       forgetFar(p);  // its depth may have moved
       ++local_.merged;
       // Occlusion counted the piece already here at its hide; the merged fragment never hides
@@ -775,11 +788,6 @@ void TileABuffer::gatherLists() const {
   start[0] = 0;
 }
 
-namespace {
-// A fragment this close to the whole pixel's area covers it (a surface's pieces merged whole).
-constexpr float kWholeArea = 0.999f;
-}  // namespace
-
 glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entries, int count,
                                       const XrayNode* const* xray, int xrayCount) const {
   const Pixel& p = pixels_[pixelIndex];
@@ -830,23 +838,21 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
   }
   const int N = layout_.samples();
   const int n = int(order.size());
-  // A deep pixel (deepShares_): an opaque surface covers all of it (no gap between the samples
-  // can show what lies behind), and its samples are all covered by deepSharesFrom() or more
-  // opaque fragments that some sample saw. There every sampled fragment hides its samples
-  // wholly, and what is hidden anywhere is weighed by the samples it owns (below), not by its
-  // exact area times the share of its own samples it owns: with many layers those shares are
-  // each noisy and their sum strays from the pixel's full cover, which owned samples partition.
+  // A deep pixel (deepShares_): an opaque surface covered all of it (Pixel::surfaceSeen: no
+  // gap between the samples can show the background), and opaque fragments that some sample saw
+  // cover all its samples. There every sampled fragment hides its samples wholly, and what is
+  // hidden anywhere is weighed by the samples it owns (below), not by its exact area times the
+  // share of its own samples it owns: with many layers those shares are each noisy and their
+  // sum strays from the pixel's full cover, which owned samples partition. Nothing here depends
+  // on what occlusion culling leaves out (fragments hidden at all their samples, and surfaces
+  // only by surfaces: the renderer draws them first), so culling keeps its bound.
   bool deep = false;
-  if (deepShares_) {
+  if (deepShares_ && p.surfaceSeen) {
     MaskBits sampled = 0;
-    int sampledFragments = 0;
-    bool surface = false;  // an opaque fragment that covers the whole pixel: no gap between samples shows
     for (const Node* v : order)
-      if (v->f.opacity >= 1.0f && v->f.sampledMask()) {
-        sampled |= v->f.sampledMask(), ++sampledFragments;
-        if (v->f.area >= kWholeArea) surface = true;
-      }
-    deep = surface && sampled == layout_.full() && sampledFragments >= deepSharesFrom();
+      if (v->f.opacity >= 1.0f) sampled |= v->f.sampledMask();
+    deep = sampled == layout_.full();
+    scratch_.deepPixels += deep;
   }
   // Per fragment: its mask, how many subpixels, how much it hides each (1: wholly), and, for
   // those that hide wholly, the subpixels it owns (where it is the nearest of them).
@@ -1208,6 +1214,8 @@ void TileABuffer::finish(ABufferCounters& counters) {
   // Nodes are reused from the free list before the list grows, so its size is this tile's peak
   // of live entries; solid fragments are only replaced in place, never freed.
   local_.peakFragmentsHeld = std::uint64_t(nodes_.size() + solids_.size());
+  local_.pixelsDeep = scratch_.deepPixels;
+  scratch_.deepPixels = 0;
   counters.add(local_);
   local_ = ABufferCounters{};
 }

@@ -214,6 +214,7 @@ struct ABufferCounters {
   std::uint64_t pixelsWithList = 0;   ///< pixels that needed a fragment list
   std::uint64_t pixelsSolidOnly = 0;  ///< covered pixels resolved without a list
   std::uint64_t pixelsOverBudget = 0;
+  std::uint64_t pixelsDeep = 0;       ///< pixels resolved with deep shares (RenderOptions::deepShares)
   std::uint64_t coveredPixels = 0;    ///< pixels that received any fragment
   std::uint32_t maxFragmentsPerPixel = 0;  ///< most fragments offered to one pixel
   std::uint32_t maxListLength = 0;         ///< longest list kept (budget-bounded)
@@ -234,9 +235,6 @@ class TileABuffer {
   /// `deepShares`: deep pixels weigh their hidden fragments by the samples they own
   /// (resolveEntries; RenderOptions::deepShares).
   TileABuffer(const MaskLayout& layout, int budget, float occlusionEpsilon = 0.0f, bool deepShares = false);
-  /// The fewest opaque, sampled fragments (a surface that covers the whole pixel among them) a
-  /// pixel must hold for deep shares to weigh it: 256 / samples (8 at 8x4, 4 at 8x8, 16 at 4x4).
-  int deepSharesFrom() const { return 256 / layout_.samples(); }
   /// Empties the buffer for a tile of w x h pixels whose top left pixel is (x0, y0) of the image
   /// (keeps its memory). `source` shades deferred fragments and gives subpixel depths (null:
   /// every fragment arrives shaded and flat).
@@ -344,7 +342,10 @@ class TileABuffer {
     std::int32_t head = -1;
     std::uint16_t length = 0;
     std::uint8_t open = 64;       ///< subpixels not yet settled (see occlude)
-    bool noOcclusion = false;     ///< has a tail: only the solid fragment occludes (see toTail)
+    bool noOcclusion : 1 = false;  ///< has a tail: only the solid fragment occludes (see toTail)
+    /// An opaque fragment of a surface (not a wire) that covers the whole pixel arrived, kept or
+    /// culled (noteSurface): the gate of deep shares (resolveEntries).
+    bool surfaceSeen : 1 = false;
     std::uint32_t seq = 0;
     std::int32_t tail = -1;       ///< index into tails_, or -1
     std::int32_t solid = -1;      ///< index into solids_ (kept out of Pixel: most have none), or -1
@@ -394,6 +395,7 @@ class TileABuffer {
     std::vector<std::uint32_t> xrayAt;
     std::vector<SurfaceDepth> models;  ///< two per fragment (resolveEntries' depthsOf)
     std::vector<int> partialOrder;
+    std::uint64_t deepPixels = 0;  ///< pixels resolved with deep shares since finish()
   };
   mutable ResolveScratch scratch_;
   void gatherLists() const;
@@ -403,6 +405,7 @@ class TileABuffer {
 
   bool isSolid(const Fragment& f) const;
   void setSolid(Pixel& p, const Fragment& f);
+  void noteSurface(Pixel& p, const Fragment& f);
   /// Where pushList put a fragment: in the list, straight into the tail (it was the farthest),
   /// or in the list with the farthest one evicted into the tail.
   enum class Placement { Listed, Tailed, Evicted };

@@ -23,6 +23,7 @@
 #include <cstring>
 #include <limits>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 
@@ -362,9 +363,12 @@ TileBins binPrimitives(const PreparedScene& ps, int tileSize, RenderStats& st, s
 }
 
 void sortTileItems(std::vector<TileBins::Item>& items, std::vector<TileBins::Item>& scratch) {
-  const size_t n = items.size();
+  sortTileItems(items.data(), items.size(), scratch);
+}
+
+void sortTileItems(TileBins::Item* items, size_t n, std::vector<TileBins::Item>& scratch) {
   if (n < 64) {  // (a comparison sort wins on few)
-    std::sort(items.begin(), items.end());
+    std::sort(items, items + n);
     return;
   }
   // The float's bits made unsigned-monotonic: negative ones reversed, positive ones above them;
@@ -379,12 +383,12 @@ void sortTileItems(std::vector<TileBins::Item>& items, std::vector<TileBins::Ite
     return (u & 0x80000000u) ? ~u : (u | 0x80000000u);
   };
   std::uint32_t count[4][256] = {};
-  for (const TileBins::Item& it : items) {
+  for (const TileBins::Item& it : std::span<const TileBins::Item>(items, n)) {
     const std::uint32_t k = key(it.zlo);
     for (int b = 0; b < 4; ++b) ++count[b][(k >> (8 * b)) & 0xFFu];
   }
   scratch.resize(n);
-  TileBins::Item* src = items.data();
+  TileBins::Item* src = items;
   TileBins::Item* dst = scratch.data();
   const std::uint32_t first = key(items[0].zlo);
   for (int b = 0; b < 4; ++b) {
@@ -395,7 +399,7 @@ void sortTileItems(std::vector<TileBins::Item>& items, std::vector<TileBins::Ite
     for (size_t i = 0; i < n; ++i) dst[at[(key(src[i].zlo) >> (8 * b)) & 0xFFu]++] = src[i];
     std::swap(src, dst);
   }
-  if (src != items.data()) std::copy(src, src + n, items.data());
+  if (src != items) std::copy(src, src + n, items);
 }
 
 }  // namespace wf

@@ -387,7 +387,7 @@ TEST(DenseHair, SameImageForAnyThreadCount) {
     w.lines.add(pts);
   }
   ImageRGBA plain;
-  for (int mode : {0, 1, 2}) {  // as it is, simplified, deep shares
+  for (int mode : {0, 1, 2}) {  // the usual rule, simplified, deep shares (the default)
     const bool simplify = mode == 1;
     RenderOptions o = test::smallOptions(W, H);
     o.simplify.enabled = simplify;
@@ -524,30 +524,50 @@ TEST(DenseHair, BandsOfTileRowsGiveTheSameImage) {
 // Occlusion culling with epsilon leaves out only what lies behind subpixels whose transmittance
 // is at most epsilon: against epsilon = 0 (only what is wholly hidden is left out) the image
 // differs by at most epsilon times the largest radiance (white wires: 1), with a budget large
-// enough that no tail forms either way.
+// enough that no tail forms either way. Under both resolve rules (deep shares on and off), over
+// the background, over a surface behind every wire, and through one amid them (wires in front
+// of it and behind): deep pixels, whose gate must not depend on what culling leaves out, and
+// pixels that are not deep, side by side.
 TEST(DenseHair, CullingErrorIsWithinEpsilon) {
   const int W = 96, H = 72;
-  Scene s = test::baseScene(W, H);
-  SceneWire w = test::plainWire({}, 1.3, 0.0, W, H);
-  w.restsOnSurface = false;
-  for (int i = 0; i < 6000; ++i) {
-    HashRandom r(3, 0, std::uint64_t(i));
-    const V2 a(r.uniform(0, W), r.uniform(0, H));
-    const double ang = r.uniform(0, 6.2832), len = r.uniform(4, 30);
-    w.lines.add({test::world(a, 10.0 + r.uniform(0, 20), W, H),
-                 test::world(a + len * V2(std::cos(ang), std::sin(ang)), 10.0 + r.uniform(0, 20), W, H)});
-  }
-  s.wires.push_back(w);
-  RenderOptions o = test::smallOptions(W, H);
-  o.budget = 65535;
-  o.occlusionEpsilon = 0.0;
-  const RenderResult exact = render(s, o);
-  for (double eps : {1e-4, 1e-2}) {
-    o.occlusionEpsilon = eps;
-    const RenderResult r = render(s, o);
-    EXPECT_EQ(r.stats.abuffer.tail, 0u);
-    EXPECT_LE(test::maxDiff(exact.image, r.image), eps + 1e-6) << eps;
-    EXPECT_LT(r.stats.abuffer.fragments - r.stats.abuffer.culled, exact.stats.abuffer.fragments - exact.stats.abuffer.culled);
+  for (double surfaceDepth : {0.0, 40.0, 20.0}) {
+    Scene s = test::baseScene(W, H);
+    if (surfaceDepth > 0.0) s.surfaces.push_back(test::screenRect(8, 6, 88, 66, surfaceDepth, W, H, glm::vec3(0.3f, 0.6f, 0.9f)));
+    SceneWire w = test::plainWire({}, 1.3, 0.0, W, H);
+    w.restsOnSurface = false;
+    for (int i = 0; i < 6000; ++i) {
+      HashRandom r(3, 0, std::uint64_t(i));
+      const V2 a(r.uniform(0, W), r.uniform(0, H));
+      const double ang = r.uniform(0, 6.2832), len = r.uniform(4, 30);
+      // (half of them thin: 0.3 pixels wide, hiding their subpixels only in part)
+      w.lines.add({test::world(a, 10.0 + r.uniform(0, 20), W, H),
+                   test::world(a + len * V2(std::cos(ang), std::sin(ang)), 10.0 + r.uniform(0, 20), W, H)});
+    }
+    s.wires.push_back(w);
+    SceneWire thin = w;
+    thin.thickness = 0.3;
+    for (glm::dvec3& q : thin.lines.points) q += glm::dvec3(0.0, 0.0, 0.01);
+    s.wires.push_back(thin);
+    for (bool deep : {false, true}) {
+      SCOPED_TRACE(::testing::Message() << "surface at " << surfaceDepth << (deep ? ", deep shares" : ", usual rule"));
+      RenderOptions o = test::smallOptions(W, H);
+      o.deepShares = deep;
+      o.budget = 65535;
+      o.occlusionEpsilon = 0.0;
+      const RenderResult exact = render(s, o);
+      if (deep && surfaceDepth > 0.0) {
+        EXPECT_GT(exact.stats.abuffer.pixelsDeep, 1000u);
+      } else {
+        EXPECT_EQ(exact.stats.abuffer.pixelsDeep, 0u);  // (wires never open the gate, however wide)
+      }
+      for (double eps : {1e-4, 1e-2}) {
+        o.occlusionEpsilon = eps;
+        const RenderResult r = render(s, o);
+        EXPECT_EQ(r.stats.abuffer.tail, 0u);
+        EXPECT_LE(test::maxDiff(exact.image, r.image), eps + 1e-6) << eps;
+        EXPECT_LT(r.stats.abuffer.fragments - r.stats.abuffer.culled, exact.stats.abuffer.fragments - exact.stats.abuffer.culled);
+      }
+    }
   }
 }
 

@@ -771,7 +771,7 @@ struct TileBins {
   /// 12 bytes: a dense scene has several per segment (a hair 40 pixels long crosses about five
   /// tiles of 32), and the items are the largest of the render's per-segment arrays.
   struct Item {
-    float zlo;                     ///< nearest depth of the primitive inside the tile: the tile sorts by (zlo, index)
+    float zlo;                     ///< nearest depth of the primitive inside the tile: the tile sorts its triangles, then its segments, by (zlo, index)
     std::uint32_t index;           ///< the primitive (PreparedScene's numbering)
     std::uint8_t x0, y0, x1, y1;   ///< pixel rectangle within the tile, inclusive (tiles are at most 256 wide)
     /// By zlo, then index; a NaN zlo after every number (a strict weak order even then: std::sort
@@ -885,6 +885,8 @@ std::vector<std::pair<int, int>> binBands(const PreparedScene& ps, const BinCoun
 /// buffer the sort may use (the renderer keeps one per thread, as large as its largest tile's
 /// items).
 void sortTileItems(std::vector<TileBins::Item>& items, std::vector<TileBins::Item>& scratch);
+/// The same for the n items from `items` on.
+void sortTileItems(TileBins::Item* items, size_t n, std::vector<TileBins::Item>& scratch);
 /// What a surface fragment interpolates (perspective-correct): eye-space unit normal (turned to
 /// the viewer), eye-space unit tangent (zero when the mesh has none), (u, v), colour.
 struct SurfaceSample {

@@ -244,14 +244,21 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
           const float d = opaque[size_t(y) * size_t(options.width) + size_t(x)];
           return std::isnan(d) ? INFINITY : d;
         };
-        // Front to back by each primitive's nearest depth in this tile (ties by primitive order: a
-        // strict order, so the same whatever the thread count), so that the occlusion tests
-        // discard most of what lies behind before it is rasterised.
+        // The surfaces first, then the wires, each front to back by its nearest depth in this tile
+        // (ties by primitive order: a strict order, so the same whatever the thread count), so
+        // that the occlusion tests discard most of what lies behind before it is rasterised. The
+        // surfaces first, so that only surfaces ever cull a surface: whether a pixel holds one
+        // (deep shares' gate, TileABuffer::insert) then does not depend on occlusionEpsilon.
+        // (The items arrive in primitive order, triangles before segments: two ranges.)
         thread_local std::vector<TileBins::Item> order, sortScratch;
         order.assign(bins.items.begin() + b0, bins.items.begin() + b1);
-        sortTileItems(order, sortScratch);
         const std::uint32_t n = std::uint32_t(order.size());
         const std::uint32_t triangleCount = std::uint32_t(ps.triangles.size());
+        const size_t surfaces = size_t(std::partition_point(order.begin(), order.end(), [&](const TileBins::Item& it) {
+                                         return it.index < triangleCount;
+                                       }) - order.begin());
+        sortTileItems(order.data(), surfaces, sortScratch);
+        sortTileItems(order.data() + surfaces, n - surfaces, sortScratch);
         RenderStats::RasterWork& wk = work.local();
         // Bands of rows culled whole count no fragments (like primitives culled whole per tile).
         auto cullBand = [&](int x0, int y0, int x1, int y1, double z) {

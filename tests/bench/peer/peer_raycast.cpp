@@ -10,7 +10,7 @@
 //   peer_raycast [--scenes torus7k,torus70k,torus700k,spider,curved1m] [--size WxH]
 //                [--samples 1,2,4,8] [--truth 12] [--masks 4x4,8x4,8x8] [--repeats R]
 //                [--threads T] [--no-vtk] [--reference] [--out DIR] [--check]
-//                [--floors SCENE=RATIO,...] [--epsilon E] [--budget K] [--deep-shares] [--dump]
+//                [--floors SCENE=RATIO,...] [--epsilon E] [--budget K] [--no-deep-shares] [--dump]
 //
 // The full comparison (under Xvfb for the VTK peer): scripts/bench_peers.sh. `--check` (the CI
 // smoke test) fails, exit 3, when an error that must fall does not: Embree's error must fall
@@ -70,7 +70,7 @@ struct Args {
   int threads = 0;
   double epsilon = -1.0;  ///< --epsilon: occlusion culling's bound per pixel (< 0: the renderer's default)
   int budget = 0;         ///< --budget: fragments kept exactly per pixel (0: the renderer's default)
-  bool deepShares = false;  ///< --deep-shares: RenderOptions::deepShares for every A-buffer run
+  bool deepShares = true;  ///< --no-deep-shares: RenderOptions::deepShares off for every A-buffer run
   bool vtk = true;
   bool check = false;
   bool reference = false;
@@ -217,7 +217,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, wf::kMaxListBudget));
   CLI::Option* epsilon = app.add_option("--epsilon", a.epsilon, "occlusion culling's error bound per pixel, 0 ... 0.1 (default: the renderer's)");
   app.add_flag("--no-vtk", noVtk, "leave out VTK's tubes");
-  app.add_flag("--deep-shares", a.deepShares, "the A-buffer weighs deep pixels' hidden fragments by their samples (RenderOptions::deepShares)");
+  app.add_flag("--deep-shares,!--no-deep-shares", a.deepShares,
+               "the A-buffer weighs deep pixels' hidden fragments by their samples (RenderOptions::deepShares; the default)");
   app.add_flag("--check", a.check, "exit 1 when a scene misses its --floors speed-up or an error does not fall as it should");
   app.add_flag("--reference", a.reference, "also render the A-buffer's brute-force reference (slow)");
   app.add_option("--out", a.out, "output folder for the report, tables and plots");
@@ -438,6 +439,9 @@ int main(int argc, char** argv) {
                                   {"pixels_culled", w.pixelsCulled}, {"masks_hidden", w.masksHidden},
                                   {"emitted", w.emitted},     {"primitives_occluded", r.stats.primitivesOccluded}};
       ja.back()["budget_tail_share"] = r.stats.budgetTailShare;
+      ja.back()["pixels_deep"] = r.stats.abuffer.pixelsDeep;
+      ja.back()["pixels_over_budget"] = r.stats.abuffer.pixelsOverBudget;
+      ja.back()["covered_pixels"] = r.stats.abuffer.coveredPixels;
       ja.back()["target_speedup"] = target;
       if (m.w == 8 && m.h == 4 && a.floors.count(name) && !(speedup >= a.floors[name])) {
         std::fprintf(stderr, "peer_raycast: %s: speed-up %.2fx below its floor %.2fx\n", name.c_str(), speedup, a.floors[name]);
