@@ -70,8 +70,8 @@ void declareRender(CLI::App& wirefur, wfapp::RenderCommandOptions& o) {
   wfapp::addIntegerOption(*c, "--budget", o.budget, 1, wf::kMaxListBudget,
                           "fragments kept exactly per pixel, {range} (default: the scene's, else 64)", "K");
   wfapp::addFlag(*c, "--deep-shares,!--no-deep-shares", o.deepShares,
-                 "in deep pixels over a surface, weigh what is hidden by the samples it owns (dense fur over a body: less error; "
-                 "the default); --no-deep-shares: each fragment its exact area everywhere");
+                 "in pixels over a surface, weigh what is hidden by the samples it owns (dense fur over a body: less error; "
+                 "the default); --no-deep-shares: every fragment its area times the share of its samples it owns");
   c->add_option("--shading", o.shading,
                 "closed (default): closed-form cylinder integral; exact: the same computed exactly; maps: "
                 "the paper's pseudo-reflectance maps")

@@ -22,8 +22,6 @@ namespace {
 constexpr int kMergeLookBack = 8;
 // Solid means the whole pixel: the exact area may fall short of 1 by rounding only.
 constexpr float kSolidArea = 1.0f - 1e-5f;
-// A fragment this close to the whole pixel's area covers it (a surface's pieces merged whole).
-constexpr float kWholeArea = 0.999f;
 
 bool depthRangesTouch(const Fragment& a, const Fragment& b) {
   const float eps = 1e-5f * std::max(std::abs(a.zmax), std::abs(b.zmax)) + 1e-30f;
@@ -231,6 +229,7 @@ void TileABuffer::reset(int w, int h, int x0, int y0, const FragmentSource* sour
   y0_ = y0;
   source_ = source;
   pixels_.assign(size_t(w) * size_t(h), Pixel{});
+  scratch_.deepPixels = 0;
   nodes_.clear();
   freeNodes_.clear();
   tails_.clear();
@@ -250,11 +249,12 @@ std::size_t TileABuffer::bytesFor(int w, int h, const MaskLayout& layout, int en
   const std::size_t n = std::size_t(std::max(w, 0)) * std::size_t(std::max(h, 0));
   const std::size_t blocks = std::size_t((std::max(w, 0) + 3) / 4) * std::size_t((std::max(h, 0) + 3) / 4);
   // Per pixel: its record, occlusion and offered counts, the subpixel depths and transmittances,
-  // the list entries (nodes, free-list slots, the resolve's gathered pointers), a solid fragment,
+  // the list entries (nodes, free-list slots, the resolve's gathered pointers), a solid fragment
+  // (and a surface's kept behind a wire's solid),
   // a tail and a far cache; vectors grow by doubling, so up to twice the entries are reserved at a peak.
   const std::size_t entries = std::size_t(std::max(entriesPerPixel, 0));
   return n * (sizeof(Pixel) + 3 * sizeof(float) + 2 * std::size_t(layout.samples()) * sizeof(float) +
-              2 * entries * (sizeof(Node) + sizeof(std::int32_t) + sizeof(void*)) + sizeof(Fragment) + sizeof(Tail) +
+              2 * entries * (sizeof(Node) + sizeof(std::int32_t) + sizeof(void*)) + 2 * sizeof(Fragment) + sizeof(Tail) +
               2 * sizeof(FarCache)) +
          blocks * sizeof(float);
 }
@@ -628,7 +628,14 @@ void TileABuffer::setSolid(Pixel& p, const Fragment& f) {
       return;
     }
     const Fragment old = cur;
-    cur = f;
+    if (f.occludesEarly && p.solid == p.surface) {
+      // A wire's solid in front of the surface's: the surface keeps its own entry (deep shares
+      // show it in the gaps, resolveEntries).
+      p.solid = std::int32_t(solids_.size());
+      solids_.push_back(f);
+    } else {
+      solids_[size_t(p.solid)] = f;
+    }
     p.solidSeq = p.seq++;
     if (old.zmin < f.zmax) pushList(p, old);  // interpenetrates the new solid: keep it
     else ++local_.culled;
@@ -637,16 +644,19 @@ void TileABuffer::setSolid(Pixel& p, const Fragment& f) {
     solids_.push_back(f);
     p.solidSeq = p.seq++;
   }
+  // The nearest surface's solid (deep shares' gate and gaps, resolveEntries). Only a nearer
+  // solid surface ever replaces or culls it (the renderer draws surfaces before wires), whatever
+  // occlusionEpsilon; a wire's in front of it does not.
+  if (!f.occludesEarly) p.surface = p.solid;
   pruneHidden(p, solids_[size_t(p.solid)].zmax);  // entries wholly behind the new solid fragment
-  if (p.noOcclusion) {
-    const size_t pixelIndex = size_t(&p - pixels_.data());
-    occlusion_[pixelIndex] = std::min(occlusion_[pixelIndex], solids_[size_t(p.solid)].zmax);
+  // Everything behind the solid is hidden, at every subpixel. (A surface's solid does not enter
+  // the subpixels' records (occlude): it arrives before the wires in front of it, and they must
+  // still settle the pixel nearer than it, by their own hides.)
+  const size_t pixelIndex = size_t(&p - pixels_.data());
+  if (solids_[size_t(p.solid)].zmax < occlusion_[pixelIndex]) {
+    occlusion_[pixelIndex] = solids_[size_t(p.solid)].zmax;
     updateBlock(pixelIndex);
   }
-}
-
-void TileABuffer::noteSurface(Pixel& p, const Fragment& f) {
-  if (!f.occludesEarly && f.opacity >= 1.0f && f.area >= kWholeArea) p.surfaceSeen = true;
 }
 
 void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
@@ -656,7 +666,6 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
   if (!(f.area > 0.0f)) return;
   f.area = std::min(f.area, 1.0f);
   f.opacity = std::clamp(f.opacity, 0.0f, 1.0f);
-  noteSurface(p, f);  // (before culling: a surface culled here was still there)
   // A piece of a wire resting on a surface is judged at its axis and kept though behind what
   // hides this pixel, but only in the list (a tail, uniform over the pixel, would show it) and
   // only within the depth the pixel's solid spans and its own (farther, its axis is hidden too).
@@ -685,7 +694,6 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
       const float hideBefore = hideOf(n.f);
       const MaskBits newlySampled = f.sampledMask();  // disjoint from n's sampled bits
       mergeInto(n.f, f);
-      noteSurface(p, n.f);
       forgetFar(p);  // its depth may have moved
       ++local_.merged;
       // Occlusion counted the piece already here at its hide; the merged fragment never hides
@@ -700,7 +708,7 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
         *link = n.next;
         freeNode(dead);
         --p.length;
-        occlude(p, pixelIndex, whole);
+        if (whole.occludesEarly) occlude(p, pixelIndex, whole);  // (a surface's: setSolid)
         setSolid(p, whole);
       }
       return;
@@ -709,7 +717,7 @@ void TileABuffer::insert(int x, int y, Fragment f, int centroidSubpixel) {
   }
   const bool solid = isSolid(f);
   if (solid) {
-    occlude(p, pixelIndex, f);
+    if (f.occludesEarly) occlude(p, pixelIndex, f);  // (a surface's: setSolid)
     setSolid(p, f);
     return;
   }
@@ -838,22 +846,17 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
   }
   const int N = layout_.samples();
   const int n = int(order.size());
-  // A deep pixel (deepShares_): an opaque surface covered all of it (Pixel::surfaceSeen: no
-  // gap between the samples can show the background), and opaque fragments that some sample saw
-  // cover all its samples. There every sampled fragment hides its samples wholly, and what is
-  // hidden anywhere is weighed by the samples it owns (below), not by its exact area times the
-  // share of its own samples it owns: with many layers those shares are each noisy and their
-  // sum strays from the pixel's full cover, which owned samples partition. Nothing here depends
-  // on what occlusion culling leaves out (fragments hidden at all their samples, and surfaces
-  // only by surfaces: the renderer draws them first), so culling keeps its bound.
-  bool deep = false;
-  if (deepShares_ && p.surfaceSeen) {
-    MaskBits sampled = 0;
-    for (const Node* v : order)
-      if (v->f.opacity >= 1.0f) sampled |= v->f.sampledMask();
-    deep = sampled == layout_.full();
-    scratch_.deepPixels += deep;
-  }
+  // A deep pixel (deepShares_): a surface's solid fragment covers it (Pixel::surface, perhaps
+  // behind a nearer wire's solid): no gap between the samples can show the background. There
+  // every sampled fragment hides its samples wholly, and what is hidden anywhere is
+  // weighed by the samples it owns (below), not by its exact area times the share of its own
+  // samples it owns: with many layers those shares are each noisy and their sum strays from the
+  // pixel's full cover, which owned samples partition. None of this depends on what occlusion
+  // culling leaves out (fragments hidden at all their samples; a surface's solid only by a
+  // nearer one, since the renderer draws surfaces first), so culling keeps its bound
+  // (docs/abuffer.md, "Deep shares").
+  const bool deep = deepShares_ && p.surface >= 0;
+  scratch_.deepPixels += deep;
   // Per fragment: its mask, how many subpixels, how much it hides each (1: wholly), and, for
   // those that hide wholly, the subpixels it owns (where it is the nearest of them).
   std::vector<MaskBits>& owned = scratch_.owned;
@@ -1018,6 +1021,10 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
   glm::vec3 rgb(0.0f);
   float alpha = 0.0f;
   // What only dims its subpixels, front to back, where it lies in front of their owner.
+  // (partialSeen: some of it lies in front of the owner at some sample. In a deep pixel only
+  // that changes the owners' weights below: a translucent fragment hidden at all its samples,
+  // which culling at epsilon may leave out, does not.)
+  bool partialSeen = false;
   if (anyPartial) {
     // Front to back by zkey, but for an edge resting on a surface (SurfaceDepth::onSurface): it
     // moves in front of the partial planes before it that it lies in front of, judged at its
@@ -1052,6 +1059,7 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
         const MaskBits front = j > i ? frontOf(i, j, common) : common & ~frontOf(j, i, common);
         seen &= ~(common & ~front);
       }
+      partialSeen |= seen != 0;
       float sumT = 0;
       for (MaskBits m = seen; m; m &= m - 1) {
         const int s = std::countr_zero(m);
@@ -1147,20 +1155,24 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
   // The owners, through what lies in front of them. In a deep pixel with nothing partial in it
   // and no x-ray fragment: those that own every sample they cover keep their exact areas, and
   // what is left of the pixel is shared among the others by the samples they own (a hair that
-  // owns all its samples stays exact); where none of the others owns a sample, the gaps between
-  // the visible ones show the nearest surface that covers the whole pixel. Otherwise (a tail, a
-  // translucent fragment anywhere in the pixel): every owner by its samples, through what lies
-  // in front.
-  if (deep && !anyPartial && !anyXray) {
+  // owns all its samples stays exact); where none of the others owns a sample, the gaps
+  // between the visible ones show the surface (Pixel::surface: whatever else lay behind them,
+  // culling may have left out). Otherwise (a tail or a translucent fragment in front of some
+  // owner, an x-ray fragment): every owner by its samples, through what lies in front.
+  if (deep && !partialSeen && !anyXray) {
     float exact = 0.0f, shares = 0.0f;
-    int surface = -1;  // the nearest fragment that covers the whole pixel
     for (int i : whole) {
       const Fragment& f = order[size_t(i)]->f;
       if (owned[size_t(i)] == f.sampledMask()) exact += f.area;
       else shares += float(maskCount(owned[size_t(i)]));
-      if (surface < 0 && f.area >= kWholeArea) surface = i;
     }
     const float rest = std::max(0.0f, 1.0f - exact);
+    if (!(shares > 0.0f) && rest > 0.0f) {
+      Fragment gaps = solids_[size_t(p.surface)];
+      shadeNow(gaps, pixelIndex);
+      if (!gaps.holdout) rgb += gaps.colour * rest;
+      alpha += gaps.holdout ? 0.0f : rest;
+    }
     for (int i : whole) {
       const Fragment& f = order[size_t(i)]->f;
       const MaskBits mine = owned[size_t(i)];
@@ -1168,7 +1180,7 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
       float w;
       if (mine == f.sampledMask()) w = f.area;  // (never 0: a whole fragment was sampled)
       else if (shares > 0.0f) w = rest * float(maskCount(mine)) / shares;
-      else w = i == surface ? rest : 0.0f;
+      else w = 0.0f;  // (the gaps: above)
       if (!(w > 0.0f)) continue;
       rgb += colourOf(f) * w;
       alpha += w;

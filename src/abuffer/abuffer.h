@@ -342,13 +342,13 @@ class TileABuffer {
     std::int32_t head = -1;
     std::uint16_t length = 0;
     std::uint8_t open = 64;       ///< subpixels not yet settled (see occlude)
-    bool noOcclusion : 1 = false;  ///< has a tail: only the solid fragment occludes (see toTail)
-    /// An opaque fragment of a surface (not a wire) that covers the whole pixel arrived, kept or
-    /// culled (noteSurface): the gate of deep shares (resolveEntries).
-    bool surfaceSeen : 1 = false;
+    bool noOcclusion = false;     ///< has a tail: only the solid fragment occludes (see toTail)
     std::uint32_t seq = 0;
     std::int32_t tail = -1;       ///< index into tails_, or -1
     std::int32_t solid = -1;      ///< index into solids_ (kept out of Pixel: most have none), or -1
+    /// The nearest surface's (not a wire's) solid fragment, in solids_: the solid itself, or kept
+    /// behind a wire's that took its place (setSolid); -1: none (deep shares' gate).
+    std::int32_t surface = -1;
     bool hasSolid() const { return solid >= 0; }
     bool hasTail() const { return tail >= 0; }
     std::int32_t depths = -1;     ///< this pixel's record (2N floats) in subpixelDepth_, once it has an occluder
@@ -405,7 +405,6 @@ class TileABuffer {
 
   bool isSolid(const Fragment& f) const;
   void setSolid(Pixel& p, const Fragment& f);
-  void noteSurface(Pixel& p, const Fragment& f);
   /// Where pushList put a fragment: in the list, straight into the tail (it was the farthest),
   /// or in the list with the farthest one evicted into the tail.
   enum class Placement { Listed, Tailed, Evicted };

@@ -632,13 +632,20 @@ TEST(TileABuffer, DeepSharesKeepTheFrontAreasAndGiveTheRestToWhatIsHidden) {
 
 TEST(TileABuffer, DeepSharesShowTheSurfaceInTheGapsWhereNothingHiddenOwnsASample) {
   // All 8 columns taken by the thin ones (areas 0.06 ... 0.13, 0.76 in all): the blue surface
-  // behind owns no sample, yet the gaps between them show it: 0.24 of the pixel.
-  const std::vector<Fragment> fs = deepPixel(8);
+  // behind owns no sample, yet the gaps between them show it: 0.24 of the pixel. And so they
+  // do with a wire's solid (white, area 1) between the thin ones and the surface, which takes
+  // the surface's place as the pixel's solid: the gaps show the surface still (culling at
+  // epsilon > 0 may leave the wire out, never the surface).
+  std::vector<Fragment> fs = deepPixel(8);
   glm::vec3 want(0.0f);
   double front = 0.0;
   for (int c = 0; c < 8; ++c) want += fs[size_t(c)].colour * fs[size_t(c)].area, front += fs[size_t(c)].area;
   want += kBlue * float(1.0 - front);
   expectRGBA(resolveOne(fs, true), glm::vec4(want, 1.0f), 2e-6f, "gaps");
+  Fragment wire = frag(15.0f, 1.0f, 1.0f, glm::vec3(1.0f), kFull, 98);
+  wire.occludesEarly = true;
+  fs.push_back(wire);
+  expectRGBA(resolveOne(fs, true), glm::vec4(want, 1.0f), 2e-6f, "gaps behind a wire's solid");
 }
 
 TEST(TileABuffer, DeepSharesSplitTheRestBySamplesOwned) {

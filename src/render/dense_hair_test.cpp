@@ -526,28 +526,39 @@ TEST(DenseHair, BandsOfTileRowsGiveTheSameImage) {
 // differs by at most epsilon times the largest radiance (white wires: 1), with a budget large
 // enough that no tail forms either way. Under both resolve rules (deep shares on and off), over
 // the background, over a surface behind every wire, and through one amid them (wires in front
-// of it and behind): deep pixels, whose gate must not depend on what culling leaves out, and
-// pixels that are not deep, side by side.
+// of it and behind; its edges cut pixels, so some are covered 99.9 ... 99.999%): deep pixels,
+// whose gate must not depend on what culling leaves out, and pixels that are not deep, side by
+// side. Three sets of hairs, each placed by its own random stream: wide ones (1.3 pixels, often
+// hiding a pixel wholly), thin ones (0.3 pixels) and translucent ones (0.8 pixels, opacity 0.5).
+// Single segments: with polylines, which pieces of a wire merge depends on what culling left in
+// the list between them (the merge looks back 8 entries), under either rule, and the bound is
+// not kept (docs/abuffer.md, "Occlusion culling").
 TEST(DenseHair, CullingErrorIsWithinEpsilon) {
   const int W = 96, H = 72;
   for (double surfaceDepth : {0.0, 40.0, 20.0}) {
     Scene s = test::baseScene(W, H);
-    if (surfaceDepth > 0.0) s.surfaces.push_back(test::screenRect(8, 6, 88, 66, surfaceDepth, W, H, glm::vec3(0.3f, 0.6f, 0.9f)));
-    SceneWire w = test::plainWire({}, 1.3, 0.0, W, H);
-    w.restsOnSurface = false;
-    for (int i = 0; i < 6000; ++i) {
-      HashRandom r(3, 0, std::uint64_t(i));
-      const V2 a(r.uniform(0, W), r.uniform(0, H));
-      const double ang = r.uniform(0, 6.2832), len = r.uniform(4, 30);
-      // (half of them thin: 0.3 pixels wide, hiding their subpixels only in part)
-      w.lines.add({test::world(a, 10.0 + r.uniform(0, 20), W, H),
-                   test::world(a + len * V2(std::cos(ang), std::sin(ang)), 10.0 + r.uniform(0, 20), W, H)});
-    }
-    s.wires.push_back(w);
-    SceneWire thin = w;
-    thin.thickness = 0.3;
-    for (glm::dvec3& q : thin.lines.points) q += glm::dvec3(0.0, 0.0, 0.01);
-    s.wires.push_back(thin);
+    if (surfaceDepth > 0.0)
+      s.surfaces.push_back(test::screenRect(8.0004, 6.3, 87.9996, 65.7, surfaceDepth, W, H, glm::vec3(0.3f, 0.6f, 0.9f)));
+    auto hairs = [&](std::uint64_t stream, int count, double widthPx, int segments, float opacity) {
+      SceneWire w = test::plainWire({}, widthPx, 0.0, W, H);
+      w.restsOnSurface = false;
+      w.opacity = opacity;
+      for (int i = 0; i < count; ++i) {
+        HashRandom r(stream, 0, std::uint64_t(i));
+        const V2 a(r.uniform(0, W), r.uniform(0, H));
+        const double ang = r.uniform(0, 6.2832), len = r.uniform(4, 30), z0 = r.uniform(10, 30), z1 = r.uniform(10, 30);
+        std::vector<glm::dvec3> pts;
+        for (int k = 0; k <= segments; ++k) {
+          const double t = double(k) / segments, bend = 0.3 * k;
+          pts.push_back(test::world(a + t * len * V2(std::cos(ang + bend), std::sin(ang + bend)), z0 + t * (z1 - z0), W, H));
+        }
+        w.lines.add(pts);
+      }
+      s.wires.push_back(w);
+    };
+    hairs(3, 4000, 1.3, 1, 1.0f);
+    hairs(4, 4000, 0.3, 1, 1.0f);
+    hairs(5, 1500, 0.8, 1, 0.5f);
     for (bool deep : {false, true}) {
       SCOPED_TRACE(::testing::Message() << "surface at " << surfaceDepth << (deep ? ", deep shares" : ", usual rule"));
       RenderOptions o = test::smallOptions(W, H);

@@ -68,13 +68,14 @@ struct RenderOptions {
   /// rasterisation (error <= epsilon per pixel; 0: exact, only wholly hidden ones are skipped).
   /// Default 1e-4: below one 8-bit sRGB step even at black (sRGB's slope there is 12.92).
   double occlusionEpsilon = 1e-4;
-  /// Deep shares (docs/abuffer.md, "Deep shares"): in a pixel that an opaque surface covers
-  /// whole and whose samples opaque fragments all cover, the fragments hidden anywhere share
-  /// what the wholly visible ones leave of the pixel by the samples they own, instead of each
-  /// weighing its exact area times the share of its own samples it owns. Dense fur over a body:
-  /// its error against the truth falls by 30% at 8x4 and 45% at 8x8 (docs/benchmarks.md, "Deep
-  /// shares"), and no picture of the gallery loses more than 0.4% against its own reference.
-  /// On by default; off: the resolve's usual rule everywhere. Culling keeps its bound either way.
+  /// Deep shares (docs/abuffer.md, "Deep shares"): in a pixel that a surface's solid fragment
+  /// covers, the fragments hidden anywhere share what the wholly visible ones leave of the pixel
+  /// by the samples they own, instead of each weighing its exact area times the share of its
+  /// own samples it owns. Dense fur over a body: its error against the truth falls by a fifth
+  /// at 8x4 and a third at 8x8 (docs/benchmarks.md, "Deep shares, on by default"), and no
+  /// picture of the gallery loses more than 0.4% against its own reference. On by default;
+  /// off: the resolve's usual rule everywhere. Culling keeps its bound either way. (Each tile
+  /// draws its surfaces before its wires, on or off.)
   bool deepShares = true;
   int tileSize = 32;
   int threads = 0;          ///< 0: all cores
