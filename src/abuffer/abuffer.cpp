@@ -874,11 +874,17 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
     const Fragment& f = order[size_t(i)]->f;
     const int k = maskCount(f.mask);
     hides[size_t(i)] = k ? std::max(f.hideFloor, f.opacity * std::min(1.0f, f.area * float(N) / float(k))) : 0.0f;
-    if (deep) {  // sampled: hides wholly (but translucent); no sample saw it: left out
-      const MaskBits sampled = f.sampledMask();
-      hides[size_t(i)] = sampled ? f.opacity : 0.0f;
-      if (hides[size_t(i)] >= 1.0f) owned[size_t(i)] = sampled, whole.push_back(i);
-      else if (sampled) anyPartial = true;
+    // Deep: an opaque fragment that some sample saw hides its samples wholly; a translucent one,
+    // or one that no sample saw (at its stand-in subpixel), is partial whatever its hide, as in
+    // the usual rule, and weighs as there (a hair's sliver between the samples, a thin
+    // translucent line: their areas, not their samples).
+    if (deep) {
+      if (f.opacity >= 1.0f && f.sampledMask()) {
+        owned[size_t(i)] = f.sampledMask(), whole.push_back(i);
+        hides[size_t(i)] = 1.0f;
+      } else if (k) {
+        anyPartial = true;
+      }
       continue;
     }
     if (hides[size_t(i)] >= 1.0f) owned[size_t(i)] = f.mask, whole.push_back(i);
@@ -1033,7 +1039,8 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
     std::vector<int>& po = scratch_.partialOrder;
     po.clear();
     for (int i = 0; i < n; ++i)
-      if (hides[size_t(i)] < 1.0f && (deep ? order[size_t(i)]->f.sampledMask() : order[size_t(i)]->f.mask) != 0) po.push_back(i);
+      if (order[size_t(i)]->f.mask != 0 && (deep ? !(order[size_t(i)]->f.opacity >= 1.0f && order[size_t(i)]->f.sampledMask()) : hides[size_t(i)] < 1.0f))
+        po.push_back(i);
     for (size_t a = 1; a < po.size(); ++a) {
       const int e = po[a];
       const Fragment& fe = order[size_t(e)]->f;
@@ -1051,7 +1058,7 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
     for (int i : po) {
       const Fragment& f = order[size_t(i)]->f;
       const float hide = hides[size_t(i)];
-      MaskBits seen = deep ? f.sampledMask() : f.mask;
+      MaskBits seen = f.mask;
       for (int b = 0; b < nw && (seen & ownedAny); ++b) {
         const int j = whole[size_t(b)];
         const MaskBits common = seen & owned[size_t(j)];
@@ -1067,7 +1074,7 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
         T[s] *= 1.0f - hide;
       }
       if (!(sumT > 0.0f) || f.holdout) continue;
-      const float w = deep ? f.opacity * sumT / float(N) : f.opacity * f.area * (sumT / float(maskCount(f.mask)));
+      const float w = f.opacity * f.area * (sumT / float(maskCount(f.mask)));
       rgb += colourOf(f) * w;
       alpha += w;
     }

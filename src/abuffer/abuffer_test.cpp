@@ -655,8 +655,7 @@ TEST(TileABuffer, DeepSharesSplitTheRestBySamplesOwned) {
   // 0.8; none of them occludes on arrival anyway, being pieces that may merge). Deep: fragment
   // 0 owns both its columns (its exact area, 0.2), fragments 1 ... 6 one
   // column each (4 samples), fragment 7 and the surface none: the 0.8 left goes to 1 ... 6 by
-  // their samples, 0.8 / 6 each. A sliver that no sample sees (stand-in bit only, area 0.01) is
-  // left out.
+  // their samples, 0.8 / 6 each.
   std::vector<Fragment> fs{frag(30.0f, 1.0f, 1.0f, glm::vec3(0.5f), kFull, 19)};
   glm::vec3 want(0.0f);
   for (int c = 7; c >= 0; --c) {
@@ -665,10 +664,67 @@ TEST(TileABuffer, DeepSharesSplitTheRestBySamplesOwned) {
     fs.push_back(frag(1.0f + float(c), 0.2f, 1.0f, colour, columns, 20u + std::uint32_t(c)));
     want += colour * (c == 0 ? 0.2f : c == 7 ? 0.0f : 0.8f / 6.0f);
   }
-  Fragment sliver = frag(0.5f, 0.01f, 1.0f, glm::vec3(1.0f), MaskBits(1) << 9, 90);
-  sliver.standInBits = sliver.mask;
-  fs.push_back(sliver);
   expectRGBA(resolveOne(fs, true), glm::vec4(want, 1.0f), 2e-6f, "shares");
+}
+
+// Culling's bound in one pixel, fragment by fragment (review 65's case): a blue surface (whole,
+// or 99.95% of the pixel: then no solid), three layers of thin opaque wire pieces in front that
+// leave T = 0.008 at every sample, and behind them a wire covering the pixel or a translucent
+// one. At epsilon 0.01 against 0 the pixel differs by at most 0.01 under either rule, though
+// culling leaves the one behind out at 0.01 (a gate or a share that asked for it moved 0.2).
+TEST(TileABuffer, CullingAtEpsilonMovesADeepPixelByAtMostEpsilon) {
+  auto run = [](float eps, bool deep, float surfaceArea, bool wholeWire, std::uint64_t& culled) {
+    auto piece = [](float z, float area, float opacity, glm::vec3 c, MaskBits m, std::uint32_t tag) {
+      Fragment f = frag(z, area, opacity, c, m, tag, false);
+      f.occludesEarly = true;  // a wire's
+      return f;
+    };
+    TileABuffer b(kL, 64, eps, deep);
+    b.reset(1, 1);
+    b.insert(0, 0, frag(40.0f, surfaceArea, 1.0f, kBlue, kFull, 1), 0);  // the surface first
+    std::uint32_t tag = 10;
+    for (int layer = 0; layer < 3; ++layer)
+      for (int c = 0; c < 8; ++c)
+        b.insert(0, 0, piece(10.0f + float(layer) + 0.01f * float(c), 0.1f, 1.0f, glm::vec3(0.5f), MaskBits(0x01010101u) << c, tag++), 0);
+    if (wholeWire) b.insert(0, 0, piece(25.0f, 0.9995f, 1.0f, glm::vec3(1.0f), kFull, tag++), 0);
+    else b.insert(0, 0, piece(20.0f, 0.1f, 0.5f, kRed, MaskBits(0x01010101u), tag++), 0);
+    const glm::vec4 r = b.resolve(0, 0);
+    ABufferCounters c;
+    b.finish(c);
+    culled = c.culled;
+    return r;
+  };
+  for (float surfaceArea : {1.0f, 0.9995f})
+    for (bool wholeWire : {true, false})
+      for (bool deep : {false, true}) {
+        std::uint64_t culled0 = 0, culled1 = 0;
+        const glm::vec4 a = run(0.0f, deep, surfaceArea, wholeWire, culled0), b = run(0.01f, deep, surfaceArea, wholeWire, culled1);
+        EXPECT_GT(culled1, culled0) << surfaceArea << " " << wholeWire << " " << deep;  // culling did leave it out
+        for (int i = 0; i < 4; ++i)
+          EXPECT_LE(std::abs(a[i] - b[i]), 0.01f + 1e-6f) << "surface " << surfaceArea << (wholeWire ? ", whole wire" : ", translucent")
+                                                            << (deep ? ", deep shares" : "") << ", channel " << i;
+      }
+}
+
+TEST(TileABuffer, DeepSharesWeighSliversAndTranslucentLinesAsTheUsualRule) {
+  // Over the grey surface, one thin fragment alone: a sliver that no sample saw (stand-in bit
+  // only, area 0.02), opaque or at half opacity, or a translucent line over two sample columns
+  // (area 0.15, opacity 0.5). Each weighs its area (times opacity) as by the usual rule, the
+  // surface the rest: a hair's tip between the samples neither vanishes nor turns into a
+  // sample's worth of the pixel.
+  const Fragment surface = frag(30.0f, 1.0f, 1.0f, glm::vec3(0.5f), kFull, 19);
+  Fragment sliver = frag(1.0f, 0.02f, 1.0f, glm::vec3(1.0f, 0.0f, 0.0f), MaskBits(1) << 9, 90);
+  sliver.standInBits = sliver.mask;
+  Fragment faint = sliver;
+  faint.opacity = 0.5f;
+  const Fragment line = frag(1.0f, 0.15f, 0.5f, glm::vec3(0.0f, 1.0f, 0.0f), MaskBits(0x03030303u), 91);
+  for (const Fragment& thin : {sliver, faint, line}) {
+    const std::vector<Fragment> fs{surface, thin};
+    const glm::vec4 deep = resolveOne(fs, true), usual = resolveOne(fs, false);
+    const float w = thin.opacity * thin.area;
+    expectRGBA(deep, glm::vec4(thin.colour * w + glm::vec3(0.5f) * (1.0f - w), 1.0f), 2e-6f, "deep");
+    expectRGBA(usual, deep, 2e-6f, "usual");
+  }
 }
 
 TEST(TileABuffer, DeepSharesLeaveShallowAndUncoveredPixelsAsTheyWere) {
