@@ -1231,7 +1231,8 @@ void TileABuffer::finish(ABufferCounters& counters) {
   }
   local_.peakBytes = std::max(peakBytes_, bytes());
   // Nodes are reused from the free list before the list grows, so its size is this tile's peak
-  // of live entries; solid fragments are only replaced in place, never freed.
+  // of live entries; solid fragments are never freed (replaced in place, or a surface's kept
+  // behind a wire's: setSolid).
   local_.peakFragmentsHeld = std::uint64_t(nodes_.size() + solids_.size());
   local_.pixelsDeep = scratch_.deepPixels;
   scratch_.deepPixels = 0;

@@ -248,7 +248,8 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
         // (ties by primitive order: a strict order, so the same whatever the thread count), so
         // that the occlusion tests discard most of what lies behind before it is rasterised. The
         // surfaces first, so that only surfaces ever cull a surface: whether a pixel holds one
-        // (deep shares' gate, TileABuffer::insert) then does not depend on occlusionEpsilon.
+        // (deep shares' gate, TileABuffer::setSolid's Pixel::surface) then does not depend on
+        // occlusionEpsilon.
         // (The items arrive in primitive order, triangles before segments: two ranges.)
         thread_local std::vector<TileBins::Item> order, sortScratch;
         order.assign(bins.items.begin() + b0, bins.items.begin() + b1);
