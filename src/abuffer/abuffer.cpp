@@ -870,25 +870,22 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
   bool anyPartial = false;
   std::vector<int>& whole = scratch_.whole;  // the fragments that hide wholly, front to back
   whole.clear();
+  // Whether a fragment of that hide hides its subpixels wholly. Deep: an opaque fragment that
+  // some sample saw does (its sampled subpixels); a translucent one, or one that no sample saw
+  // (at its stand-in subpixel), is partial whatever its hide, and weighs as by the usual rule
+  // (a hair's sliver between the samples, a thin translucent line: their areas, not samples).
+  auto wholly = [&](const Fragment& f, float hide) { return deep ? f.opacity >= 1.0f && f.sampledMask() != 0 : hide >= 1.0f; };
   for (int i = 0; i < n; ++i) {
     const Fragment& f = order[size_t(i)]->f;
     const int k = maskCount(f.mask);
     hides[size_t(i)] = k ? std::max(f.hideFloor, f.opacity * std::min(1.0f, f.area * float(N) / float(k))) : 0.0f;
-    // Deep: an opaque fragment that some sample saw hides its samples wholly; a translucent one,
-    // or one that no sample saw (at its stand-in subpixel), is partial whatever its hide, as in
-    // the usual rule, and weighs as there (a hair's sliver between the samples, a thin
-    // translucent line: their areas, not their samples).
-    if (deep) {
-      if (f.opacity >= 1.0f && f.sampledMask()) {
-        owned[size_t(i)] = f.sampledMask(), whole.push_back(i);
-        hides[size_t(i)] = 1.0f;
-      } else if (k) {
-        anyPartial = true;
-      }
-      continue;
+    if (wholly(f, hides[size_t(i)])) {
+      owned[size_t(i)] = deep ? f.sampledMask() : f.mask;
+      hides[size_t(i)] = 1.0f;
+      whole.push_back(i);
+    } else if (k) {
+      anyPartial = true;
     }
-    if (hides[size_t(i)] >= 1.0f) owned[size_t(i)] = f.mask, whole.push_back(i);
-    else if (k) anyPartial = true;
   }
   // The depth of fragment i's surface at its subpixels, evaluated once, when two surfaces whose
   // depth ranges overlap share a subpixel (they interpenetrate in this pixel).
@@ -1039,8 +1036,7 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
     std::vector<int>& po = scratch_.partialOrder;
     po.clear();
     for (int i = 0; i < n; ++i)
-      if (order[size_t(i)]->f.mask != 0 && (deep ? !(order[size_t(i)]->f.opacity >= 1.0f && order[size_t(i)]->f.sampledMask()) : hides[size_t(i)] < 1.0f))
-        po.push_back(i);
+      if (order[size_t(i)]->f.mask != 0 && !wholly(order[size_t(i)]->f, hides[size_t(i)])) po.push_back(i);
     for (size_t a = 1; a < po.size(); ++a) {
       const int e = po[a];
       const Fragment& fe = order[size_t(e)]->f;
@@ -1175,10 +1171,8 @@ glm::vec4 TileABuffer::resolveEntries(size_t pixelIndex, const Node* const* entr
     }
     const float rest = std::max(0.0f, 1.0f - exact);
     if (!(shares > 0.0f) && rest > 0.0f) {
-      Fragment gaps = solids_[size_t(p.surface)];
-      shadeNow(gaps, pixelIndex);
-      if (!gaps.holdout) rgb += gaps.colour * rest;
-      alpha += gaps.holdout ? 0.0f : rest;
+      const Fragment& gaps = solids_[size_t(p.surface)];
+      if (!gaps.holdout) rgb += colourOf(gaps) * rest, alpha += rest;
     }
     for (int i : whole) {
       const Fragment& f = order[size_t(i)]->f;

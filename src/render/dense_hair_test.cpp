@@ -539,7 +539,7 @@ TEST(DenseHair, CullingErrorIsWithinEpsilon) {
     Scene s = test::baseScene(W, H);
     if (surfaceDepth > 0.0)
       s.surfaces.push_back(test::screenRect(8.0004, 6.3, 87.9996, 65.7, surfaceDepth, W, H, glm::vec3(0.3f, 0.6f, 0.9f)));
-    auto hairs = [&](std::uint64_t stream, int count, double widthPx, int segments, float opacity) {
+    auto hairs = [&](std::uint64_t stream, int count, double widthPx, float opacity) {
       SceneWire w = test::plainWire({}, widthPx, 0.0, W, H);
       w.restsOnSurface = false;
       w.opacity = opacity;
@@ -547,18 +547,13 @@ TEST(DenseHair, CullingErrorIsWithinEpsilon) {
         HashRandom r(stream, 0, std::uint64_t(i));
         const V2 a(r.uniform(0, W), r.uniform(0, H));
         const double ang = r.uniform(0, 6.2832), len = r.uniform(4, 30), z0 = r.uniform(10, 30), z1 = r.uniform(10, 30);
-        std::vector<glm::dvec3> pts;
-        for (int k = 0; k <= segments; ++k) {
-          const double t = double(k) / segments, bend = 0.3 * k;
-          pts.push_back(test::world(a + t * len * V2(std::cos(ang + bend), std::sin(ang + bend)), z0 + t * (z1 - z0), W, H));
-        }
-        w.lines.add(pts);
+        w.lines.add({test::world(a, z0, W, H), test::world(a + len * V2(std::cos(ang), std::sin(ang)), z1, W, H)});
       }
       s.wires.push_back(w);
     };
-    hairs(3, 4000, 1.3, 1, 1.0f);
-    hairs(4, 4000, 0.3, 1, 1.0f);
-    hairs(5, 1500, 0.8, 1, 0.5f);
+    hairs(3, 4000, 1.3, 1.0f);
+    hairs(4, 4000, 0.3, 1.0f);
+    hairs(5, 1500, 0.8, 0.5f);
     for (bool deep : {false, true}) {
       SCOPED_TRACE(::testing::Message() << "surface at " << surfaceDepth << (deep ? ", deep shares" : ", usual rule"));
       RenderOptions o = test::smallOptions(W, H);

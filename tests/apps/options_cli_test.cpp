@@ -25,7 +25,7 @@ const std::string kSide = std::to_string(wf::kMaxImageSide);
 const std::map<std::string, std::vector<std::string>> kOptions = {
     {"gallery", {"--out", "--scenes", "--size", "--quiet"}},
     {"accuracy", {"--json", "--plots", "--quick", "--quiet"}},
-    {"render", {"INPUT", "--out", "--size", "--style", "--mask", "--threads", "--stats", "--budget", "--shading",
+    {"render", {"INPUT", "--out", "--size", "--style", "--mask", "--threads", "--stats", "--budget", "--no-deep-shares", "--shading",
                 "--reference", "--samples", "--measure-error", "--view-grid", "--memory-budget", "--simplify",
                 "--wire-depth", "--time", "--quiet", "--deflection", "--linear-deflection", "--angular-deflection",
                 "--isos", "--read-timeout"}},

@@ -59,6 +59,27 @@ TEST(RenderCli, BuiltInSceneWritesPngAndTheContractsStatsKeys) {
   EXPECT_DOUBLE_EQ(s["error_estimate"]["coverage_quantisation"].get<double>(), 1.0 / 32);  // 8x4 default
 }
 
+// Deep shares are on by default (the built-in cage over its torus: wires over a surface, so some
+// pixels are deep) and --no-deep-shares turns them off: the stats say which and count the deep
+// pixels, and the images differ; either flag with a value is refused with one line.
+TEST(RenderCli, DeepSharesByDefaultAndOffOnRequest) {
+  const fs::path on = dir() / "deep_on.json", off = dir() / "deep_off.json";
+  ASSERT_EQ(run("render -o '" + (dir() / "deep_on.png").string() + "' --size 160x120 --stats '" + on.string() + "'").status, 0);
+  ASSERT_EQ(run("render -o '" + (dir() / "deep_off.png").string() + "' --size 160x120 --no-deep-shares --stats '" + off.string() + "'").status, 0);
+  const json a = json::parse(slurp(on)), b = json::parse(slurp(off));
+  EXPECT_TRUE(a["options"]["deep_shares"].get<bool>());
+  EXPECT_FALSE(b["options"]["deep_shares"].get<bool>());
+  EXPECT_GT(a["left_out"]["pixels_deep"].get<std::uint64_t>(), 100u);
+  EXPECT_EQ(b["left_out"]["pixels_deep"].get<std::uint64_t>(), 0u);
+  EXPECT_NE(slurp(dir() / "deep_on.png"), slurp(dir() / "deep_off.png"));
+  for (const char* flag : {"--no-deep-shares=yes", "--deep-shares=no"}) {
+    const Result r = run("render -o '" + (dir() / "deep_bad.png").string() + "' " + flag);
+    EXPECT_EQ(r.status, 2) << flag;
+    EXPECT_EQ(r.err, "wirefur: option " + std::string(flag).substr(0, std::string(flag).find('=')) + " takes no value\n") << flag;
+    EXPECT_FALSE(fs::exists(dir() / "deep_bad.png")) << flag;
+  }
+}
+
 TEST(RenderCli, ViewGridBuildsOneMapPerNode) {
   const fs::path stats = dir() / "grid.json";
   const Result r = run("render -o '" + (dir() / "grid.png").string() + "' --size 160x120 --shading maps --view-grid 3 --stats '" +
