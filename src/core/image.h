@@ -2,6 +2,8 @@
 // writing files belongs to the apps layer.
 #pragma once
 
+#include "core/large_memory.h"
+
 #include <glm/glm.hpp>
 
 #include <cstddef>
@@ -11,7 +13,9 @@ namespace wf {
 
 struct ImageRGBA {
   int width = 0, height = 0;
-  std::vector<glm::vec4> pixels;  ///< row-major, row 0 at the top
+  /// Row-major, row 0 at the top. (On huge pages from kLargeAllocation, as a render's arrays: a large
+  /// image's first writes cost a fault per 2 MiB, not per 4 KiB; core/large_memory.h.)
+  std::vector<glm::vec4, LargeAllocator<glm::vec4>> pixels;
 
   ImageRGBA() = default;
   ImageRGBA(int w, int h) : width(w), height(h), pixels(size_t(w) * size_t(h), glm::vec4(0.0f)) {}

@@ -30,6 +30,7 @@
 #include "abuffer/coverage_mask.h"
 #include "abuffer/screen_polygon.h"
 #include "core/hash.h"
+#include "core/large_memory.h"  // allocateLarge, LargeAllocator
 #include "core/numeric.h"
 #include "core/timer.h"  // secondsSince, for the stages' timings
 #include "render/renderer.h"
@@ -57,24 +58,12 @@ namespace wf {
 
 inline constexpr double kMitreLimit = 4.0;
 
-/// Memory for the render's large arrays (primitives, bins): blocks of 4 MiB and more are laid on
-/// 2 MiB boundaries and offered to the kernel as huge pages, so that writing them the first
-/// time faults once per 2 MiB instead of once per 4 KiB (on a virtual machine those faults
-/// cost as much as the set-up's arithmetic). Elsewhere, or when refused, plain pages. Freed
-/// blocks are kept for the next render (bounded; releaseRenderMemory in renderer.h).
-void* allocateLarge(size_t bytes);
-void freeLarge(void* p, size_t bytes) noexcept;
-inline constexpr size_t kLargeAllocation = size_t(4) << 20;
-/// What allocateLarge adds to an array of `bytes` at most: its rounding up to whole 2 MiB pages
-/// (nothing for an array below kLargeAllocation, which the heap holds).
-inline double largeArrayRounding(double bytes) { return bytes >= double(kLargeAllocation) ? double(size_t(2) << 20) : 0.0; }
-
 /// A vector whose resize() leaves trivially constructible elements uninitialised: the set-up
 /// stage writes every element it keeps, and zeroing hundreds of megabytes first would cost as
 /// much as the set-up itself (every first touch of a page is a fault). Large blocks come from
 /// allocateLarge.
 template <class T>
-struct DefaultInitAllocator : std::allocator<T> {
+struct DefaultInitAllocator : LargeAllocator<T> {
   using value_type = T;
   template <class U>
   struct rebind {
@@ -90,15 +79,6 @@ struct DefaultInitAllocator : std::allocator<T> {
   template <class U, class... Args>
   void construct(U* p, Args&&... args) {
     ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-  }
-  T* allocate(size_t n) {
-    if (n > std::numeric_limits<size_t>::max() / sizeof(T)) throw std::bad_array_new_length();
-    if (n * sizeof(T) >= kLargeAllocation) return static_cast<T*>(allocateLarge(n * sizeof(T)));
-    return std::allocator<T>::allocate(n);
-  }
-  void deallocate(T* p, size_t n) noexcept {
-    if (n * sizeof(T) >= kLargeAllocation) freeLarge(p, n * sizeof(T));
-    else std::allocator<T>::deallocate(p, n);
   }
 };
 template <class T>

@@ -46,6 +46,7 @@ std::string describeBytes(double b) {
 double renderImageAndTileBytes(const Scene& scene, const RenderOptions& o, bool reference) {
   const double w = std::max(o.width, 0), h = std::max(o.height, 0);
   double bytes = w * h * double(sizeof(glm::vec4));  // the image
+  bytes += largeArrayRounding(bytes);                  // (on huge pages: core/large_memory.h)
   const int threads = o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
   const int tile = std::clamp(o.tileSize, 1, 4096);
   const int tw = int(std::min<double>(tile, w)), th = int(std::min<double>(tile, h));
@@ -87,7 +88,7 @@ size_t estimateRenderBytes(const Scene& scene, const RenderOptions& o, bool refe
   // The binning's per-chunk tile counts (binning.cpp: up to 4 chunks a thread, 65,536 primitives each).
   const double chunks = std::clamp(std::ceil((triangles + segments) / 65536.0), 1.0, 4.0 * threads);
   const double primitiveBytes = triangles * perTriangle + segments * perSegment;
-  // Each large array (allocateLarge: 4 MiB and more) is rounded up to whole 2 MiB pages.
+  // Each large array (allocateLarge: kLargeAllocation and more) is rounded up to whole 2 MiB pages.
   const auto rounded = largeArrayRounding;
   const double rounding = rounded(triangles * sizeof(TrianglePrim)) + rounded(triangles * sizeof(TriangleAttributes)) +
                           rounded(triangles * 5 * sizeof(glm::dvec2)) + rounded(segments * sizeof(SegmentPrim)) +

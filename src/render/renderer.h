@@ -205,13 +205,7 @@ std::string memoryProblem(const Scene& scene, const RenderOptions& options, bool
 /// The A-buffer render. Throws std::length_error (memoryProblem()) when over the memory budget.
 RenderResult render(const Scene& scene, const RenderOptions& options);
 
-/// The large arrays a render frees (primitives, bins: blocks of 4 MiB and more) are kept for the
-/// next render, so that frame after frame reuses memory the kernel has already handed out and
-/// zeroed: at most 8 blocks and an eighth of the machine's memory (1 GiB at most).
-/// releaseRenderMemory() gives them back now, with what the allocator keeps free (glibc:
-/// malloc_trim); renderMemoryHeld() is what is kept.
-void releaseRenderMemory();
-size_t renderMemoryHeld();
+// (releaseRenderMemory and renderMemoryHeld: core/large_memory.h, the blocks the renders free.)
 
 /// Brute-force reference: options.referenceSamples^2 stratified point samples per pixel, each
 /// taking the nearest opaque primitive and the translucent ones in front of it (sorted), shaded

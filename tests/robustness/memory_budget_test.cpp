@@ -156,8 +156,8 @@ TEST(RobustMemory, DefaultBudgetIsHalfThePhysicalMemory) {
   EXPECT_NEAR(double(RenderOptions{}.memoryBudget), phys / 2, double(sysconf(_SC_PAGE_SIZE)));
 }
 
-// The large arrays a render frees are kept for the next (renderer.h, releaseRenderMemory):
-// 60,000 segments need 4.8 MB of SegmentPrim (80 bytes each), over the 4 MiB of a large block.
+// The large arrays a render frees are kept for the next (core/large_memory.h, releaseRenderMemory):
+// 60,000 segments need 4.8 MB of SegmentPrim (80 bytes each), over the 1 MiB of a large block.
 // Held at most an eighth of the memory (1 GiB); a second frame reuses the blocks and draws the
 // same image bit for bit; releaseRenderMemory empties the cache.
 TEST(RobustMemory, LargeBlocksAreKeptBoundedReusedAndReleased) {
