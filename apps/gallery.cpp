@@ -3,6 +3,7 @@
 #include "cli.h"
 #include "safe_files.h"
 #include "image_io.h"
+#include "reader_worker.h"
 #include "render_command.h"
 #include "scene_file.h"
 
@@ -94,6 +95,7 @@ int runGallery(const GalleryOptions& options) {
   if (opt.scenesDir.empty()) opt.scenesDir = dataDir() + "/scenes";
   const auto tStart = std::chrono::steady_clock::now();
   const Progress progress(opt.quiet);
+  enableReaderCache();  // four scenes draw data/cad/product.step: one worker reads it
   {
     std::error_code ec;  // bad input first: no output folder made for a run that cannot start
     if (!std::filesystem::is_directory(opt.scenesDir, ec)) throw UsageError(opt.scenesDir + ": no such scenes folder");
@@ -290,8 +292,11 @@ int runGallery(const GalleryOptions& options) {
   writeOutputText(dir + "/gallery.json", doc.dump(2) + "\n");
   for (const Entry& e : entries)
     std::printf("%-24s %8.3f s  %s\n", e.file.c_str(), e.seconds, e.error.c_str());
-  std::printf("gallery: %zu pictures in %s/index.html, %.2f s (reading and growing %.2f s, rendering %.2f s, writing %.2f s)\n",
-              entries.size(), dir.c_str(), total, loadSeconds, renderSeconds, writeSeconds);
+  const ReaderRuns reads = readerRuns();
+  std::printf("gallery: %zu pictures in %s/index.html, %.2f s (reading and growing %.2f s, rendering %.2f s, writing %.2f s; "
+              "%llu reader workers, %llu results read again from memory)\n",
+              entries.size(), dir.c_str(), total, loadSeconds, renderSeconds, writeSeconds,
+              (unsigned long long)reads.workers, (unsigned long long)reads.reused);
   return 0;
 }
 

@@ -7,7 +7,13 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <sys/stat.h>
+
 #include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <set>
 #include <cerrno>
 #include <cstdio>
 #include <new>
@@ -20,6 +26,23 @@ namespace {
 
 std::atomic<bool> workersEnabled{false};
 
+// The results kept by enableReaderCache: key (the reader, the file's identity, the arguments)
+// and body, oldest first; the keys being read now (another request for one waits for it).
+struct ReaderCache {
+  std::mutex mutex;
+  std::condition_variable done;
+  bool enabled = false;
+  std::deque<std::pair<std::string, std::string>> entries;
+  std::set<std::string> reading;
+  size_t bytes = 0;
+  std::uint64_t runs = 0, reused = 0;
+};
+ReaderCache& readerCache() {
+  static ReaderCache cache;
+  return cache;
+}
+constexpr size_t kReaderCacheBytes = size_t(256) << 20;
+
 // The worker's last words on stderr, for a worker that left no result.
 std::string failureDetail(const std::string& stderrFile) {
   const std::string words = stderrFile.empty() ? std::string() : wf::lastLineOf(stderrFile);
@@ -31,7 +54,82 @@ std::string failureDetail(const std::string& stderrFile) {
 void enableReaderWorkers() { workersEnabled = true; }
 bool readerWorkersEnabled() { return workersEnabled; }
 
+void enableReaderCache() {
+  ReaderCache& c = readerCache();
+  std::lock_guard<std::mutex> lock(c.mutex);
+  c.enabled = true;
+}
+
+namespace {
+std::string runReaderWorkerUncached(const std::string& path, const ReaderWorkerCall& call);
+}  // namespace
+
+std::string readerResultKey(const std::string& path, const ReaderWorkerCall& call) {
+  struct stat st{};
+  if (stat(path.c_str(), &st) != 0) return {};
+  std::string key = call.mode;
+  for (long long v : {(long long)st.st_dev, (long long)st.st_ino, (long long)st.st_size, (long long)st.st_mtim.tv_sec,
+                      (long long)st.st_mtim.tv_nsec, (long long)st.st_ctim.tv_sec, (long long)st.st_ctim.tv_nsec})
+    key += '\0' + std::to_string(v);
+  for (const std::string& e : call.extra) key += '\0' + e;
+  return key;
+}
+
+ReaderRuns readerRuns() {
+  ReaderCache& c = readerCache();
+  std::lock_guard<std::mutex> lock(c.mutex);
+  return {c.runs, c.reused};
+}
+
 std::string runReaderWorker(const std::string& path, const ReaderWorkerCall& call) {
+  ReaderCache& c = readerCache();
+  std::string key;
+  {
+    std::unique_lock<std::mutex> lock(c.mutex);
+    if (c.enabled) key = readerResultKey(path, call);
+    if (!key.empty()) {
+      // The same file being read for another scene: its result, once there (or a read of our
+      // own if that one failed).
+      c.done.wait(lock, [&] { return !c.reading.count(key); });
+      for (const auto& [k, body] : c.entries)
+        if (k == key) {
+          ++c.reused;
+          return body;
+        }
+      c.reading.insert(key);
+    }
+    ++c.runs;
+  }
+  // Whatever happens, the waiters are let go.
+  struct Release {
+    ReaderCache& c;
+    const std::string& key;
+    ~Release() {
+      if (key.empty()) return;
+      {
+        std::lock_guard<std::mutex> lock(c.mutex);
+        c.reading.erase(key);
+      }
+      c.done.notify_all();
+    }
+  } release{c, key};
+  std::string body = runReaderWorkerUncached(path, call);
+  // Kept only if the file is still the one read (its identity taken again after the read).
+  if (!key.empty() && body.size() <= kReaderCacheBytes && readerResultKey(path, call) == key) {
+    std::lock_guard<std::mutex> lock(c.mutex);
+    while (!c.entries.empty() && c.bytes + body.size() > kReaderCacheBytes) {
+      c.bytes -= c.entries.front().second.size();
+      c.entries.pop_front();
+    }
+    c.bytes += body.size();
+    c.entries.emplace_back(key, body);
+  }
+  return body;
+}
+
+namespace {
+
+std::string runReaderWorkerUncached(const std::string& path, const ReaderWorkerCall& call) {
   const wf::TemporaryFolder folder("wirefur-read-");
   if (folder.path().empty()) throw std::runtime_error("cannot make a temporary folder for the reader worker");
   const std::string out = folder.path() + "/result";
@@ -90,6 +188,8 @@ std::string runReaderWorker(const std::string& path, const ReaderWorkerCall& cal
   if (kind == 2) throw UsageError(message);
   throw std::runtime_error(message);
 }
+
+}  // namespace
 
 void finishReaderWorker(const std::string& file, const std::string& out, const std::string& magic,
                         const std::function<void(BlobWriter&)>& read) {

@@ -29,6 +29,27 @@ namespace wfapp {
 void enableReaderWorkers();
 bool readerWorkersEnabled();
 
+/// A command that reads the same file more than once (the gallery: four scenes draw one CAD
+/// part) calls this: from then on a worker's result is kept (up to 256 MiB of them, the oldest
+/// dropped first) and served again for the same file, reader and arguments, while the file's
+/// identity (device, inode, size, modification and change times) is the same. Each worker start
+/// loads OpenCASCADE's libraries, about 0.25 s here; reading a 170 kB result again takes none.
+/// Off by default: a single render would only hold the copy.
+void enableReaderCache();
+
+/// The result key of `path` read by `call` (the reader, the file's device, inode, size,
+/// modification and change times, the reader's arguments): empty when the file cannot be
+/// stat'ed (never kept). A result is served again only for the same key.
+struct ReaderWorkerCall;
+std::string readerResultKey(const std::string& path, const ReaderWorkerCall& call);
+
+/// Reader workers started so far, and results served again from enableReaderCache's copies. (A request for a file another thread is reading waits
+/// for that read and is served from it.)
+struct ReaderRuns {
+  std::uint64_t workers = 0, reused = 0;
+};
+ReaderRuns readerRuns();
+
 /// Polyline starts that fit their points: empty together, from 0 to points.size(), never
 /// falling (what the renderer indexes by). For a worker's result before anyone uses it.
 inline bool polylineStartsFit(const std::vector<std::uint32_t>& starts, size_t points) {

@@ -141,8 +141,20 @@ TEST(Cli, AccuracyQuickWritesJsonAndPlotsWithExpectedErrors) {
 
 TEST(Cli, GalleryWritesEveryPictureWithTimeAndError) {
   const fs::path dir = freshDir("gallery");
-  const Result r = run("gallery --quiet --size 64 -o '" + dir.string() + "'");
+  // (Its summary line kept: stdout into a file by a shell of its own.)
+  const fs::path out = dir.parent_path() / "gallery_stdout.txt";
+  const Result r = wf::test::runCommand(std::string("sh -c \"'") + WIREFUR_EXE + "' gallery --quiet --size 64 -o '" +
+                                        dir.string() + "' > '" + out.string() + "'\"");
   ASSERT_EQ(r.status, 0) << r.err;
+  {
+    // Four scenes draw data/cad/product.step, one with data/cad/mould.step: two reader
+    // workers, and the part's result served again to the three others (wfapp::enableReaderCache).
+    std::ifstream s(out);
+    std::stringstream text;
+    text << s.rdbuf();
+    EXPECT_NE(text.str().find("2 reader workers, 3 results read again from memory"), std::string::npos) << text.str();
+  }
+  fs::remove(out);
   std::ifstream f(dir / "gallery.json");
   const json doc = json::parse(f);
   ASSERT_GE(doc.size(), 4u);

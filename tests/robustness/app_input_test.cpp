@@ -6,6 +6,7 @@
 // 16384x16384 render over it exits 2 with one line and writes no PNG; 0 means unlimited.
 #include "cli.h"
 #include "mesh_io.h"
+#include "reader_worker.h"
 #include "render_command.h"
 #include "scene_file.h"
 
@@ -27,10 +28,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include <unistd.h>
+
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <thread>
 
 namespace wf {
 namespace {
@@ -221,6 +226,40 @@ TEST(RobustAppInput, ByteSizesParse) {
   EXPECT_EQ(wfapp::parseByteSize("--memory-budget", "64k"), size_t(64) << 10);
   for (const char* bad : {"", "x", "-5", "5X", "1e3", "nan", "M", ".5G", "99999999999999999999T"})
     EXPECT_THROW(wfapp::parseByteSize("--memory-budget", bad), wfapp::UsageError) << bad;
+}
+
+// A reader's result is served again (the gallery, wfapp::enableReaderCache) only for the same
+// file as it is now: its key changes with the file's contents, its modification time, the reader
+// and the reader's arguments, and there is none for a file that is not there.
+TEST(RobustAppInput, ReaderResultKeyFollowsTheFileAndTheReader) {
+  const fs::path dir = fs::temp_directory_path() / ("wirefur-reader-key-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path file = dir / "part.step";
+  auto write = [&](const std::string& text) {
+    std::ofstream f(file, std::ios::binary | std::ios::trunc);
+    f << text;
+  };
+  write("ISO-10303-21;");
+  wfapp::ReaderWorkerCall call;
+  call.mode = "cad-worker";
+  call.extra = {"0.1", "0"};
+  const std::string k = wfapp::readerResultKey(file.string(), call);
+  ASSERT_FALSE(k.empty());
+  EXPECT_EQ(wfapp::readerResultKey(file.string(), call), k);  // the same file, the same key
+  wfapp::ReaderWorkerCall other = call;
+  other.extra[0] = "0.2";
+  EXPECT_NE(wfapp::readerResultKey(file.string(), other), k);  // another deflection
+  other = call;
+  other.mode = "mesh-worker";
+  EXPECT_NE(wfapp::readerResultKey(file.string(), other), k);  // another reader
+  // Rewritten with the same size (and, on a coarse clock, maybe the same second): the change
+  // time and the modification time in nanoseconds tell it.
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  write("ISO-10303-22;");
+  EXPECT_NE(wfapp::readerResultKey(file.string(), call), k);
+  fs::remove(file);
+  EXPECT_TRUE(wfapp::readerResultKey(file.string(), call).empty());
+  fs::remove_all(dir);
 }
 
 }  // namespace
