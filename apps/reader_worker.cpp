@@ -12,8 +12,10 @@
 #include <atomic>
 #include <condition_variable>
 #include <deque>
+#include <exception>
+#include <map>
+#include <memory>
 #include <mutex>
-#include <set>
 #include <cerrno>
 #include <cstdio>
 #include <new>
@@ -26,14 +28,19 @@ namespace {
 
 std::atomic<bool> workersEnabled{false};
 
-// The results kept by enableReaderCache: key (the reader, the file's identity, the arguments)
-// and body, oldest first; the keys being read now (another request for one waits for it).
+// The results kept by enableReaderCache: key and body, oldest first; and the reads under way,
+// whose outcome (a body or the exception) every request for the same key made meanwhile shares.
+struct ReaderRead {
+  bool done = false;
+  std::shared_ptr<const std::string> body;
+  std::exception_ptr failure;
+};
 struct ReaderCache {
   std::mutex mutex;
   std::condition_variable done;
   bool enabled = false;
-  std::deque<std::pair<std::string, std::string>> entries;
-  std::set<std::string> reading;
+  std::deque<std::pair<std::string, std::shared_ptr<const std::string>>> entries;
+  std::map<std::string, std::shared_ptr<ReaderRead>> reading;
   size_t bytes = 0;
   std::uint64_t runs = 0, reused = 0;
 };
@@ -67,7 +74,8 @@ std::string runReaderWorkerUncached(const std::string& path, const ReaderWorkerC
 std::string readerResultKey(const std::string& path, const ReaderWorkerCall& call) {
   struct stat st{};
   if (stat(path.c_str(), &st) != 0) return {};
-  std::string key = call.mode;
+  // (The path too: the result names it, in the CAD reader's info and warnings.)
+  std::string key = call.mode + '\0' + path;
   for (long long v : {(long long)st.st_dev, (long long)st.st_ino, (long long)st.st_size, (long long)st.st_mtim.tv_sec,
                       (long long)st.st_mtim.tv_nsec, (long long)st.st_ctim.tv_sec, (long long)st.st_ctim.tv_nsec})
     key += '\0' + std::to_string(v);
@@ -83,48 +91,65 @@ ReaderRuns readerRuns() {
 
 std::string runReaderWorker(const std::string& path, const ReaderWorkerCall& call) {
   ReaderCache& c = readerCache();
-  std::string key;
+  bool enabled;
+  {
+    std::lock_guard<std::mutex> lock(c.mutex);
+    enabled = c.enabled;
+  }
+  const std::string key = enabled ? readerResultKey(path, call) : std::string();
+  std::shared_ptr<ReaderRead> mine;
   {
     std::unique_lock<std::mutex> lock(c.mutex);
-    if (c.enabled) key = readerResultKey(path, call);
     if (!key.empty()) {
-      // The same file being read for another scene: its result, once there (or a read of our
-      // own if that one failed).
-      c.done.wait(lock, [&] { return !c.reading.count(key); });
       for (const auto& [k, body] : c.entries)
         if (k == key) {
           ++c.reused;
-          return body;
+          lock.unlock();
+          return *body;
         }
-      c.reading.insert(key);
+      // The same file being read for another scene: its outcome, once there.
+      if (auto it = c.reading.find(key); it != c.reading.end()) {
+        const std::shared_ptr<ReaderRead> other = it->second;
+        ++c.reused;
+        c.done.wait(lock, [&] { return other->done; });
+        lock.unlock();
+        if (other->failure) std::rethrow_exception(other->failure);
+        return *other->body;
+      }
+      mine = std::make_shared<ReaderRead>();
+      c.reading.emplace(key, mine);
     }
     ++c.runs;
   }
-  // Whatever happens, the waiters are let go.
-  struct Release {
-    ReaderCache& c;
-    const std::string& key;
-    ~Release() {
-      if (key.empty()) return;
-      {
-        std::lock_guard<std::mutex> lock(c.mutex);
-        c.reading.erase(key);
-      }
-      c.done.notify_all();
-    }
-  } release{c, key};
-  std::string body = runReaderWorkerUncached(path, call);
-  // Kept only if the file is still the one read (its identity taken again after the read).
-  if (!key.empty() && body.size() <= kReaderCacheBytes && readerResultKey(path, call) == key) {
-    std::lock_guard<std::mutex> lock(c.mutex);
-    while (!c.entries.empty() && c.bytes + body.size() > kReaderCacheBytes) {
-      c.bytes -= c.entries.front().second.size();
-      c.entries.pop_front();
-    }
-    c.bytes += body.size();
-    c.entries.emplace_back(key, body);
+  if (!mine) return runReaderWorkerUncached(path, call);
+  // Whatever happens, the requests waiting for this read get its outcome.
+  std::shared_ptr<const std::string> body;
+  std::exception_ptr failure;
+  try {
+    body = std::make_shared<const std::string>(runReaderWorkerUncached(path, call));
+  } catch (...) {
+    failure = std::current_exception();
   }
-  return body;
+  // Kept only if the file is still the one read (its identity taken again after the read).
+  const bool keep = body && body->size() <= kReaderCacheBytes && readerResultKey(path, call) == key;
+  {
+    std::lock_guard<std::mutex> lock(c.mutex);
+    mine->body = body;
+    mine->failure = failure;
+    mine->done = true;
+    c.reading.erase(key);
+    if (keep) {
+      while (!c.entries.empty() && c.bytes + body->size() > kReaderCacheBytes) {
+        c.bytes -= c.entries.front().second->size();
+        c.entries.pop_front();
+      }
+      c.entries.emplace_back(key, body);
+      c.bytes += body->size();
+    }
+  }
+  c.done.notify_all();
+  if (failure) std::rethrow_exception(failure);
+  return *body;
 }
 
 namespace {

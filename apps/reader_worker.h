@@ -31,20 +31,23 @@ bool readerWorkersEnabled();
 
 /// A command that reads the same file more than once (the gallery: four scenes draw one CAD
 /// part) calls this: from then on a worker's result is kept (up to 256 MiB of them, the oldest
-/// dropped first) and served again for the same file, reader and arguments, while the file's
-/// identity (device, inode, size, modification and change times) is the same. Each worker start
-/// loads OpenCASCADE's libraries, about 0.25 s here; reading a 170 kB result again takes none.
-/// Off by default: a single render would only hold the copy.
+/// dropped first) and served again for the same path, reader and arguments while the file's
+/// identity (device, inode, size, modification and change times) is the same; a request made
+/// while the same read is under way (scenes load in parallel) waits for it and shares its
+/// outcome, the result or the failure (so a file that hangs or crashes the reader costs one
+/// worker, not one per scene). Each worker start loads OpenCASCADE's libraries, about 0.25 s
+/// here; reading a 170 kB result again takes none. Off by default: a single render would only
+/// hold the copy.
 void enableReaderCache();
 
-/// The result key of `path` read by `call` (the reader, the file's device, inode, size,
+/// The result key of `path` read by `call` (the reader, the path, the file's device, inode, size,
 /// modification and change times, the reader's arguments): empty when the file cannot be
 /// stat'ed (never kept). A result is served again only for the same key.
 struct ReaderWorkerCall;
 std::string readerResultKey(const std::string& path, const ReaderWorkerCall& call);
 
-/// Reader workers started so far, and results served again from enableReaderCache's copies. (A request for a file another thread is reading waits
-/// for that read and is served from it.)
+/// Reader workers started so far, and requests served by another's read (enableReaderCache: a
+/// result kept, or a read under way).
 struct ReaderRuns {
   std::uint64_t workers = 0, reused = 0;
 };

@@ -1,5 +1,5 @@
 // Memory for large arrays: the render's primitives and bins (render/pipeline.h's PodVector) and
-// every image (core/image.h). Blocks of kLargeAllocation bytes and more are laid on 2 MiB
+// images (core/image.h). Blocks of kLargeAllocation bytes and more are laid on 2 MiB
 // boundaries and offered to the kernel as huge pages, so that writing them the first time faults
 // once per 2 MiB instead of once per 4 KiB: on a virtual machine a 4 KiB fault costs several
 // microseconds (a 1280 x 960 float image took 20 ms to zero, its huge pages under 1 ms). Freed
@@ -30,7 +30,9 @@ inline double largeArrayRounding(double bytes) { return bytes >= double(kLargeAl
 void releaseRenderMemory();
 size_t renderMemoryHeld();
 
-/// std::allocator, but with blocks of kLargeAllocation bytes and more from allocateLarge.
+/// std::allocator, but with blocks of kLargeAllocation bytes and more from allocateLarge. (C++20:
+/// a library whose std::allocator has C++23's allocate_at_least would need it here too, or the
+/// vector would take such a block from the heap and give it back to freeLarge.)
 template <class T>
 struct LargeAllocator : std::allocator<T> {
   using value_type = T;

@@ -35,7 +35,6 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
-#include <thread>
 
 namespace wf {
 namespace {
@@ -229,8 +228,8 @@ TEST(RobustAppInput, ByteSizesParse) {
 }
 
 // A reader's result is served again (the gallery, wfapp::enableReaderCache) only for the same
-// file as it is now: its key changes with the file's contents, its modification time, the reader
-// and the reader's arguments, and there is none for a file that is not there.
+// file as it is now: its key changes with the file's size, its modification time, the path, the
+// reader and the reader's arguments, and there is none for a file that is not there.
 TEST(RobustAppInput, ReaderResultKeyFollowsTheFileAndTheReader) {
   const fs::path dir = fs::temp_directory_path() / ("wirefur-reader-key-" + std::to_string(::getpid()));
   fs::create_directories(dir);
@@ -252,11 +251,16 @@ TEST(RobustAppInput, ReaderResultKeyFollowsTheFileAndTheReader) {
   other = call;
   other.mode = "mesh-worker";
   EXPECT_NE(wfapp::readerResultKey(file.string(), other), k);  // another reader
-  // Rewritten with the same size (and, on a coarse clock, maybe the same second): the change
-  // time and the modification time in nanoseconds tell it.
-  std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  write("ISO-10303-22;");
-  EXPECT_NE(wfapp::readerResultKey(file.string(), call), k);
+  // The same file by another spelling of its path: another key (the result names the path).
+  EXPECT_NE(wfapp::readerResultKey((dir / "." / "part.step").string(), call), k);
+  // Another size.
+  write("ISO-10303-21;\n");
+  const std::string longer = wfapp::readerResultKey(file.string(), call);
+  EXPECT_NE(longer, k);
+  // The same size and contents, modified two seconds later (whole seconds: any file system's
+  // clock tells them apart).
+  fs::last_write_time(file, fs::last_write_time(file) + std::chrono::seconds(2));
+  EXPECT_NE(wfapp::readerResultKey(file.string(), call), longer);
   fs::remove(file);
   EXPECT_TRUE(wfapp::readerResultKey(file.string(), call).empty());
   fs::remove_all(dir);
