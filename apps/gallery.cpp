@@ -109,8 +109,10 @@ int runGallery(const GalleryOptions& options) {
   std::vector<std::pair<std::string, SceneFile>> scenes;
   double loadSeconds = 0, renderSeconds = 0, writeSeconds = 0;
   // The pictures are written after the renders (whose times are shown), in parallel.
+  // (Kept as the PNGs' 8-bit bytes: each render's float image goes back at once, and the next
+  // render takes its block again instead of new pages from the kernel.)
   struct PendingPng {
-    wf::ImageRGBA image;
+    SrgbImage image;
     std::string path;
   };
   std::vector<PendingPng> pending;
@@ -161,7 +163,10 @@ int runGallery(const GalleryOptions& options) {
     const auto tr = std::chrono::steady_clock::now();
     wf::RenderResult r = wf::render(sf.scene, ro);
     renderSeconds += secondsSince(tr);
-    pending.push_back({std::move(r.image), dir + "/" + stem + ".png"});
+    const auto tw = std::chrono::steady_clock::now();
+    pending.push_back({toSrgb(r.image), dir + "/" + stem + ".png"});
+    r.image = wf::ImageRGBA();
+    writeSeconds += secondsSince(tw);
     json st = statsJson(r.stats, ro, false);
     st["seconds"]["generate"] = sf.generateSeconds;
     st["generated"] = {{"hairs", sf.hairsGrown}, {"scales", sf.scalesGrown}};

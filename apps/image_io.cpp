@@ -54,15 +54,24 @@ wf::ImageRGBA readPng(const std::string& path, size_t maxPixels) {
   return img;
 }
 
-void writePngFile(const wf::ImageRGBA& image, const std::string& file, const std::string& name, int compression) {
-  if (image.width <= 0 || image.height <= 0) throw std::runtime_error(name + ": empty image");
-  std::vector<png_byte> rgb(size_t(image.width) * size_t(image.height) * 3);
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x) {
+SrgbImage toSrgb(const wf::ImageRGBA& image) {
+  SrgbImage s;
+  s.width = std::max(image.width, 0);
+  s.height = std::max(image.height, 0);
+  s.rgb.resize(size_t(s.width) * size_t(s.height) * 3);
+  for (int y = 0; y < s.height; ++y)
+    for (int x = 0; x < s.width; ++x) {
       const glm::vec4& p = image.at(x, y);
-      png_byte* o = &rgb[3 * (size_t(y) * size_t(image.width) + size_t(x))];
+      png_byte* o = &s.rgb[3 * (size_t(y) * size_t(s.width) + size_t(x))];
       for (int c = 0; c < 3; ++c) o[c] = png_byte(std::lround(255.0f * linearToSrgb(p[c])));
     }
+  return s;
+}
+
+namespace {
+
+void writeSrgbFile(const SrgbImage& image, const std::string& file, const std::string& name, int compression) {
+  if (image.width <= 0 || image.height <= 0) throw std::runtime_error(name + ": empty image");
   // libpng's simplified API: no message of its own on stderr (a full disk is one line here), and
   // the file is flushed and closed before it counts as written.
   png_image png;
@@ -74,7 +83,7 @@ void writePngFile(const wf::ImageRGBA& image, const std::string& file, const std
   if (compression <= 3) png.flags |= PNG_IMAGE_FLAG_FAST;
   FILE* f = std::fopen(file.c_str(), "wb");
   if (!f) throw OutputError(name + ": cannot write (" + std::strerror(errno) + ")");
-  const bool encoded = png_image_write_to_stdio(&png, f, 0, rgb.data(), 0, nullptr) != 0;
+  const bool encoded = png_image_write_to_stdio(&png, f, 0, image.rgb.data(), 0, nullptr) != 0;
   const std::string why = encoded ? std::string() : std::string(png.message);
   const bool flushed = encoded && std::fflush(f) == 0 && !std::ferror(f);
   const int err = errno;
@@ -82,6 +91,20 @@ void writePngFile(const wf::ImageRGBA& image, const std::string& file, const std
   png_image_free(&png);
   if (!encoded) throw OutputError(name + ": cannot write the PNG (" + why + ")");
   if (!flushed || !closed) throw OutputError(name + ": cannot write (" + std::strerror(flushed ? errno : err) + ")");
+}
+
+}  // namespace
+
+void writePngFile(const wf::ImageRGBA& image, const std::string& file, const std::string& name, int compression) {
+  if (image.width <= 0 || image.height <= 0) throw std::runtime_error(name + ": empty image");
+  writeSrgbFile(toSrgb(image), file, name, compression);
+}
+
+void writePng(const SrgbImage& image, const std::string& path, int compression) {
+  requireOutputPath(path);
+  OutputFile out(path);
+  writeSrgbFile(image, out.temporaryPath(), path, compression);
+  out.commit();
 }
 
 void writePng(const wf::ImageRGBA& image, const std::string& path, int compression) {

@@ -5,7 +5,9 @@
 
 #include "core/image.h"
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 namespace wfapp {
 
@@ -21,6 +23,15 @@ float linearToSrgb(float linear);
 void writePng(const wf::ImageRGBA& image, const std::string& path, int compression = 5);
 /// The same written straight to `file` (a temporary the caller renames); `name` in messages.
 void writePngFile(const wf::ImageRGBA& image, const std::string& file, const std::string& name, int compression = 5);
+
+/// An image as the PNG holds it: 8-bit sRGB, RGB over black, rows top to bottom (a fifth of the
+/// float image's bytes: what a caller keeps of many renders before writing them, the gallery).
+struct SrgbImage {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> rgb;
+};
+SrgbImage toSrgb(const wf::ImageRGBA& image);
+void writePng(const SrgbImage& image, const std::string& path, int compression = 5);
 
 /// Reads any PNG libpng reads (grey, palette, RGB, with or without alpha, 1 to 16 bits) as a
 /// linear-light RGB image (alpha composited over black; alpha of the result 1), row 0 at the
