@@ -104,8 +104,9 @@ std::string runReaderWorker(const std::string& path, const ReaderWorkerCall& cal
       for (const auto& [k, body] : c.entries)
         if (k == key) {
           ++c.reused;
+          const std::shared_ptr<const std::string> held = body;  // (the entry may go once unlocked)
           lock.unlock();
-          return *body;
+          return *held;
         }
       // The same file being read for another scene: its outcome, once there.
       if (auto it = c.reading.find(key); it != c.reading.end()) {
@@ -130,21 +131,29 @@ std::string runReaderWorker(const std::string& path, const ReaderWorkerCall& cal
   } catch (...) {
     failure = std::current_exception();
   }
-  // Kept only if the file is still the one read (its identity taken again after the read).
-  const bool keep = body && body->size() <= kReaderCacheBytes && readerResultKey(path, call) == key;
+  // Kept only if the file is still the one read (its identity taken again after the read). Not
+  // keeping it is always safe: nothing below may throw before the waiters have the outcome.
+  bool keep = false;
+  try {
+    keep = body && body->size() <= kReaderCacheBytes && readerResultKey(path, call) == key;
+  } catch (...) {
+  }
   {
     std::lock_guard<std::mutex> lock(c.mutex);
     mine->body = body;
     mine->failure = failure;
     mine->done = true;
     c.reading.erase(key);
-    if (keep) {
-      while (!c.entries.empty() && c.bytes + body->size() > kReaderCacheBytes) {
-        c.bytes -= c.entries.front().second->size();
-        c.entries.pop_front();
+    try {
+      if (keep) {
+        while (!c.entries.empty() && c.bytes + body->size() > kReaderCacheBytes) {
+          c.bytes -= c.entries.front().second->size();
+          c.entries.pop_front();
+        }
+        c.entries.emplace_back(key, body);  // (strong guarantee: nothing added if it throws)
+        c.bytes += body->size();
       }
-      c.entries.emplace_back(key, body);
-      c.bytes += body->size();
+    } catch (...) {
     }
   }
   c.done.notify_all();

@@ -34,8 +34,8 @@ bool readerWorkersEnabled();
 /// dropped first) and served again for the same path, reader and arguments while the file's
 /// identity (device, inode, size, modification and change times) is the same; a request made
 /// while the same read is under way (scenes load in parallel) waits for it and shares its
-/// outcome, the result or the failure (so a file that hangs or crashes the reader costs one
-/// worker, not one per scene). Each worker start loads OpenCASCADE's libraries, about 0.25 s
+/// outcome, the result or the failure (a failure is not kept: a request made after it reads
+/// again). Each worker start loads OpenCASCADE's libraries, about 0.25 s
 /// here; reading a 170 kB result again takes none. Off by default: a single render would only
 /// hold the copy.
 void enableReaderCache();

@@ -2,7 +2,7 @@
 // images (core/image.h). Blocks of kLargeAllocation bytes and more are laid on 2 MiB
 // boundaries and offered to the kernel as huge pages, so that writing them the first time faults
 // once per 2 MiB instead of once per 4 KiB: on a virtual machine a 4 KiB fault costs several
-// microseconds (a 1280 x 960 float image took 20 ms to zero, its huge pages under 1 ms). Freed
+// microseconds (an 800 x 600 float image took 21 ms to zero, on huge pages under 1 ms). Freed
 // blocks are kept for the next render (bounded; releaseRenderMemory).
 #pragma once
 
