@@ -96,8 +96,7 @@ void writeSrgbFile(const SrgbImage& image, const std::string& file, const std::s
 }  // namespace
 
 void writePngFile(const wf::ImageRGBA& image, const std::string& file, const std::string& name, int compression) {
-  if (image.width <= 0 || image.height <= 0) throw std::runtime_error(name + ": empty image");
-  writeSrgbFile(toSrgb(image), file, name, compression);
+  writeSrgbFile(toSrgb(image), file, name, compression);  // (an empty image: refused there)
 }
 
 void writePng(const SrgbImage& image, const std::string& path, int compression) {
@@ -108,10 +107,7 @@ void writePng(const SrgbImage& image, const std::string& path, int compression) 
 }
 
 void writePng(const wf::ImageRGBA& image, const std::string& path, int compression) {
-  requireOutputPath(path);
-  OutputFile out(path);
-  writePngFile(image, out.temporaryPath(), path, compression);
-  out.commit();
+  writePng(toSrgb(image), path, compression);
 }
 
 }  // namespace wfapp

@@ -38,7 +38,7 @@ struct ReaderRead {
 struct ReaderCache {
   std::mutex mutex;
   std::condition_variable done;
-  bool enabled = false;
+  std::atomic<bool> enabled{false};
   std::deque<std::pair<std::string, std::shared_ptr<const std::string>>> entries;
   std::map<std::string, std::shared_ptr<ReaderRead>> reading;
   size_t bytes = 0;
@@ -61,11 +61,7 @@ std::string failureDetail(const std::string& stderrFile) {
 void enableReaderWorkers() { workersEnabled = true; }
 bool readerWorkersEnabled() { return workersEnabled; }
 
-void enableReaderCache() {
-  ReaderCache& c = readerCache();
-  std::lock_guard<std::mutex> lock(c.mutex);
-  c.enabled = true;
-}
+void enableReaderCache() { readerCache().enabled = true; }
 
 namespace {
 std::string runReaderWorkerUncached(const std::string& path, const ReaderWorkerCall& call);
@@ -91,12 +87,7 @@ ReaderRuns readerRuns() {
 
 std::string runReaderWorker(const std::string& path, const ReaderWorkerCall& call) {
   ReaderCache& c = readerCache();
-  bool enabled;
-  {
-    std::lock_guard<std::mutex> lock(c.mutex);
-    enabled = c.enabled;
-  }
-  const std::string key = enabled ? readerResultKey(path, call) : std::string();
+  const std::string key = c.enabled ? readerResultKey(path, call) : std::string();
   std::shared_ptr<ReaderRead> mine;
   {
     std::unique_lock<std::mutex> lock(c.mutex);

@@ -251,11 +251,11 @@ int runRender(const RenderCommandOptions& o) {
   // holds beside it, so that its bands of tile items (binBands) fit what is left. An upper bound
   // on the peak resident memory (tests/apps: MemoryEstimateBoundsThePeak and ...DenseFursPeak).
   const double image = double(ro.width) * double(ro.height) * double(sizeof(glm::vec4));
-  // (Plus what no count here sees: libpng's and zlib's buffers, the threads' stacks, the
-  // allocator's slack: 32 MiB and 3 % of the rest.)
   // (Loading freed its own large blocks, a texture's decoded PNG: given back first, not counted
   // as held beside a render that would take them again.)
   wf::releaseRenderMemory();
+  // (Plus what no count here sees: libpng's and zlib's buffers, the threads' stacks, the
+  // allocator's slack: 32 MiB and 3 % of the rest.)
   const double held = double(currentRssBytes()) + 32.0 * double(1 << 20);
   auto budgetBeside = [&](double images) -> size_t {
     if (ro.memoryBudget == 0) return 0;  // (no limit)
